@@ -1,0 +1,57 @@
+# setbound — the two commands of the README:
+#   make demo   set up this machine and run the main job
+#   make test   set up this machine and run every test (C++ then Python, then packaging)
+# Each target installs what is missing (Debian packages, .venv with the package) first.
+
+PYTHON   ?= python3
+VENV     := .venv
+PY       := $(VENV)/bin/python
+CPP_BUILD := build/cpp
+JOBS     ?= 2
+
+.PHONY: all deps venv install build-cpp test test-cpp test-python test-wheel demo bench clean
+
+all: test
+
+deps:
+	@bash scripts/install-deps.sh
+
+$(VENV)/.created: | deps
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q "scikit-build-core>=0.10" "cmake>=3.20" ninja
+	touch $@
+
+venv: $(VENV)/.created
+
+# Editable install with the test and plot extras; the CMake build is incremental
+# (build/<wheel tag>), so re-running this after a C++ change only rebuilds what changed.
+install: venv
+	$(PY) -m pip install -q --no-build-isolation -e ".[test,plot]"
+
+build-cpp: deps
+	cmake -S . -B $(CPP_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release
+	cmake --build $(CPP_BUILD) -j $(JOBS)
+
+test-cpp: build-cpp
+	ctest --test-dir $(CPP_BUILD) --output-on-failure -j $(JOBS)
+
+test-python: install
+	$(PY) -m pytest -q tests/python
+
+# Install path (a): build the wheel, install it into a fresh venv, use it from elsewhere.
+test-wheel: install
+	bash scripts/test-wheel.sh $(PY)
+
+test: test-cpp test-python test-wheel
+
+demo: install
+	$(PY) -m setbound.demo --out out/demo
+
+bench: install
+	$(PY) -m pip install -q ".[bench]" --no-build-isolation --no-deps
+	$(PY) -m pip install -q cvxpy clarabel scs
+	$(PY) bench/bench_lmi.py
+
+clean:
+	rm -rf build dist out

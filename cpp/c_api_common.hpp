@@ -1,0 +1,79 @@
+// setbound — internal helpers for the C ABI translation units (not installed).
+//
+// The C ABI is the only place where C++ exceptions are caught (ARCHITECTURE.md): every
+// exported function body runs inside sb::guard(), which turns any exception into a
+// status code plus the thread-local last-error message.
+#pragma once
+
+#include <Eigen/Core>
+#include <exception>
+#include <new>
+#include <string>
+
+#include "setbound/core/error.hpp"
+#include "setbound/core/validate.hpp"
+
+extern "C" {
+#pragma GCC visibility push(default)
+#include "setbound/setbound.h"
+#pragma GCC visibility pop
+}
+
+namespace setbound::capi {
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using ConstRowMap = Eigen::Map<const RowMatrix>;
+using RowMap = Eigen::Map<RowMatrix>;
+using ConstVecMap = Eigen::Map<const Eigen::VectorXd>;
+using VecMap = Eigen::Map<Eigen::VectorXd>;
+
+void set_last_error(const std::string& message) noexcept;
+
+/// Runs `body` and converts every exception into a status code and last-error message.
+template <class Body>
+int guard(const char* function, Body&& body) noexcept {
+  try {
+    body();
+    return SB_OK;
+  } catch (const setbound::Error& e) {
+    set_last_error(std::string(function) + ": " + e.what());
+    return e.code();
+  } catch (const std::bad_alloc&) {
+    set_last_error(std::string(function) + ": out of memory");
+    return SB_ERR_INTERNAL;
+  } catch (const std::exception& e) {
+    set_last_error(std::string(function) + ": internal error: " + e.what());
+    return SB_ERR_INTERNAL;
+  } catch (...) {
+    set_last_error(std::string(function) + ": internal error: unknown exception");
+    return SB_ERR_INTERNAL;
+  }
+}
+
+/// Null-pointer check for an argument; the message names it.
+inline void require_pointer(const void* p, const char* name) {
+  if (p == nullptr) throw InvalidArgumentError(std::string(name) + ": null pointer");
+}
+
+/// A dimension argument must be positive (or non-negative when `allow_zero`).
+inline void require_dimension(int d, const char* name, bool allow_zero = false) {
+  if (d < 0 || (d == 0 && !allow_zero))
+    throw DimensionError(std::string(name) + ": dimension must be " +
+                         (allow_zero ? ">= 0" : "> 0") + ", got " + std::to_string(d));
+}
+
+/// View a caller's row-major array as a matrix after checking the pointer and dimensions.
+inline ConstRowMap matrix_arg(const double* data, int rows, int cols, const char* name) {
+  require_dimension(rows, name, true);
+  require_dimension(cols, name, true);
+  if (rows > 0 && cols > 0) require_pointer(data, name);
+  return ConstRowMap(data, rows, cols);
+}
+
+inline ConstVecMap vector_arg(const double* data, int n, const char* name) {
+  require_dimension(n, name, true);
+  if (n > 0) require_pointer(data, name);
+  return ConstVecMap(data, n);
+}
+
+}  // namespace setbound::capi

@@ -1,0 +1,12 @@
+// setbound — umbrella header of the C++ API (header-heavy, on Eigen).
+//
+// C++ users include this and link setbound::setbound; it also declares the C ABI
+// (setbound.h) inside extern "C".
+#pragma once
+
+extern "C" {
+#include "setbound/setbound.h"
+}
+
+#include "setbound/core/error.hpp"
+#include "setbound/core/validate.hpp"

@@ -1,0 +1,16 @@
+"""setbound — guaranteed (set-membership) state estimation.
+
+A thin numpy layer over the setbound C library (loaded with cffi): sets (intervals, boxes,
+interval matrices, ellipsoids, zonotopes, strips), the bundled LMI solver and the
+estimators. Every error raised is a :class:`setbound.SetboundError` subclass carrying the
+library's message.
+"""
+from __future__ import annotations
+
+from . import errors
+from ._native import ABI_VERSION, version
+from .errors import *  # noqa: F401,F403  (the exception classes are part of the API)
+
+__version__ = version()
+
+__all__ = ["ABI_VERSION", "__version__", "errors", "version"] + list(errors.__all__)

@@ -1,0 +1,22 @@
+# Fails unless every dynamic symbol defined by LIBRARY starts with sb_.
+execute_process(COMMAND nm -D --defined-only ${LIBRARY}
+  OUTPUT_VARIABLE out RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "nm failed on ${LIBRARY}")
+endif()
+string(REPLACE "\n" ";" lines "${out}")
+set(count 0)
+foreach(line ${lines})
+  string(REGEX MATCH "[^ ]+$" sym "${line}")
+  if(sym STREQUAL "" OR line MATCHES " A ")  # version-node absolute symbols
+    continue()
+  endif()
+  if(NOT sym MATCHES "^sb_")
+    message(FATAL_ERROR "symbol outside the C ABI is exported: ${sym}")
+  endif()
+  math(EXPR count "${count} + 1")
+endforeach()
+if(count LESS 4)
+  message(FATAL_ERROR "expected the sb_* C ABI to be exported, found ${count} symbols")
+endif()
+message(STATUS "${count} exported symbols, all sb_*")

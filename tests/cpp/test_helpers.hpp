@@ -1,0 +1,32 @@
+// setbound — shared helpers for the GoogleTest suites.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <sstream>
+
+namespace setbound::testing {
+
+/// gtest predicate: matrices of equal shape whose entries differ by at most `tol`.
+template <class A, class B>
+::testing::AssertionResult eigen_near(const char* ea, const char* eb, const char*,
+                                      const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b,
+                                      double tol) {
+  if (a.rows() != b.rows() || a.cols() != b.cols())
+    return ::testing::AssertionFailure() << ea << " is " << a.rows() << "x" << a.cols() << " but "
+                                         << eb << " is " << b.rows() << "x" << b.cols();
+  const double diff = (a - b).cwiseAbs().maxCoeff();
+  if (diff <= tol) return ::testing::AssertionSuccess();
+  std::ostringstream s;
+  s << ea << " and " << eb << " differ by " << diff << " > " << tol << "\n"
+    << ea << " =\n" << a << "\n" << eb << " =\n" << b;
+  return ::testing::AssertionFailure() << s.str();
+}
+
+}  // namespace setbound::testing
+
+#define EXPECT_EIGEN_NEAR(a, b, tol) \
+  EXPECT_PRED_FORMAT3(::setbound::testing::eigen_near, a, b, tol)
+#define ASSERT_EIGEN_NEAR(a, b, tol) \
+  ASSERT_PRED_FORMAT3(::setbound::testing::eigen_near, a, b, tol)
