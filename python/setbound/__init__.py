@@ -10,7 +10,16 @@ from __future__ import annotations
 from . import errors
 from ._native import ABI_VERSION, version
 from .errors import *  # noqa: F401,F403  (the exception classes are part of the API)
+from .interval import Box, Interval, IntervalMatrix
 
 __version__ = version()
 
-__all__ = ["ABI_VERSION", "__version__", "errors", "version"] + list(errors.__all__)
+__all__ = [
+    "ABI_VERSION",
+    "Box",
+    "Interval",
+    "IntervalMatrix",
+    "__version__",
+    "errors",
+    "version",
+] + list(errors.__all__)

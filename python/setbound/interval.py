@@ -1,0 +1,617 @@
+"""Guaranteed interval analysis: scalar intervals, boxes and interval matrices.
+
+Thin numpy classes over the C ABI section "intervals, boxes, interval matrices" of
+``setbound.h`` (thesis §1). Every arithmetic result is computed by the C library with outward
+rounding that stays exact when the operation is exact, so it contains the exact real result:
+``Interval(-2, 4) + Interval(1, 3)`` is exactly ``[-1, 7]`` and ``Interval(0.1) + Interval(0.2)``
+encloses the real number 0.1 + 0.2 (of the two doubles).
+
+Intervals may have infinite ends; the empty interval is ``(+inf, -inf)``. Bad input raises a
+:class:`setbound.SetboundError` subclass whose message starts with the argument name.
+
+Only trivial properties (mid, rad, width, magnitudes, membership tests) are evaluated with
+numpy; they follow the C++ definitions (``rad`` is rounded up so that ``mid ± rad`` encloses).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._native import as_f64, check, dptr, ffi, lib
+from .errors import DimensionError, InvalidArgumentError, NotFiniteError
+
+__all__ = [
+    "Interval", "Box", "IntervalMatrix",
+    "sqr", "sqrt", "exp", "sin", "cos", "abs_", "reciprocal", "power",
+]
+
+_INF = math.inf
+_BINARY = {
+    "add": lib.SB_IV_ADD, "sub": lib.SB_IV_SUB, "mul": lib.SB_IV_MUL, "div": lib.SB_IV_DIV,
+    "intersect": lib.SB_IV_INTERSECT, "hull": lib.SB_IV_HULL,
+}
+_UNARY = {
+    "neg": lib.SB_IV_NEG, "recip": lib.SB_IV_RECIP, "sqr": lib.SB_IV_SQR,
+    "sqrt": lib.SB_IV_SQRT, "exp": lib.SB_IV_EXP, "sin": lib.SB_IV_SIN, "cos": lib.SB_IV_COS,
+    "abs": lib.SB_IV_ABS,
+}
+
+
+# ---- validation and raw vectorised calls --------------------------------------------------
+
+def _check_ends(lo: np.ndarray, hi: np.ndarray, name: str, allow_empty: bool = True,
+                label: str = "entry") -> None:
+    """Same rules and message shapes as the C++ Interval::validate."""
+    lo_f, hi_f = lo.ravel(), hi.ravel()
+    def where(k: int) -> str:
+        if lo.ndim == 0:
+            return ""
+        if lo.ndim == 1:
+            return f" {label} {k}"
+        return " entry (" + ", ".join(str(int(t)) for t in np.unravel_index(k, lo.shape)) + ")"
+
+    bad = np.flatnonzero(np.isnan(lo_f) | np.isnan(hi_f))
+    if bad.size:
+        k = int(bad[0])
+        raise NotFiniteError(f"{name}{where(k)}: interval end is NaN ([{lo_f[k]}, {hi_f[k]}])")
+    empty = (lo_f == _INF) & (hi_f == -_INF)
+    bad = np.flatnonzero((lo_f > hi_f) & ~empty)
+    if bad.size:
+        k = int(bad[0])
+        raise InvalidArgumentError(
+            f"{name}{where(k)}: lower end {lo_f[k]} is greater than upper end {hi_f[k]}")
+    bad = np.flatnonzero(~empty & ((lo_f == _INF) | (hi_f == -_INF)))
+    if bad.size:
+        k = int(bad[0])
+        raise InvalidArgumentError(f"{name}{where(k)}: [{lo_f[k]}, {hi_f[k]}] contains no real number")
+    if not allow_empty and empty.any():
+        k = int(np.flatnonzero(empty)[0])
+        raise InvalidArgumentError(f"{name}{where(k)}: empty interval in a matrix")
+
+
+def _binary(op: str, alo, ahi, blo, bhi) -> tuple[np.ndarray, np.ndarray]:
+    alo, ahi, blo, bhi = (np.ascontiguousarray(a, dtype=np.float64).ravel()
+                          for a in (alo, ahi, blo, bhi))
+    n = alo.size
+    lo, hi = np.empty(n), np.empty(n)
+    check(lib.sb_interval_binary(_BINARY[op], n, dptr(alo), dptr(ahi), dptr(blo), dptr(bhi),
+                                 _out(lo), _out(hi)))
+    return lo, hi
+
+
+def _unary(op: str, xlo, xhi) -> tuple[np.ndarray, np.ndarray]:
+    xlo, xhi = (np.ascontiguousarray(a, dtype=np.float64).ravel() for a in (xlo, xhi))
+    n = xlo.size
+    lo, hi = np.empty(n), np.empty(n)
+    check(lib.sb_interval_unary(_UNARY[op], n, dptr(xlo), dptr(xhi), _out(lo), _out(hi)))
+    return lo, hi
+
+
+def _out(a: np.ndarray):
+    """Writable double* into a C-contiguous float64 array (NULL when empty)."""
+    if a.size == 0:
+        return ffi.NULL
+    return ffi.cast("double*", ffi.from_buffer(a, require_writable=True))
+
+
+def _mid(lo, hi):
+    """Overflow-safe midpoint with the IEEE 1788 conventions for unbounded intervals."""
+    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    with np.errstate(invalid="ignore"):
+        m = np.clip(0.5 * lo + 0.5 * hi, lo, hi)
+    m = np.where(np.isneginf(lo) & np.isposinf(hi), 0.0, m)
+    m = np.where(np.isneginf(lo) & ~np.isposinf(hi), -np.finfo(float).max, m)
+    m = np.where(~np.isneginf(lo) & np.isposinf(hi), np.finfo(float).max, m)
+    return np.where(lo > hi, np.nan, m)
+
+
+def _rad(lo, hi):
+    """Radius rounded up so that [mid − rad, mid + rad] ⊇ [lo, hi]."""
+    m = _mid(lo, hi)
+    with np.errstate(invalid="ignore", over="ignore"):
+        r = np.maximum(m - lo, hi - m)
+        short = (m - r > lo) | (m + r < hi)
+        r = np.where(short, np.nextafter(r, _INF), r)
+    return np.where(np.asarray(lo) > np.asarray(hi), np.nan, r)
+
+
+def _width(lo, hi):
+    """hi − lo rounded up (exact when the difference is representable)."""
+    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    with np.errstate(invalid="ignore", over="ignore"):
+        w = hi - lo
+        # TwoSum error of w = hi + (−lo): step up when the rounded difference is too small.
+        bb = w - hi
+        err = (hi - (w - bb)) + (-lo - bb)
+        w = np.where(np.isfinite(err) & (err > 0), np.nextafter(w, _INF), w)
+    return np.where(lo > hi, np.nan, w)
+
+
+# ---- scalar intervals ---------------------------------------------------------------------
+
+class Interval:
+    """A closed interval [lo, hi] of reals (thesis §1.2.1); ``Interval(x)`` is [x, x]."""
+
+    __slots__ = ("_lo", "_hi")
+    __array_ufunc__ = None  # let numpy scalars defer to our reflected operators
+
+    def __init__(self, lo, hi=None, *, name: str = "interval"):
+        try:
+            lo = float(lo)
+            hi = lo if hi is None else float(hi)
+        except (TypeError, ValueError) as exc:
+            raise InvalidArgumentError(f"{name}: interval ends must be numbers ({exc})") from None
+        _check_ends(np.asarray(lo), np.asarray(hi), name)
+        self._lo, self._hi = lo, hi
+
+    @classmethod
+    def _raw(cls, lo: float, hi: float) -> "Interval":
+        obj = cls.__new__(cls)
+        obj._lo, obj._hi = float(lo), float(hi)
+        return obj
+
+    @classmethod
+    def empty(cls) -> "Interval":
+        return cls._raw(_INF, -_INF)
+
+    @classmethod
+    def entire(cls) -> "Interval":
+        return cls._raw(-_INF, _INF)
+
+    lo = property(lambda self: self._lo, doc="lower end (inf)")
+    hi = property(lambda self: self._hi, doc="upper end (sup)")
+
+    @property
+    def is_empty(self) -> bool:
+        return self._lo > self._hi
+
+    @property
+    def mid(self) -> float:
+        return float(_mid(self._lo, self._hi))
+
+    @property
+    def rad(self) -> float:
+        return float(_rad(self._lo, self._hi))
+
+    @property
+    def width(self) -> float:
+        return float(_width(self._lo, self._hi))
+
+    @property
+    def mag(self) -> float:
+        return math.nan if self.is_empty else max(abs(self._lo), abs(self._hi))
+
+    @property
+    def mig(self) -> float:
+        if self.is_empty:
+            return math.nan
+        if self._lo <= 0 <= self._hi:
+            return 0.0
+        return min(abs(self._lo), abs(self._hi))
+
+    # set operations
+    def contains(self, x) -> bool:
+        """Membership of a number, or inclusion of an Interval."""
+        if isinstance(x, Interval):
+            return x.subset(self)
+        return bool(self._lo <= float(x) <= self._hi)
+
+    __contains__ = contains
+
+    def subset(self, other: "Interval") -> bool:
+        return self.is_empty or (other._lo <= self._lo and self._hi <= other._hi)
+
+    def intersect(self, other) -> "Interval":
+        return self._bin("intersect", other)
+
+    def hull(self, other) -> "Interval":
+        return self._bin("hull", other)
+
+    # arithmetic through the C ABI
+    def _bin(self, op: str, other, reflected: bool = False) -> "Interval":
+        o = _as_interval(other, "other")
+        if o is None:
+            return NotImplemented
+        a, b = (o, self) if reflected else (self, o)
+        lo, hi = _binary(op, a._lo, a._hi, b._lo, b._hi)
+        return Interval._raw(lo[0], hi[0])
+
+    def _un(self, op: str) -> "Interval":
+        lo, hi = _unary(op, self._lo, self._hi)
+        return Interval._raw(lo[0], hi[0])
+
+    def __add__(self, o): return self._bin("add", o)
+    def __radd__(self, o): return self._bin("add", o, True)
+    def __sub__(self, o): return self._bin("sub", o)
+    def __rsub__(self, o): return self._bin("sub", o, True)
+    def __mul__(self, o): return self._bin("mul", o)
+    def __rmul__(self, o): return self._bin("mul", o, True)
+    def __truediv__(self, o): return self._bin("div", o)
+    def __rtruediv__(self, o): return self._bin("div", o, True)
+    def __neg__(self): return self._un("neg")
+    def __pos__(self): return self
+    def __abs__(self): return self._un("abs")
+
+    def __pow__(self, n):
+        if not isinstance(n, (int, np.integer)):
+            raise InvalidArgumentError(f"n: only integer powers are supported, got {n!r}")
+        return power(self, int(n))
+
+    def reciprocal(self) -> "Interval": return self._un("recip")
+    def sqr(self) -> "Interval": return self._un("sqr")
+    def sqrt(self) -> "Interval": return self._un("sqrt")
+    def exp(self) -> "Interval": return self._un("exp")
+    def sin(self) -> "Interval": return self._un("sin")
+    def cos(self) -> "Interval": return self._un("cos")
+    def abs(self) -> "Interval": return self._un("abs")
+
+    def __eq__(self, other):
+        if not isinstance(other, Interval):
+            return NotImplemented
+        return (self.is_empty and other.is_empty) or (self._lo == other._lo and self._hi == other._hi)
+
+    def __hash__(self):
+        return hash(("empty",) if self.is_empty else (self._lo, self._hi))
+
+    def __iter__(self):
+        return iter((self._lo, self._hi))
+
+    def __repr__(self):
+        return "Interval.empty()" if self.is_empty else f"Interval({self._lo!r}, {self._hi!r})"
+
+
+def _as_interval(x, name: str) -> Interval | None:
+    if isinstance(x, Interval):
+        return x
+    if isinstance(x, (int, float, np.floating, np.integer)):
+        return Interval(float(x), name=name)
+    return None
+
+
+def _require_interval(x, name: str) -> Interval:
+    iv = _as_interval(x, name)
+    if iv is None:
+        raise InvalidArgumentError(f"{name}: expected an Interval or a number, got {type(x).__name__}")
+    return iv
+
+
+def sqr(x) -> Interval:
+    """{t² : t ∈ [x]} — [0, max²] when 0 ∈ [x] (not [x]·[x])."""
+    return _require_interval(x, "x").sqr()
+
+
+def sqrt(x) -> Interval:
+    return _require_interval(x, "x").sqrt()
+
+
+def exp(x) -> Interval:
+    return _require_interval(x, "x").exp()
+
+
+def sin(x) -> Interval:
+    return _require_interval(x, "x").sin()
+
+
+def cos(x) -> Interval:
+    return _require_interval(x, "x").cos()
+
+
+def abs_(x) -> Interval:
+    return _require_interval(x, "x").abs()
+
+
+def reciprocal(x) -> Interval:
+    """1/[x] with the extended cases of thesis eq. 1.28 (1/[0,0] is empty)."""
+    return _require_interval(x, "x").reciprocal()
+
+
+def power(x, n: int) -> Interval:
+    """Integer power {t^n : t ∈ [x]}; negative n is the reciprocal of the positive power."""
+    iv = _require_interval(x, "x")
+    if not isinstance(n, (int, np.integer)) or not -2**31 <= int(n) < 2**31:
+        raise InvalidArgumentError(f"n: expected a 32-bit integer exponent, got {n!r}")
+    lo, hi = np.empty(1), np.empty(1)
+    a, b = np.array([iv.lo]), np.array([iv.hi])
+    check(lib.sb_interval_pow(1, dptr(a), dptr(b), int(n), _out(lo), _out(hi)))
+    return Interval._raw(lo[0], hi[0])
+
+
+# ---- boxes --------------------------------------------------------------------------------
+
+class Box:
+    """A box (interval vector) [lo, hi] ⊂ ℝⁿ (thesis §1.2.2)."""
+
+    __array_ufunc__ = None  # make ``M @ box`` and ``2.0 * box`` reach our reflected operators
+
+    def __init__(self, lo, hi, *, name: str = "box"):
+        lo = as_f64(lo, f"{name} (lo)", ndim=1).copy()
+        hi = as_f64(hi, f"{name} (hi)", ndim=1).copy()
+        if lo.shape != hi.shape:
+            raise DimensionError(
+                f"{name}: lower corner has {lo.size} entries but upper corner has {hi.size}")
+        _check_ends(lo, hi, name, label="component")
+        self._set(lo, hi)
+
+    def _set(self, lo: np.ndarray, hi: np.ndarray) -> None:
+        if (lo > hi).any():  # canonical empty box
+            lo, hi = np.full(lo.shape, _INF), np.full(hi.shape, -_INF)
+        lo.flags.writeable = False
+        hi.flags.writeable = False
+        self._lo, self._hi = lo, hi
+
+    @classmethod
+    def _raw(cls, lo, hi) -> "Box":
+        obj = cls.__new__(cls)
+        obj._set(np.array(lo, dtype=np.float64), np.array(hi, dtype=np.float64))
+        return obj
+
+    @classmethod
+    def from_center_radius(cls, center, radius, *, name: str = "box") -> "Box":
+        """center ± radius, corners rounded outward by the C library."""
+        c = as_f64(center, f"{name} (center)", ndim=1)
+        r = as_f64(radius, f"{name} (radius)", shape=(c.size,))
+        if np.isnan(c).any() or np.isnan(r).any() or not np.isfinite(c).all():
+            raise NotFiniteError(f"{name}: centre must be finite and radius must not be NaN")
+        if (r < 0).any():
+            k = int(np.flatnonzero(r < 0)[0])
+            raise InvalidArgumentError(f"{name}: radius entry {k} is {r[k]}; it must be >= 0")
+        lo, hi = _binary("add", c, c, -r, r)
+        return cls._raw(lo, hi)
+
+    @classmethod
+    def empty(cls, n: int) -> "Box":
+        return cls._raw(np.full(n, _INF), np.full(n, -_INF))
+
+    lo = property(lambda self: self._lo)
+    hi = property(lambda self: self._hi)
+
+    def __len__(self) -> int:
+        return self._lo.size
+
+    @property
+    def is_empty(self) -> bool:
+        return bool((self._lo > self._hi).any())
+
+    @property
+    def center(self) -> np.ndarray:
+        return _mid(self._lo, self._hi)
+
+    mid = center
+
+    @property
+    def radius(self) -> np.ndarray:
+        return _rad(self._lo, self._hi)
+
+    rad = radius
+
+    @property
+    def width(self) -> np.ndarray:
+        """Width vector 𝕎 (eq. 1.13)."""
+        return _width(self._lo, self._hi)
+
+    @property
+    def max_width(self) -> float:
+        """w = max_i width_i (eq. 1.12)."""
+        return float(self.width.max()) if len(self) else 0.0
+
+    @property
+    def max_radius(self) -> float:
+        """r = max_i rad_i (eq. 1.14)."""
+        return float(self.radius.max()) if len(self) else 0.0
+
+    @property
+    def volume(self) -> float:
+        """Π_i width_i (eq. 1.17), a guaranteed upper bound computed by the C library."""
+        out = ffi.new("double*")
+        check(lib.sb_box_volume(len(self), dptr(self._lo), dptr(self._hi), out))
+        return float(out[0])
+
+    def norm(self) -> float:
+        """max_i |[x_i]| (max of magnitudes, §1.2.6)."""
+        if len(self) == 0:
+            return 0.0
+        return float(np.maximum(np.abs(self._lo), np.abs(self._hi)).max())
+
+    def split(self) -> tuple[np.ndarray, "Box"]:
+        """Midpoint–radius form [x] ⊆ m + [Δx], [Δx] = [−rad, rad] (eqs. 1.15–1.16)."""
+        r = self.radius
+        return self.center, Box._raw(-r, r)
+
+    def __getitem__(self, i) -> Interval:
+        return Interval._raw(self._lo[i], self._hi[i])
+
+    def contains(self, point) -> bool:
+        p = as_f64(point, "point", shape=(len(self),))
+        return bool(((self._lo <= p) & (p <= self._hi)).all())
+
+    __contains__ = contains
+
+    def subset(self, other: "Box") -> bool:
+        other = self._same(other, "other")
+        return self.is_empty or bool(((other._lo <= self._lo) & (self._hi <= other._hi)).all())
+
+    def _same(self, other, name: str) -> "Box":
+        if not isinstance(other, Box):
+            raise InvalidArgumentError(f"{name}: expected a Box, got {type(other).__name__}")
+        if len(other) != len(self):
+            raise DimensionError(f"{name}: box has {len(other)} components, expected {len(self)}")
+        return other
+
+    def _bin(self, op: str, other, name: str = "other") -> "Box":
+        other = self._same(other, name)
+        lo, hi = _binary(op, self._lo, self._hi, other._lo, other._hi)
+        return Box._raw(lo, hi)
+
+    def intersect(self, other: "Box") -> "Box":
+        return self._bin("intersect", other)
+
+    def hull(self, other: "Box") -> "Box":
+        return self._bin("hull", other)
+
+    def __add__(self, other):
+        return self._bin("add", other, "rhs") if isinstance(other, Box) else NotImplemented
+
+    def __sub__(self, other):
+        return self._bin("sub", other, "rhs") if isinstance(other, Box) else NotImplemented
+
+    def __neg__(self):
+        lo, hi = _unary("neg", self._lo, self._hi)
+        return Box._raw(lo, hi)
+
+    def __mul__(self, a):
+        if not isinstance(a, (int, float, np.floating, np.integer)):
+            return NotImplemented
+        a = float(a)
+        if math.isnan(a) or math.isinf(a):
+            raise NotFiniteError(f"a: scalar factor is {a}; it must be finite")
+        n = len(self)
+        lo, hi = _binary("mul", self._lo, self._hi, np.full(n, a), np.full(n, a))
+        return Box._raw(lo, hi)
+
+    __rmul__ = __mul__
+
+    def __rmatmul__(self, M):
+        """M @ box for a real matrix: the hull [Mc − |M|r, Mc + |M|r], enclosed under rounding."""
+        if isinstance(M, (Box, IntervalMatrix)):
+            return NotImplemented
+        M = as_f64(M, "M", ndim=2)
+        if M.shape[1] != len(self):
+            raise DimensionError(
+                f"M: matrix has {M.shape[1]} columns but the box has {len(self)} components")
+        ylo, yhi = np.empty(M.shape[0]), np.empty(M.shape[0])
+        check(lib.sb_matrix_mul_box(M.shape[0], M.shape[1], dptr(M), dptr(self._lo),
+                                    dptr(self._hi), _out(ylo), _out(yhi)))
+        return Box._raw(ylo, yhi)
+
+    def __eq__(self, other):
+        if not isinstance(other, Box):
+            return NotImplemented
+        return len(self) == len(other) and (
+            (self.is_empty and other.is_empty)
+            or (np.array_equal(self._lo, other._lo) and np.array_equal(self._hi, other._hi)))
+
+    __hash__ = None
+
+    def __repr__(self):
+        return f"Box(lo={self._lo.tolist()}, hi={self._hi.tolist()})"
+
+
+# ---- interval matrices --------------------------------------------------------------------
+
+class IntervalMatrix:
+    """An interval matrix [M] = [lo, hi] entrywise (thesis §1.2.3, papers.md §0.1)."""
+
+    __array_ufunc__ = None
+
+    def __init__(self, lo, hi, *, name: str = "M"):
+        lo = as_f64(lo, f"{name} (lo)", ndim=2).copy()
+        hi = as_f64(hi, f"{name} (hi)", ndim=2).copy()
+        if lo.shape != hi.shape:
+            raise DimensionError(
+                f"{name}: lower bound is {lo.shape[0]}x{lo.shape[1]} but upper bound is "
+                f"{hi.shape[0]}x{hi.shape[1]}")
+        _check_ends(lo, hi, name, allow_empty=False)
+        lo.flags.writeable = False
+        hi.flags.writeable = False
+        self._lo, self._hi = lo, hi
+
+    @classmethod
+    def from_mid_rad(cls, mid, rad, *, name: str = "M") -> "IntervalMatrix":
+        """mid ± rad with the corners rounded outward by the C library."""
+        m = as_f64(mid, f"{name} (mid)", ndim=2)
+        r = as_f64(rad, f"{name} (rad)", shape=m.shape)
+        if not np.isfinite(m).all() or np.isnan(r).any():
+            raise NotFiniteError(f"{name}: midpoint must be finite and radius must not be NaN")
+        if (r < 0).any():
+            raise InvalidArgumentError(f"{name}: radius entries must be >= 0")
+        lo, hi = _binary("add", m, m, -r, r)
+        return cls(lo.reshape(m.shape), hi.reshape(m.shape), name=name)
+
+    lo = property(lambda self: self._lo)
+    hi = property(lambda self: self._hi)
+    shape = property(lambda self: self._lo.shape)
+
+    @property
+    def mid(self) -> np.ndarray:
+        return _mid(self._lo, self._hi)
+
+    @property
+    def rad(self) -> np.ndarray:
+        return _rad(self._lo, self._hi)
+
+    @property
+    def width(self) -> np.ndarray:
+        return _width(self._lo, self._hi)
+
+    @property
+    def uncertain_count(self) -> int:
+        """q, the number of entries with lo < hi; vertices() returns 2^q matrices."""
+        return int((self._lo < self._hi).sum())
+
+    def __getitem__(self, ij) -> Interval:
+        return Interval._raw(self._lo[ij], self._hi[ij])
+
+    def contains(self, N) -> bool:
+        N = as_f64(N, "N", shape=self.shape)
+        return bool(((self._lo <= N) & (N <= self._hi)).all())
+
+    __contains__ = contains
+
+    def vertices(self) -> np.ndarray:
+        """vert[M] as an array of shape (2^q, rows, cols). Uncertain entries are numbered in
+        row-major order; in vertex v, entry k is at its upper end iff bit k of v is set."""
+        r, c = self.shape
+        count = ffi.new("int*", 0)
+        status = lib.sb_imatrix_vertices(r, c, dptr(self._lo), dptr(self._hi), count, ffi.NULL)
+        if status != lib.SB_ERR_BUFFER_TOO_SMALL:
+            check(status)  # a real error (q too large, unbounded entries); OK only if 2^q = 0
+        out = np.empty((count[0], r, c))
+        check(lib.sb_imatrix_vertices(r, c, dptr(self._lo), dptr(self._hi), count, _out(out)))
+        return out
+
+    def norm(self) -> float:
+        """max_i Σ_j |[m_ij]| (max row sum of magnitudes, §1.2.6), rounded up."""
+        out = ffi.new("double*")
+        check(lib.sb_imatrix_norm(*self.shape, dptr(self._lo), dptr(self._hi), out))
+        return float(out[0])
+
+    def __matmul__(self, other):
+        """[M] @ Box → Box (Remark 1.2); [M] @ vector → Box; [M] @ real matrix → IntervalMatrix
+        (centre mid[M]N, radius rad[M]|N|)."""
+        r, c = self.shape
+        if isinstance(other, Box):
+            xlo, xhi = other.lo, other.hi
+            name = "x"
+        elif isinstance(other, IntervalMatrix):
+            return NotImplemented
+        else:
+            a = as_f64(other, "N")
+            if a.ndim == 2:
+                if a.shape[0] != c:
+                    raise DimensionError(
+                        f"N: has {a.shape[0]} rows but the interval matrix has {c} columns")
+                Rlo, Rhi = np.empty((r, a.shape[1])), np.empty((r, a.shape[1]))
+                check(lib.sb_imatrix_mul_matrix(r, c, a.shape[1], dptr(self._lo), dptr(self._hi),
+                                                dptr(a), _out(Rlo), _out(Rhi)))
+                result = IntervalMatrix.__new__(IntervalMatrix)
+                Rlo.flags.writeable = False
+                Rhi.flags.writeable = False
+                result._lo, result._hi = Rlo, Rhi
+                return result
+            if a.ndim != 1:
+                raise DimensionError(f"v: expected a vector or a matrix, got shape {a.shape}")
+            if not np.isfinite(a).all():
+                raise NotFiniteError("v: all entries must be finite")
+            xlo = xhi = a
+            name = "v"
+        if len(xlo) != c:
+            raise DimensionError(
+                f"{name}: has {len(xlo)} entries but the interval matrix has {c} columns")
+        ylo, yhi = np.empty(r), np.empty(r)
+        check(lib.sb_imatrix_mul_box(r, c, dptr(self._lo), dptr(self._hi), dptr(xlo), dptr(xhi),
+                                     _out(ylo), _out(yhi)))
+        return Box._raw(ylo, yhi)
+
+    def __repr__(self):
+        return f"IntervalMatrix(lo={self._lo.tolist()}, hi={self._hi.tolist()})"
