@@ -100,7 +100,123 @@ int sb_imatrix_norm(int rows, int cols, const double* lo, const double* hi, doub
 /* ==== end intervals ==== */
 
 /* ==== ellipsoids, zonotopes, strips (sets/ellipsoid.hpp, zonotope.hpp, strip.hpp) ==== */
+/* Sets cross the ABI as arrays (no handles). An ellipsoid is (n, P [n x n], c [n], rho):
+ * E = { x : (x - c)^T P (x - c) <= rho }, P symmetric positive definite, rho >= 0 a LEVEL
+ * (not a squared radius). A zonotope is (n, m, p [n], H [n x m, row-major]):
+ * Z = { p + H z : z in [-1, 1]^m }; m may be 0 (H may then be NULL). A strip is
+ * (c [n], y, phi): S = { x : |c^T x - y| <= phi }. Point and direction batches are
+ * row-major npoints x n arrays. n >= 1 everywhere. */
+
+/* Zonotope reduction methods for sb_zonotope_reduce. */
+#define SB_REDUCE_COMBASTEL 1
+#define SB_REDUCE_GIRARD 2
+
+/* Validates an ellipsoid (P SPD, c finite, rho >= 0 finite); SB_OK if valid. */
+int sb_ellipsoid_validate(int n, const double* P, const double* c, double rho);
+/* Interval hull c_i -/+ sqrt(rho (P^-1)_ii) (rounded outward); lo, hi: n. */
+int sb_ellipsoid_bounding_box(int n, const double* P, const double* c, double rho, double* lo,
+                              double* hi);
+/* Volume V_n rho^(n/2) / sqrt(det P) and its natural log (log_volume may be NULL). */
+int sb_ellipsoid_volume(int n, const double* P, const double* c, double rho, double* volume,
+                        double* log_volume);
+/* inside[k] = 1 if (x_k - c)^T P (x_k - c) <= rho (1 + rel_tol), else 0; points: npoints x n. */
+int sb_ellipsoid_contains(int n, const double* P, const double* c, double rho, int npoints,
+                          const double* points, double rel_tol, int* inside);
+/* values[k] = max_{x in E} a_k^T x = a_k^T c + sqrt(rho a_k^T P^-1 a_k); directions: ndir x n. */
+int sb_ellipsoid_support(int n, const double* P, const double* c, double rho, int ndir,
+                         const double* directions, double* values);
+/* Image of E under x -> M x + b (M n x n invertible): P_out = M^-T P M^-1 (n x n),
+ * c_out = M c + b (n), rho_out = rho. */
+int sb_ellipsoid_affine_map(int n, const double* P, const double* c, double rho, const double* M,
+                            const double* b, double* P_out, double* c_out, double* rho_out);
+/* Smallest level rho_out with E(P, c, rho) inside E(P_new, c, rho_out), rounded up and
+ * certified: rho * lambda_max(P^-1/2 P_new P^-1/2) * (1 + delta), delta ~ 16 n eps. */
+int sb_ellipsoid_level_for_shape(int n, const double* P, const double* c, double rho,
+                                 const double* P_new, double* rho_out);
+
+/* Validates a zonotope (p, H finite); SB_OK if valid. */
+int sb_zonotope_validate(int n, int m, const double* p, const double* H);
+/* Interval hull p_i -/+ sum_j |H_ij| (rounded outward); lo, hi: n. */
+int sb_zonotope_interval_hull(int n, int m, const double* p, const double* H, double* lo,
+                              double* hi);
+/* Exact volume 2^n sum_S |det H_S|; SB_ERR_INVALID_ARGUMENT if C(m, n) > 5e6. */
+int sb_zonotope_volume(int n, int m, const double* p, const double* H, double* volume);
+/* Exact P-radius max_{s in {-1,1}^m} s^T H^T P H s (P n x n SPD); refused for m > 24.
+ * vertex (m entries of +-1, may be NULL) receives a maximising sign vector. */
+int sb_zonotope_pradius(int n, int m, const double* p, const double* H, const double* P,
+                        double* radius, double* vertex);
+/* values[k] = d_k^T p + ||H^T d_k||_1; directions: ndir x n. */
+int sb_zonotope_support(int n, int m, const double* p, const double* H, int ndir,
+                        const double* directions, double* values);
+/* Exact membership (up to rel_tol) of each point; refused if C(m, rank-1) > 5e6. */
+int sb_zonotope_contains(int n, int m, const double* p, const double* H, int npoints,
+                         const double* points, double rel_tol, int* inside);
+/* Order reduction to at most `limit` (>= n) generators; method SB_REDUCE_COMBASTEL (keep
+ * the limit-n longest columns, box the rest) or SB_REDUCE_GIRARD (keep the limit-n largest
+ * ||g||_1 - ||g||_inf, box the rest). The centre is unchanged. The result has
+ * min(m, limit) generators. *m_out: in = capacity of H_out in columns (H_out holds
+ * n * capacity doubles), out = the number of generators written; H_out then starts with
+ * the compact n x (*m_out) row-major generator matrix. SB_ERR_BUFFER_TOO_SMALL sets
+ * *m_out to the count needed. */
+int sb_zonotope_reduce(int n, int m, const double* p, const double* H, int method, int limit,
+                       int* m_out, double* H_out);
+/* Zonotope/strip family ([Le2013] Property 6): Z intersected with {|c^T x - y| <= phi}
+ * is contained in p_out + H_out B^(m+1), p_out = p + lambda (y - c^T p) (n),
+ * H_out = [(I - lambda c^T) H, phi lambda] (n x (m+1)). c, lambda: n. */
+int sb_zonotope_intersect_strip(int n, int m, const double* p, const double* H, const double* c,
+                                double y, double phi, const double* lambda, double* p_out,
+                                double* H_out);
+/* Interval-matrix image: for every A in [mid - rad, mid + rad] (k x n, rad >= 0),
+ * A Z is contained in p_out + H_out B^(m+2k) with p_out = mid p (k) and
+ * H_out = [mid H, rs(rad |H|), diag(rad |p|)] (k x (m + 2k)). */
+int sb_zonotope_interval_linear_map(int k, int n, int m, const double* mid, const double* rad,
+                                    const double* p, const double* H, double* p_out,
+                                    double* H_out);
+
+/* inside[k] = 1 if |c^T x_k - y| <= phi (up to rel_tol), else 0; points: npoints x n. */
+int sb_strip_contains(int n, const double* c, double y, double phi, int npoints,
+                      const double* points, double rel_tol, int* inside);
 /* ==== end ellipsoids, zonotopes, strips ==== */
 
 /* ==== LMI solver (lmi/) ==== */
 /* ==== end LMI solver ==== */
+
+/* ==== models (core/linear_system.hpp) ==== */
+/* x+ = A x + B u + E w,  y = C x + D u + F w,  w in [-1, 1]^nw  (papers.md §0.3).
+ * A: nx x nx, C: ny x nx, E: nx x nw, F: ny x nw, B: nx x nu and D: ny x nu (both may be NULL:
+ * B = NULL needs nu = 0, D = NULL means D = 0). A_rad (nx x nx, entries >= 0, may be NULL)
+ * makes A uncertain: A in [A - A_rad, A + A_rad], with A the midpoint. */
+typedef struct sb_linear_system sb_linear_system;
+int sb_linear_system_create(int nx, int ny, int nu, int nw, const double* A, const double* B,
+                            const double* C, const double* D, const double* E, const double* F,
+                            const double* A_rad, sb_linear_system** out);
+int sb_linear_system_free(sb_linear_system* system);
+int sb_linear_system_dims(const sb_linear_system* system, int* nx, int* ny, int* nu, int* nw);
+/* PBH test of (C, A). *detectable = 1 or 0; when 0, (mode_re, mode_im) is an eigenvalue with
+ * |lambda| >= 1 that C does not see (the pointers may be NULL). */
+int sb_check_detectability(int nx, int ny, const double* A, const double* C, int* detectable,
+                           double* mode_re, double* mode_im);
+/* ==== end models ==== */
+
+/* ==== zonotopic estimators (estimators/zonotopic.hpp) ==== */
+/* The estimator structure of papers.md §3.1: prediction, strip-by-strip correction with a gain
+ * rule, reduction to at most max_generators generators. Time indexing: step k takes y_k and
+ * u_k and returns the set for x_k (after using y_k), then predicts x_{k+1} with u_k. */
+typedef struct sb_zonotopic sb_zonotopic;
+/* Gain rules. */
+#define SB_ZONO_GAIN_SEGMENT_MIN 1
+/* x0 = p0 + H0 [-1,1]^m0 (H0 nx x m0, row-major). strip_order: NULL or a permutation of
+ * 0..ny-1. use_first_measurement = 0 returns X0 unchanged at step 0 ([Le2013]). */
+int sb_zonotopic_create(const sb_linear_system* system, int gain, int max_generators,
+                        int use_first_measurement, const int* strip_order, int m0,
+                        const double* p0, const double* H0, sb_zonotopic** out);
+int sb_zonotopic_free(sb_zonotopic* estimator);
+/* One step: y (ny), u (nu; NULL when nu = 0). Writes the centre, the interval hull (lower,
+ * upper, nx each) and the number of generators *m of the set for x_k; its generators are
+ * then read with sb_zonotopic_last_set. On error the estimator is unchanged. */
+int sb_zonotopic_step(sb_zonotopic* estimator, const double* y, const double* u, double* center,
+                      double* lower, double* upper, int* m);
+/* The set returned by the last step: p (nx) and H (nx x m, row-major); *m in: capacity in
+ * columns, out: the number of generators. */
+int sb_zonotopic_last_set(const sb_zonotopic* estimator, int* m, double* p, double* H);
+/* ==== end zonotopic estimators ==== */

@@ -9,4 +9,12 @@ extern "C" {
 }
 
 #include "setbound/core/error.hpp"
+#include "setbound/core/linear_system.hpp"
 #include "setbound/core/validate.hpp"
+#include "setbound/sets/box.hpp"
+#include "setbound/sets/ellipsoid.hpp"
+#include "setbound/sets/interval.hpp"
+#include "setbound/sets/interval_matrix.hpp"
+#include "setbound/sets/strip.hpp"
+#include "setbound/sets/zonotope.hpp"
+#include "setbound/estimators/zonotopic.hpp"

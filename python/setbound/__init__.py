@@ -11,14 +11,23 @@ from . import errors
 from ._native import ABI_VERSION, version
 from .errors import *  # noqa: F401,F403  (the exception classes are part of the API)
 from .interval import Box, Interval, IntervalMatrix
+from .sets import Ellipsoid, Strip, Zonotope
+from .system import LinearSystem, is_detectable
+from .trajectory import Trajectory
 
 __version__ = version()
 
 __all__ = [
     "ABI_VERSION",
     "Box",
+    "Ellipsoid",
     "Interval",
     "IntervalMatrix",
+    "LinearSystem",
+    "Strip",
+    "Trajectory",
+    "Zonotope",
+    "is_detectable",
     "__version__",
     "errors",
     "version",

@@ -1,0 +1,173 @@
+// setbound — C ABI: system models and the zonotopic estimators.
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "c_api_common.hpp"
+#include "setbound/core/linear_system.hpp"
+#include "setbound/estimators/zonotopic.hpp"
+
+using namespace setbound;
+using namespace setbound::capi;
+
+struct sb_linear_system {
+  LinearSystem system;
+};
+
+struct sb_zonotopic {
+  ZonotopicEstimator estimator;
+  std::optional<Zonotope> last;
+};
+
+namespace {
+
+Eigen::MatrixXd optional_matrix(const double* data, int rows, int cols, const char* name) {
+  if (data == nullptr) return Eigen::MatrixXd();
+  return matrix_arg(data, rows, cols, name);
+}
+
+const LinearSystem& system_arg(const sb_linear_system* s) {
+  require_pointer(s, "system");
+  return s->system;
+}
+
+}  // namespace
+
+extern "C" {
+
+int sb_linear_system_create(int nx, int ny, int nu, int nw, const double* A, const double* B,
+                            const double* C, const double* D, const double* E, const double* F,
+                            const double* A_rad, sb_linear_system** out) {
+  return guard("sb_linear_system_create", [&] {
+    require_pointer(out, "out");
+    *out = nullptr;
+    require_dimension(nx, "nx");
+    require_dimension(ny, "ny");
+    require_dimension(nu, "nu", true);
+    require_dimension(nw, "nw", true);
+    require_pointer(A, "A");
+    require_pointer(C, "C");
+    if (nw > 0) require_pointer(E, "E"), require_pointer(F, "F");
+    if (nu > 0 && B == nullptr) throw InvalidArgumentError("B: null pointer but nu = " + std::to_string(nu));
+    Eigen::MatrixXd Bm = nu > 0 ? Eigen::MatrixXd(matrix_arg(B, nx, nu, "B")) : Eigen::MatrixXd::Zero(nx, 0);
+    Eigen::MatrixXd Dm = nu > 0 ? optional_matrix(D, ny, nu, "D") : Eigen::MatrixXd::Zero(ny, 0);
+    auto s = std::make_unique<sb_linear_system>(sb_linear_system{LinearSystem(
+        matrix_arg(A, nx, nx, "A"), matrix_arg(C, ny, nx, "C"),
+        nw > 0 ? Eigen::MatrixXd(matrix_arg(E, nx, nw, "E")) : Eigen::MatrixXd::Zero(nx, 0),
+        nw > 0 ? Eigen::MatrixXd(matrix_arg(F, ny, nw, "F")) : Eigen::MatrixXd::Zero(ny, 0), Bm, Dm,
+        optional_matrix(A_rad, nx, nx, "A_rad"))});
+    *out = s.release();
+  });
+}
+
+int sb_linear_system_free(sb_linear_system* system) {
+  delete system;
+  return SB_OK;
+}
+
+int sb_linear_system_dims(const sb_linear_system* system, int* nx, int* ny, int* nu, int* nw) {
+  return guard("sb_linear_system_dims", [&] {
+    const LinearSystem& s = system_arg(system);
+    if (nx) *nx = static_cast<int>(s.nx());
+    if (ny) *ny = static_cast<int>(s.ny());
+    if (nu) *nu = static_cast<int>(s.nu());
+    if (nw) *nw = static_cast<int>(s.nw());
+  });
+}
+
+int sb_check_detectability(int nx, int ny, const double* A, const double* C, int* detectable,
+                           double* mode_re, double* mode_im) {
+  return guard("sb_check_detectability", [&] {
+    require_dimension(nx, "nx");
+    require_dimension(ny, "ny");
+    require_pointer(A, "A");
+    require_pointer(C, "C");
+    require_pointer(detectable, "detectable");
+    const DetectabilityReport r =
+        check_detectability(matrix_arg(A, nx, nx, "A"), matrix_arg(C, ny, nx, "C"));
+    *detectable = r.detectable ? 1 : 0;
+    if (mode_re) *mode_re = r.mode.real();
+    if (mode_im) *mode_im = r.mode.imag();
+  });
+}
+
+int sb_zonotopic_create(const sb_linear_system* system, int gain, int max_generators,
+                        int use_first_measurement, const int* strip_order, int m0,
+                        const double* p0, const double* H0, sb_zonotopic** out) {
+  return guard("sb_zonotopic_create", [&] {
+    require_pointer(out, "out");
+    *out = nullptr;
+    const LinearSystem& sys = system_arg(system);
+    ZonotopeGainRule rule;
+    switch (gain) {
+      case SB_ZONO_GAIN_SEGMENT_MIN: rule = segment_min_gain; break;
+      default: throw InvalidArgumentError("gain: unknown gain rule " + std::to_string(gain));
+    }
+    require_dimension(m0, "m0", true);
+    const int nx = static_cast<int>(sys.nx());
+    Zonotope x0(vector_arg(p0, nx, "p0"),
+                m0 > 0 ? Eigen::MatrixXd(matrix_arg(H0, nx, m0, "H0")) : Eigen::MatrixXd::Zero(nx, 0));
+    ZonotopicOptions opt;
+    opt.max_generators = max_generators;
+    opt.use_first_measurement = use_first_measurement != 0;
+    if (strip_order != nullptr)
+      opt.strip_order.assign(strip_order, strip_order + sys.ny());
+    auto est = std::make_unique<sb_zonotopic>(
+        sb_zonotopic{ZonotopicEstimator(sys, std::move(x0), std::move(rule), std::move(opt)), std::nullopt});
+    *out = est.release();
+  });
+}
+
+int sb_zonotopic_free(sb_zonotopic* estimator) {
+  delete estimator;
+  return SB_OK;
+}
+
+int sb_zonotopic_step(sb_zonotopic* estimator, const double* y, const double* u, double* center,
+                      double* lower, double* upper, int* m) {
+  return guard("sb_zonotopic_step", [&] {
+    require_pointer(estimator, "estimator");
+    const LinearSystem& sys = estimator->estimator.system();
+    const int nx = static_cast<int>(sys.nx());
+    const int nu = static_cast<int>(sys.nu());
+    require_pointer(center, "center");
+    require_pointer(lower, "lower");
+    require_pointer(upper, "upper");
+    require_pointer(m, "m");
+    if (nu > 0) require_pointer(u, "u");
+    const Eigen::VectorXd uv = nu > 0 ? Eigen::VectorXd(vector_arg(u, nu, "u")) : Eigen::VectorXd(0);
+    Zonotope X = estimator->estimator.step(vector_arg(y, static_cast<int>(sys.ny()), "y"), uv);
+    const BoundingBox box = X.interval_hull();
+    VecMap(center, nx) = X.center();
+    VecMap(lower, nx) = box.lo;
+    VecMap(upper, nx) = box.hi;
+    *m = static_cast<int>(X.num_generators());
+    estimator->last = std::move(X);
+  });
+}
+
+int sb_zonotopic_last_set(const sb_zonotopic* estimator, int* m, double* p, double* H) {
+  return guard("sb_zonotopic_last_set", [&] {
+    require_pointer(estimator, "estimator");
+    require_pointer(m, "m");
+    if (!estimator->last) throw InvalidArgumentError("estimator: no step has been taken yet");
+    const Zonotope& X = *estimator->last;
+    const int need = static_cast<int>(X.num_generators());
+    if (*m < need) {
+      const int capacity = *m;
+      *m = need;
+      throw BufferTooSmallError("m: capacity " + std::to_string(capacity) + " < " + std::to_string(need) +
+                                " generators");
+    }
+    *m = need;
+    const int nx = static_cast<int>(X.dimension());
+    require_pointer(p, "p");
+    VecMap(p, nx) = X.center();
+    if (need > 0) {
+      require_pointer(H, "H");
+      RowMap(H, nx, need) = X.generators();
+    }
+  });
+}
+
+}  // extern "C"

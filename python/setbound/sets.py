@@ -1,0 +1,326 @@
+"""Ellipsoids, zonotopes and strips (spec papers.md §0.1, thesis.md §1), through the C ABI.
+
+* :class:`Ellipsoid` — ``E(P, c, rho) = {x : (x - c)ᵀ P (x - c) <= rho}``; ``rho`` is a
+  *level*, not a squared radius, so ``(P, rho)`` and ``(tP, t rho)`` are the same set.
+* :class:`Zonotope` — ``Z = p ⊕ H B^m = {p + H z : z in [-1, 1]^m}``.
+* :class:`Strip` — ``S = {x : |cᵀx - y| <= phi}``.
+
+Every constructor validates through the C library, so bad input raises the same
+:class:`setbound.SetboundError` subclass and message (naming the argument: ``P``, ``c``,
+``rho``, ``p``, ``H``, ``phi``, ...) as in C and C++. The objects are immutable: their arrays
+are read-only copies. Exact linear operations (Minkowski sum, linear image, translation)
+are plain numpy; everything else (bounds, volumes, support functions, membership,
+reduction, strip intersection, interval images, change of shape) is computed by the C
+library.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ._native import as_f64, check, dptr, ffi, lib
+from .errors import DimensionError, InvalidArgumentError
+
+__all__ = ["Ellipsoid", "Zonotope", "Strip", "interval_linear_map"]
+
+#: Reduction methods accepted by :meth:`Zonotope.reduce`.
+REDUCTION_METHODS = {"combastel": lib.SB_REDUCE_COMBASTEL, "girard": lib.SB_REDUCE_GIRARD}
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, dtype=np.float64, copy=True, order="C")
+    a.flags.writeable = False
+    return a
+
+
+def _scalar(x, name: str) -> float:
+    try:
+        return float(x)
+    except (TypeError, ValueError):
+        raise InvalidArgumentError(f"{name}: expected a real number, got {x!r}") from None
+
+
+def _batch(x, n: int, name: str):
+    """A point/direction or a (k, n) batch of them; returns (2-D array, was_single)."""
+    a = as_f64(x, name)
+    if a.ndim == 1:
+        if a.shape[0] != n:
+            raise DimensionError(f"{name}: expected length {n} (or shape (k, {n})), got shape {a.shape}")
+        return a.reshape(1, n), True
+    return as_f64(a, name, shape=(None, n)), False
+
+
+def _int_array(k: int):
+    return ffi.new("int[]", max(k, 1))
+
+
+class Strip:
+    """``S = {x : |cᵀx - y| <= phi}`` with ``c != 0`` and ``phi >= 0``."""
+
+    def __init__(self, c, y, phi):
+        c = as_f64(c, "c", ndim=1)
+        if c.shape[0] == 0:
+            raise DimensionError("c: the strip normal must have at least one entry")
+        self._c = _readonly(c)
+        self._y = _scalar(y, "y")
+        self._phi = _scalar(phi, "phi")
+        # An empty batch validates c, y and phi in the library.
+        check(lib.sb_strip_contains(self.n, dptr(self._c), self._y, self._phi, 0, ffi.NULL, 0.0, ffi.NULL))
+
+    c = property(lambda self: self._c, doc="Normal vector c.")
+    y = property(lambda self: self._y, doc="Measurement y.")
+    phi = property(lambda self: self._phi, doc="Half-width phi (measurement units).")
+    n = property(lambda self: int(self._c.shape[0]), doc="Dimension.")
+
+    @property
+    def width(self) -> float:
+        """Euclidean distance between the two bounding hyperplanes, ``2 phi / ||c||``."""
+        return 2.0 * self._phi / float(np.linalg.norm(self._c))
+
+    def half_spaces(self):
+        """``[(a1, b1), (a2, b2)]`` with ``S = {a1ᵀx <= b1} ∩ {a2ᵀx <= b2}``."""
+        return [(self._c.copy(), self._y + self._phi), (-self._c, self._phi - self._y)]
+
+    def contains(self, points, rel_tol: float = 1e-12):
+        """Membership of a point (bool) or of each row of a (k, n) batch (bool array)."""
+        X, single = _batch(points, self.n, "points")
+        out = _int_array(X.shape[0])
+        check(lib.sb_strip_contains(self.n, dptr(self._c), self._y, self._phi, X.shape[0], dptr(X),
+                                    _scalar(rel_tol, "rel_tol"), out))
+        res = np.array([bool(out[i]) for i in range(X.shape[0])])
+        return bool(res[0]) if single else res
+
+    def __repr__(self) -> str:
+        return f"Strip(c={self._c.tolist()}, y={self._y}, phi={self._phi})"
+
+
+class Ellipsoid:
+    """``E(P, c, rho) = {x : (x - c)ᵀ P (x - c) <= rho}``, ``P`` symmetric positive definite."""
+
+    def __init__(self, P, center, rho):
+        c = as_f64(center, "c", ndim=1)
+        n = c.shape[0]
+        if n == 0:
+            raise DimensionError("c: the ellipsoid must have dimension >= 1")
+        P = as_f64(P, "P", shape=(n, n))
+        rho = _scalar(rho, "rho")
+        check(lib.sb_ellipsoid_validate(n, dptr(P), dptr(c), rho))
+        self._P, self._c, self._rho = _readonly(P), _readonly(c), rho
+
+    P = property(lambda self: self._P, doc="Shape matrix P (read-only).")
+    center = property(lambda self: self._c, doc="Centre c (read-only).")
+    rho = property(lambda self: self._rho, doc="Level rho (not a squared radius).")
+    n = property(lambda self: int(self._c.shape[0]), doc="Dimension.")
+
+    def _args(self):
+        return self.n, dptr(self._P), dptr(self._c), self._rho
+
+    def bounding_box(self):
+        """``(lo, hi)`` = ``c ∓ sqrt(rho diag(P⁻¹))`` (thesis (1.40)), rounded outward."""
+        lo, hi = np.empty(self.n), np.empty(self.n)
+        check(lib.sb_ellipsoid_bounding_box(*self._args(), dptr(lo), dptr(hi)))
+        return lo, hi
+
+    @property
+    def volume(self) -> float:
+        """``V_n rho^(n/2) / sqrt(det P)``."""
+        return self._volume()[0]
+
+    @property
+    def log_volume(self) -> float:
+        """Natural log of the volume (finite where the volume itself would overflow)."""
+        return self._volume()[1]
+
+    def _volume(self):
+        v = ffi.new("double[2]")
+        check(lib.sb_ellipsoid_volume(*self._args(), v, v + 1))
+        return float(v[0]), float(v[1])
+
+    def contains(self, points, rel_tol: float = 1e-12):
+        """Membership of a point (bool) or of each row of a (k, n) batch (bool array)."""
+        X, single = _batch(points, self.n, "points")
+        out = _int_array(X.shape[0])
+        check(lib.sb_ellipsoid_contains(*self._args(), X.shape[0], dptr(X), _scalar(rel_tol, "rel_tol"), out))
+        res = np.array([bool(out[i]) for i in range(X.shape[0])])
+        return bool(res[0]) if single else res
+
+    def support(self, d):
+        """``h(d) = dᵀc + sqrt(rho dᵀP⁻¹d)`` for a direction (float) or a (k, n) batch (array)."""
+        D, single = _batch(d, self.n, "directions")
+        out = np.empty(D.shape[0])
+        check(lib.sb_ellipsoid_support(*self._args(), D.shape[0], dptr(D), dptr(out)))
+        return float(out[0]) if single else out
+
+    def affine_map(self, M, b=None) -> "Ellipsoid":
+        """Image under ``x -> M x + b`` (``M`` square and invertible)."""
+        n = self.n
+        M = as_f64(M, "M", shape=(n, n))
+        b = np.zeros(n) if b is None else as_f64(b, "b", shape=(n,))
+        P_out, c_out, r_out = np.empty((n, n)), np.empty(n), ffi.new("double*")
+        check(lib.sb_ellipsoid_affine_map(*self._args(), dptr(M), dptr(b), dptr(P_out), dptr(c_out), r_out))
+        return Ellipsoid(P_out, c_out, r_out[0])
+
+    def level_for_shape(self, P_new) -> float:
+        """Smallest level ``rho'`` with ``E(P, c, rho) ⊆ E(P_new, c, rho')`` (rounded up, certified)."""
+        P_new = as_f64(P_new, "P_new", shape=(self.n, self.n))
+        r = ffi.new("double*")
+        check(lib.sb_ellipsoid_level_for_shape(*self._args(), dptr(P_new), r))
+        return float(r[0])
+
+    def with_shape(self, P_new) -> "Ellipsoid":
+        """The smallest ellipsoid of shape ``P_new`` and the same centre containing this one."""
+        return Ellipsoid(P_new, self._c, self.level_for_shape(P_new))
+
+    reshape = with_shape
+
+    def __repr__(self) -> str:
+        return f"Ellipsoid(n={self.n}, center={self._c.tolist()}, rho={self._rho})"
+
+
+class Zonotope:
+    """``Z = p ⊕ H B^m``; ``generators`` is n×m (m may be 0)."""
+
+    # Make ``ndarray @ Zonotope`` defer to Zonotope.__rmatmul__ instead of broadcasting.
+    __array_ufunc__ = None
+
+    def __init__(self, center, generators=None):
+        p = as_f64(center, "p", ndim=1)
+        n = p.shape[0]
+        if n == 0:
+            raise DimensionError("p: the zonotope must have dimension >= 1")
+        H = np.zeros((n, 0)) if generators is None else as_f64(generators, "H", ndim=2)
+        if H.shape[0] != n:
+            raise DimensionError(f"H: expected {n} rows (the length of p), got shape {H.shape}")
+        H = np.ascontiguousarray(H)
+        check(lib.sb_zonotope_validate(n, H.shape[1], dptr(p), dptr(H)))
+        self._p, self._H = _readonly(p), _readonly(H)
+
+    center = property(lambda self: self._p, doc="Centre p (read-only).")
+    generators = property(lambda self: self._H, doc="Generator matrix H, n×m (read-only).")
+    n = property(lambda self: int(self._p.shape[0]), doc="Dimension.")
+    m = property(lambda self: int(self._H.shape[1]), doc="Number of generators.")
+
+    @property
+    def order(self) -> float:
+        """m / n."""
+        return self.m / self.n
+
+    def _args(self):
+        return self.n, self.m, dptr(self._p), dptr(self._H)
+
+    # -- exact operations -------------------------------------------------------------
+    def __add__(self, other):
+        """Minkowski sum ``(p1 + p2) ⊕ [H1 H2] B``; a vector operand translates."""
+        if isinstance(other, Zonotope):
+            if other.n != self.n:
+                raise DimensionError(f"other: expected a zonotope of dimension {self.n}, got {other.n}")
+            return Zonotope(self._p + other._p, np.hstack([self._H, other._H]))
+        return self.translate(other)
+
+    __radd__ = __add__
+
+    def translate(self, b) -> "Zonotope":
+        b = as_f64(b, "b", shape=(self.n,))
+        return Zonotope(self._p + b, self._H)
+
+    def linear_map(self, M) -> "Zonotope":
+        """``M Z = M p ⊕ M H B`` for any k×n matrix ``M``."""
+        M = as_f64(M, "M", shape=(None, self.n))
+        if M.shape[0] == 0:
+            raise DimensionError("M: expected at least one row")
+        return Zonotope(M @ self._p, M @ self._H)
+
+    def __rmatmul__(self, M):
+        return self.linear_map(M)
+
+    # -- computed by the library ------------------------------------------------------
+    def interval_hull(self):
+        """``(lo, hi)`` = ``p ∓ Σ_j |H_ij|``, rounded outward."""
+        lo, hi = np.empty(self.n), np.empty(self.n)
+        check(lib.sb_zonotope_interval_hull(*self._args(), dptr(lo), dptr(hi)))
+        return lo, hi
+
+    @property
+    def volume(self) -> float:
+        """Exact ``2^n Σ_S |det H_S|`` (refused with InvalidArgumentError if C(m, n) > 5e6)."""
+        v = ffi.new("double*")
+        check(lib.sb_zonotope_volume(*self._args(), v))
+        return float(v[0])
+
+    def pradius(self, P, return_vertex: bool = False):
+        """Exact P-radius ``max_{s in {-1,1}^m} sᵀHᵀPHs`` (m <= 24); optionally the maximising s."""
+        P = as_f64(P, "P", shape=(self.n, self.n))
+        r = ffi.new("double*")
+        s = np.empty(self.m)
+        check(lib.sb_zonotope_pradius(*self._args(), dptr(P), r, dptr(s) if self.m else ffi.NULL))
+        return (float(r[0]), s) if return_vertex else float(r[0])
+
+    def support(self, d):
+        """``h(d) = dᵀp + ||Hᵀd||_1`` for a direction (float) or a (k, n) batch (array)."""
+        D, single = _batch(d, self.n, "directions")
+        out = np.empty(D.shape[0])
+        check(lib.sb_zonotope_support(*self._args(), D.shape[0], dptr(D), dptr(out)))
+        return float(out[0]) if single else out
+
+    def contains(self, points, rel_tol: float = 1e-9):
+        """Exact membership (facet enumeration; up to ``rel_tol`` on the boundary) of a point
+        (bool) or each row of a (k, n) batch (bool array)."""
+        X, single = _batch(points, self.n, "points")
+        out = _int_array(X.shape[0])
+        check(lib.sb_zonotope_contains(*self._args(), X.shape[0], dptr(X), _scalar(rel_tol, "rel_tol"), out))
+        res = np.array([bool(out[i]) for i in range(X.shape[0])])
+        return bool(res[0]) if single else res
+
+    def reduce(self, limit: int, method: str = "combastel") -> "Zonotope":
+        """Outer approximation with at most ``limit`` (>= n) generators.
+
+        ``"combastel"``: keep the ``limit - n`` longest generators, box the rest ([Le2013]
+        Property 3). ``"girard"``: keep the ``limit - n`` largest ``||g||_1 - ||g||_inf``,
+        box the rest (Girard 2005).
+        """
+        if method not in REDUCTION_METHODS:
+            raise InvalidArgumentError(
+                f"method: expected one of {sorted(REDUCTION_METHODS)}, got {method!r}")
+        if isinstance(limit, bool) or not isinstance(limit, (int, np.integer)):
+            raise InvalidArgumentError(f"limit: expected an integer, got {limit!r}")
+        limit = max(min(int(limit), 2**31 - 1), -(2**31))  # C int; any limit >= m is the same
+        cap = max(0, min(self.m, limit))  # limit < n is reported by the library
+        H_out = np.empty((self.n, max(cap, 1)))
+        m_out = ffi.new("int*", cap)
+        check(lib.sb_zonotope_reduce(*self._args(), REDUCTION_METHODS[method], limit, m_out, dptr(H_out)))
+        k = int(m_out[0])
+        return Zonotope(self._p, H_out.ravel()[: self.n * k].reshape(self.n, k))
+
+    def intersect_strip(self, strip: Strip, lam) -> "Zonotope":
+        """The [Le2013] Property 6 zonotope ``p̂(λ) ⊕ Ĥ(λ) B^(m+1) ⊇ Z ∩ strip``."""
+        if not isinstance(strip, Strip):
+            raise InvalidArgumentError(f"strip: expected a setbound.sets.Strip, got {type(strip).__name__}")
+        if strip.n != self.n:
+            raise DimensionError(f"c: the strip has dimension {strip.n}, the zonotope {self.n}")
+        lam = as_f64(lam, "lambda", shape=(self.n,))
+        p_out, H_out = np.empty(self.n), np.empty((self.n, self.m + 1))
+        check(lib.sb_zonotope_intersect_strip(*self._args(), dptr(strip.c), strip.y, strip.phi, dptr(lam),
+                                              dptr(p_out), dptr(H_out)))
+        return Zonotope(p_out, H_out)
+
+    def interval_linear_map(self, mid, rad) -> "Zonotope":
+        """Zonotope containing ``A z`` for every ``A in [mid - rad, mid + rad]`` and ``z in Z``."""
+        return interval_linear_map(mid, rad, self)
+
+    def __repr__(self) -> str:
+        return f"Zonotope(n={self.n}, m={self.m}, center={self._p.tolist()})"
+
+
+def interval_linear_map(mid, rad, Z: Zonotope) -> Zonotope:
+    """papers §3.1: ``[A] Z ⊆ mid p ⊕ [mid H, rs(rad |H|), diag(rad |p|)] B^(m+2k)``."""
+    if not isinstance(Z, Zonotope):
+        raise InvalidArgumentError(f"Z: expected a setbound.sets.Zonotope, got {type(Z).__name__}")
+    mid = as_f64(mid, "mid", shape=(None, Z.n))
+    k = mid.shape[0]
+    if k == 0:
+        raise DimensionError("mid: expected at least one row")
+    rad = as_f64(rad, "rad", shape=(k, Z.n))
+    p_out, H_out = np.empty(k), np.empty((k, Z.m + 2 * k))
+    check(lib.sb_zonotope_interval_linear_map(k, Z.n, Z.m, dptr(mid), dptr(rad), dptr(Z.center),
+                                              dptr(Z.generators), dptr(p_out), dptr(H_out)))
+    return Zonotope(p_out, H_out)
+

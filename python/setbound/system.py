@@ -1,0 +1,99 @@
+"""System models: ``LinearSystem`` (papers.md §0.3).
+
+``x⁺ = A x + B u + E ω``, ``y = C x + D u + F ω``, ``ω`` in the unit box ``[-1, 1]^{n_ω}``.
+``A`` may be an :class:`~setbound.IntervalMatrix` (``A ∈ [A]``); the estimators then use
+``mid[A]`` for the centre and account for every ``A ∈ [A]``.
+
+The zonotopic papers' form ``x⁺ = A x + F_w ω``, ``y = C x + Φ v`` is
+``LinearSystem(A, C, E=[F_w, 0], F=[0, Φ])``: stack the disturbances, ``ω = [w; v]``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ._native import as_f64, check, dptr, ffi, lib
+from .errors import DimensionError, InvalidArgumentError
+from .interval import IntervalMatrix
+
+
+class LinearSystem:
+    """A discrete-time linear model with unit-box disturbances (validated by the C library)."""
+
+    def __init__(self, A, C, *, B=None, D=None, E, F):
+        if isinstance(A, IntervalMatrix):
+            A_mid = as_f64(A.mid, "A", ndim=2)
+            A_rad = as_f64(A.rad, "A", shape=A_mid.shape)
+        else:
+            A_mid = as_f64(A, "A", ndim=2)
+            A_rad = None
+        nx = A_mid.shape[0]
+        if A_mid.shape != (nx, nx):
+            raise DimensionError(f"A: must be square, got shape {A_mid.shape}")
+        C = as_f64(C, "C", shape=(None, nx))
+        ny = C.shape[0]
+        E = as_f64(E, "E", shape=(nx, None))
+        F = as_f64(F, "F", shape=(ny, E.shape[1]))
+        nw = E.shape[1]
+        if B is None:
+            if D is not None:
+                raise InvalidArgumentError("D: given without B (there is no input)")
+            nu = 0
+        else:
+            B = as_f64(B, "B", shape=(nx, None))
+            nu = B.shape[1]
+            if D is not None:
+                D = as_f64(D, "D", shape=(ny, nu))
+        handle = ffi.new("sb_linear_system**")
+        check(lib.sb_linear_system_create(
+            nx, ny, nu, nw, dptr(A_mid), dptr(B) if B is not None else ffi.NULL, dptr(C),
+            dptr(D) if D is not None else ffi.NULL, dptr(E), dptr(F),
+            dptr(A_rad) if A_rad is not None else ffi.NULL, handle))
+        self._handle = ffi.gc(handle[0], lib.sb_linear_system_free)
+        self.A = A_mid
+        self.A_rad = A_rad if A_rad is not None else np.zeros_like(A_mid)
+        self.B = B if B is not None else np.zeros((nx, 0))
+        self.C, self.E, self.F = C, E, F
+        self.D = D if D is not None else np.zeros((ny, nu))
+        for a in (self.A, self.A_rad, self.B, self.C, self.D, self.E, self.F):
+            a.flags.writeable = False  # the C library holds its own copy; keep both in step
+
+    @property
+    def nx(self) -> int:
+        return self.A.shape[0]
+
+    @property
+    def ny(self) -> int:
+        return self.C.shape[0]
+
+    @property
+    def nu(self) -> int:
+        return self.B.shape[1]
+
+    @property
+    def nw(self) -> int:
+        return self.E.shape[1]
+
+    @property
+    def uncertain_A(self) -> bool:
+        return bool(np.any(self.A_rad > 0))
+
+    @property
+    def A_interval(self) -> IntervalMatrix:
+        return IntervalMatrix.from_mid_rad(self.A, self.A_rad)
+
+    def is_detectable(self) -> bool:
+        """PBH test of (C, mid[A])."""
+        return is_detectable(self.A, self.C)
+
+    def __repr__(self) -> str:
+        unc = ", interval A" if self.uncertain_A else ""
+        return f"LinearSystem(nx={self.nx}, ny={self.ny}, nu={self.nu}, nw={self.nw}{unc})"
+
+
+def is_detectable(A, C) -> bool:
+    """PBH test: every eigenvalue of A with |λ| >= 1 is seen by C."""
+    A = as_f64(A, "A", ndim=2)
+    C = as_f64(C, "C", shape=(None, A.shape[0]))
+    out = ffi.new("int*")
+    check(lib.sb_check_detectability(A.shape[0], C.shape[0], dptr(A), dptr(C), out, ffi.NULL, ffi.NULL))
+    return bool(out[0])

@@ -1,0 +1,602 @@
+// Zonotopes p ⊕ H B^m (spec papers.md §0.1, §3.1) and their C ABI.
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "c_api_common.hpp"
+#include "setbound/sets/zonotope.hpp"
+#include "test_helpers.hpp"
+
+using setbound::Strip;
+using setbound::Zonotope;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+namespace {
+
+MatrixXd random_matrix(int r, int c, std::mt19937& rng, double scale = 1.0) {
+  std::normal_distribution<double> g;
+  MatrixXd A(r, c);
+  for (int i = 0; i < r; ++i)
+    for (int j = 0; j < c; ++j) A(i, j) = scale * g(rng);
+  return A;
+}
+
+VectorXd random_vector(int n, std::mt19937& rng, double scale = 1.0) { return random_matrix(n, 1, rng, scale); }
+
+Zonotope random_zonotope(int n, int m, std::mt19937& rng) {
+  return Zonotope(random_vector(n, rng, 2.0), random_matrix(n, m, rng));
+}
+
+/// z in B^m: a vertex (all ±1) when `vertex`, else uniform in the box.
+VectorXd random_box_point(int m, std::mt19937& rng, bool vertex) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  VectorXd z(m);
+  for (int j = 0; j < m; ++j) z(j) = vertex ? (u(rng) < 0 ? -1.0 : 1.0) : u(rng);
+  return z;
+}
+
+VectorXd sample_in(const Zonotope& Z, std::mt19937& rng, bool vertex) {
+  return Z.center() + Z.generators() * random_box_point(static_cast<int>(Z.num_generators()), rng, vertex);
+}
+
+/// Outer ⊇ inner checked through support functions: h_inner(d) <= h_outer(d) for many d
+/// (necessary and, over all d, sufficient for containment of convex sets).
+void expect_support_dominates(const Zonotope& outer, const Zonotope& inner, std::mt19937& rng, int ndir = 400) {
+  const int n = static_cast<int>(inner.dimension());
+  for (int k = 0; k < ndir; ++k) {
+    const VectorXd d = random_vector(n, rng);
+    const double ho = outer.support(d), hi = inner.support(d);
+    EXPECT_LE(hi, ho + 1e-10 * (1.0 + std::abs(ho))) << "direction " << d.transpose();
+  }
+}
+
+/// Area of the convex hull of 2-D points (monotone chain + shoelace): an independent
+/// volume for 2-D zonotopes.
+double hull_area(std::vector<Eigen::Vector2d> pts) {
+  std::sort(pts.begin(), pts.end(), [](const auto& a, const auto& b) {
+    return a(0) < b(0) || (a(0) == b(0) && a(1) < b(1));
+  });
+  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a(0) - o(0)) * (b(1) - o(1)) - (a(1) - o(1)) * (b(0) - o(0));
+  };
+  std::vector<Eigen::Vector2d> h(2 * pts.size());
+  size_t k = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && cross(h[k - 2], h[k - 1], pts[i]) <= 0) --k;
+    h[k++] = pts[i];
+  }
+  for (size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(h[k - 2], h[k - 1], pts[i - 1]) <= 0) --k;
+    h[k++] = pts[i - 1];
+  }
+  double area = 0;
+  for (size_t i = 0; i + 1 < k; ++i) area += h[i](0) * h[i + 1](1) - h[i + 1](0) * h[i](1);
+  return 0.5 * std::abs(area);
+}
+
+std::vector<VectorXd> all_vertices(const Zonotope& Z) {
+  const int m = static_cast<int>(Z.num_generators());
+  std::vector<VectorXd> v;
+  for (long mask = 0; mask < (1L << m); ++mask) {
+    VectorXd s(m);
+    for (int j = 0; j < m; ++j) s(j) = (mask >> j) & 1 ? 1.0 : -1.0;
+    v.push_back(Z.center() + Z.generators() * s);
+  }
+  return v;
+}
+
+template <class Err, class F>
+void expect_error_naming(F&& f, const std::string& name) {
+  try {
+    f();
+    ADD_FAILURE() << "expected an exception naming " << name;
+  } catch (const Err& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(name + ":", 0), 0u) << e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "wrong exception type: " << e.what();
+  }
+}
+
+}  // namespace
+
+// ---- basic operations ---------------------------------------------------------------------
+
+TEST(Zonotope, MinkowskiSumLinearMapTranslateAndOrder) {
+  std::mt19937 rng(1);
+  const Zonotope A = random_zonotope(3, 4, rng), B = random_zonotope(3, 2, rng);
+  const Zonotope S = A + B;
+  EXPECT_EQ(S.num_generators(), 6);
+  EXPECT_DOUBLE_EQ(S.order(), 2.0);
+  EXPECT_EIGEN_NEAR(S.center(), VectorXd(A.center() + B.center()), 0.0);
+  for (int k = 0; k < 100; ++k) {
+    // Support function of a Minkowski sum is additive.
+    const VectorXd d = random_vector(3, rng);
+    EXPECT_NEAR(S.support(d), A.support(d) + B.support(d), 1e-12 * (1 + std::abs(S.support(d))));
+  }
+  const MatrixXd K = random_matrix(2, 3, rng);
+  const Zonotope KA = A.linear_map(K);
+  EXPECT_EQ(KA.dimension(), 2);
+  for (int k = 0; k < 100; ++k) {
+    const VectorXd z = random_box_point(4, rng, false);
+    const VectorXd image = KA.center() + KA.generators() * z;
+    EXPECT_EIGEN_NEAR(image, VectorXd(K * (A.center() + A.generators() * z)), 1e-12);
+  }
+  const VectorXd b = random_vector(3, rng);
+  EXPECT_EIGEN_NEAR(A.translate(b).center(), VectorXd(A.center() + b), 0.0);
+  EXPECT_EIGEN_NEAR(A.translate(b).generators(), A.generators(), 0.0);
+}
+
+TEST(Zonotope, SupportAndIntervalHullMatchVertexEnumeration) {
+  std::mt19937 rng(2);
+  const Zonotope Z = random_zonotope(3, 6, rng);
+  const auto verts = all_vertices(Z);
+  const auto hull = Z.interval_hull();
+  for (int i = 0; i < 3; ++i) {
+    double mx = -1e300, mn = 1e300;
+    for (const auto& v : verts) {
+      mx = std::max(mx, v(i));
+      mn = std::min(mn, v(i));
+    }
+    EXPECT_NEAR(hull.hi(i), mx, 1e-12);
+    EXPECT_NEAR(hull.lo(i), mn, 1e-12);
+    EXPECT_GE(hull.hi(i), mx);  // rounded outward, never inward
+    EXPECT_LE(hull.lo(i), mn);
+  }
+  for (int k = 0; k < 50; ++k) {
+    const VectorXd d = random_vector(3, rng);
+    double best = -1e300;
+    for (const auto& v : verts) best = std::max(best, d.dot(v));
+    EXPECT_NEAR(Z.support(d), best, 1e-12 * (1 + std::abs(best)));
+  }
+}
+
+TEST(Zonotope, RemoveZeroGenerators) {
+  MatrixXd H(2, 4);
+  H << 1, 0, 0, 2, 0, 0, 1e-20, 3;
+  const Zonotope Z(VectorXd::Zero(2), H);
+  EXPECT_EQ(Z.remove_zero_generators().num_generators(), 3);
+  EXPECT_EQ(Z.remove_zero_generators(1e-15).num_generators(), 2);
+  EXPECT_EIGEN_NEAR(Z.remove_zero_generators(1e-15).generators().col(1), Eigen::Vector2d(2, 3), 0.0);
+}
+
+// ---- volume -------------------------------------------------------------------------------
+
+TEST(Zonotope, VolumeOfBoxesAndParallelotopes) {
+  // Box p ⊕ diag(a) B^n has volume prod 2 a_i.
+  const Zonotope box(VectorXd::Ones(3), Eigen::Vector3d(0.5, 2.0, 3.0).asDiagonal().toDenseMatrix());
+  EXPECT_NEAR(box.volume(), 1.0 * 4.0 * 6.0, 1e-12);
+  // Parallelotope: 2^n |det H|.
+  std::mt19937 rng(3);
+  const MatrixXd H = random_matrix(4, 4, rng);
+  EXPECT_NEAR(Zonotope(VectorXd::Zero(4), H).volume(), 16.0 * std::abs(H.determinant()), 1e-10);
+  // Fewer generators than dimensions: flat, volume 0.
+  EXPECT_EQ(Zonotope(VectorXd::Zero(3), random_matrix(3, 2, rng)).volume(), 0.0);
+}
+
+TEST(Zonotope, VolumeMatchesPolygonAreaIn2D) {
+  std::mt19937 rng(4);
+  for (int m = 1; m <= 7; ++m) {
+    const Zonotope Z = random_zonotope(2, m, rng);
+    std::vector<Eigen::Vector2d> pts;
+    for (const auto& v : all_vertices(Z)) pts.emplace_back(v(0), v(1));
+    EXPECT_NEAR(Z.volume(), m < 2 ? 0.0 : hull_area(pts), 1e-10 * (1 + Z.volume())) << "m = " << m;
+  }
+}
+
+TEST(Zonotope, VolumeScalesByAbsDetUnderLinearMaps) {
+  std::mt19937 rng(5);
+  const Zonotope Z = random_zonotope(3, 7, rng);
+  for (int k = 0; k < 5; ++k) {
+    const MatrixXd M = random_matrix(3, 3, rng);
+    EXPECT_NEAR(Z.linear_map(M).volume(), std::abs(M.determinant()) * Z.volume(), 1e-9 * Z.volume());
+  }
+}
+
+TEST(Zonotope, VolumeRefusesHugeEnumerations) {
+  std::mt19937 rng(6);
+  // C(60, 10) ≈ 7.5e10 > 5e6.
+  const Zonotope Z = random_zonotope(10, 60, rng);
+  expect_error_naming<setbound::InvalidArgumentError>([&] { Z.volume(); }, "H");
+}
+
+// ---- P-radius -----------------------------------------------------------------------------
+
+TEST(Zonotope, PRadiusSimpleCases) {
+  // Unit box in R^2, P = I: max ||s||^2 = 2.
+  EXPECT_NEAR(Zonotope(VectorXd::Zero(2), MatrixXd::Identity(2, 2)).pradius(MatrixXd::Identity(2, 2)), 2.0, 1e-14);
+  // H = diag(a, b), P = diag(p1, p2): p1 a^2 + p2 b^2.
+  const Zonotope D(VectorXd::Ones(2), Eigen::Vector2d(3, 0.5).asDiagonal().toDenseMatrix());
+  EXPECT_NEAR(D.pradius(Eigen::Vector2d(2, 7).asDiagonal().toDenseMatrix()), 2 * 9 + 7 * 0.25, 1e-13);
+  // One generator g: g^T P g.
+  MatrixXd g(2, 1);
+  g << 1, -2;
+  MatrixXd P(2, 2);
+  P << 2, 1, 1, 3;
+  EXPECT_NEAR(Zonotope(VectorXd::Zero(2), g).pradius(P), (g.transpose() * P * g)(0, 0), 1e-13);
+  EXPECT_EQ(Zonotope(VectorXd::Zero(2), MatrixXd(2, 0)).pradius(P), 0.0);
+}
+
+TEST(Zonotope, PRadiusIsAttainedAtAVertexAndBoundsTheSet) {
+  std::mt19937 rng(7);
+  for (int m = 1; m <= 12; m += 3) {
+    const Zonotope Z = random_zonotope(3, m, rng);
+    MatrixXd A = random_matrix(3, 3, rng);
+    const MatrixXd P = A * A.transpose() + 0.1 * MatrixXd::Identity(3, 3);
+    const auto r = Z.pradius_with_vertex(P);
+    // Brute force over all 2^m vertices.
+    double best = 0;
+    for (const auto& v : all_vertices(Z)) best = std::max(best, (v - Z.center()).dot(P * (v - Z.center())));
+    EXPECT_NEAR(r.value, best, 1e-10 * best);
+    ASSERT_EQ(r.vertex.size(), m);
+    EXPECT_TRUE((r.vertex.array().abs() == 1.0).all());
+    const VectorXd e = Z.generators() * r.vertex;
+    EXPECT_NEAR(e.dot(P * e), r.value, 1e-12 * r.value);
+    for (int k = 0; k < 200; ++k) {
+      const VectorXd x = sample_in(Z, rng, false) - Z.center();
+      EXPECT_LE(x.dot(P * x), r.value * (1 + 1e-12));
+    }
+  }
+}
+
+TEST(Zonotope, PRadiusValidation) {
+  std::mt19937 rng(8);
+  const Zonotope Z = random_zonotope(2, 3, rng);
+  MatrixXd indef(2, 2);
+  indef << 1, 2, 2, 1;
+  expect_error_naming<setbound::NotPositiveDefiniteError>([&] { Z.pradius(indef); }, "P");
+  expect_error_naming<setbound::DimensionError>([&] { Z.pradius(MatrixXd::Identity(3, 3)); }, "P");
+  expect_error_naming<setbound::InvalidArgumentError>(
+      [&] { random_zonotope(2, 25, rng).pradius(MatrixXd::Identity(2, 2)); }, "H");
+}
+
+// ---- exact membership test ----------------------------------------------------------------
+
+TEST(Zonotope, ContainsIsExactOnSupportPointsIn2DAnd3D) {
+  std::mt19937 rng(9);
+  for (int n = 1; n <= 3; ++n) {
+    const Zonotope Z = random_zonotope(n, n + 3, rng);
+    for (int k = 0; k < 200; ++k) {
+      EXPECT_TRUE(Z.contains(sample_in(Z, rng, k % 2 == 0))) << "n = " << n;
+      // The maximiser of d^T x is a vertex p + H sign(H^T d); pushed out along d it must fail.
+      const VectorXd d = random_vector(n, rng);
+      const VectorXd s = (Z.generators().transpose() * d).array().sign().matrix();
+      const VectorXd xs = Z.center() + Z.generators() * s;
+      EXPECT_TRUE(Z.contains(xs));
+      EXPECT_FALSE(Z.contains(xs + 1e-5 * d.normalized())) << "n = " << n;
+    }
+  }
+}
+
+TEST(Zonotope, ContainsHandlesFlatZonotopes) {
+  // A segment in R^2 and a flat parallelogram in R^3.
+  MatrixXd g(2, 2);
+  g << 1, 2, 1, 2;  // both generators along (1, 1): the segment from -(3,3) to (3,3)
+  const Zonotope seg(VectorXd::Zero(2), g);
+  EXPECT_TRUE(seg.contains(Eigen::Vector2d(2.9, 2.9)));
+  EXPECT_TRUE(seg.contains(Eigen::Vector2d(3, 3)));
+  EXPECT_FALSE(seg.contains(Eigen::Vector2d(3.01, 3.01)));
+  EXPECT_FALSE(seg.contains(Eigen::Vector2d(1.0, 1.01)));
+  MatrixXd H(3, 2);
+  H << 1, 0, 0, 1, 0, 0;  // the square [-1, 1]^2 x {0}
+  const Zonotope sq(Eigen::Vector3d(0, 0, 1), H);
+  EXPECT_TRUE(sq.contains(Eigen::Vector3d(0.5, -1, 1)));
+  EXPECT_FALSE(sq.contains(Eigen::Vector3d(0.5, -1, 1.001)));
+  EXPECT_FALSE(sq.contains(Eigen::Vector3d(1.01, 0, 1)));
+  const Zonotope pt(Eigen::Vector2d(1, 2), MatrixXd(2, 0));
+  EXPECT_TRUE(pt.contains(Eigen::Vector2d(1, 2)));
+  EXPECT_FALSE(pt.contains(Eigen::Vector2d(1, 2.01)));
+}
+
+// ---- reduction ----------------------------------------------------------------------------
+
+TEST(Zonotope, CombastelReductionContainsTheOriginal) {
+  std::mt19937 rng(10);
+  for (int trial = 0; trial < 12; ++trial) {
+    const int n = 2 + trial % 3, m = 3 * n + trial;
+    const Zonotope Z = random_zonotope(n, m, rng);
+    for (int s = n; s < m; s += 2) {
+      const Zonotope R = Z.reduce_combastel(s);
+      ASSERT_EQ(R.num_generators(), s);
+      EXPECT_EIGEN_NEAR(R.center(), Z.center(), 0.0);
+      expect_support_dominates(R, Z, rng, 200);
+      for (int k = 0; k < 100; ++k) EXPECT_TRUE(R.contains(sample_in(Z, rng, k % 2 == 0))) << n << " " << s;
+      // The kept columns are the s - n longest ones (papers §0.1).
+      std::vector<double> norms;
+      for (int j = 0; j < m; ++j) norms.push_back(Z.generators().col(j).norm());
+      std::sort(norms.rbegin(), norms.rend());
+      for (int j = 0; j < s - n; ++j) EXPECT_NEAR(R.generators().col(j).norm(), norms[j], 1e-14);
+    }
+  }
+}
+
+TEST(Zonotope, CombastelReductionEdgeCases) {
+  std::mt19937 rng(11);
+  const Zonotope Z = random_zonotope(3, 8, rng);
+  // s = n boxes everything: the result is the interval hull.
+  const Zonotope box = Z.reduce_combastel(3);
+  const auto h1 = Z.interval_hull(), h2 = box.interval_hull();
+  EXPECT_EIGEN_NEAR(h1.hi, h2.hi, 1e-12);
+  EXPECT_EIGEN_NEAR(h1.lo, h2.lo, 1e-12);
+  // m <= s: unchanged.
+  EXPECT_EIGEN_NEAR(Z.reduce_combastel(8).generators(), Z.generators(), 0.0);
+  EXPECT_EIGEN_NEAR(Z.reduce_combastel(20).generators(), Z.generators(), 0.0);
+  expect_error_naming<setbound::InvalidArgumentError>([&] { Z.reduce_combastel(2); }, "s");
+}
+
+TEST(Zonotope, GirardReductionContainsTheOriginal) {
+  std::mt19937 rng(12);
+  for (int trial = 0; trial < 12; ++trial) {
+    const int n = 2 + trial % 3, m = 4 * n + trial;
+    const Zonotope Z = random_zonotope(n, m, rng);
+    for (double order : {1.0, 1.5, 2.0, 3.0}) {
+      const Zonotope R = Z.reduce_girard(order);
+      EXPECT_LE(R.num_generators(), static_cast<Eigen::Index>(std::floor(order * n)));
+      expect_support_dominates(R, Z, rng, 200);
+      for (int k = 0; k < 100; ++k) EXPECT_TRUE(R.contains(sample_in(Z, rng, k % 2 == 0)));
+    }
+  }
+  // Axis-aligned generators cost nothing to box, so Girard keeps the oblique ones.
+  MatrixXd H(2, 4);
+  H << 1, 0, 1, 0.1, 0, 1, 1, 0;
+  const Zonotope Z(VectorXd::Zero(2), H);
+  const Zonotope R = Z.reduce_girard_to(3);
+  ASSERT_EQ(R.num_generators(), 3);
+  EXPECT_EIGEN_NEAR(R.generators().col(0), Eigen::Vector2d(1, 1), 0.0);
+  EXPECT_NEAR(R.generators()(0, 1), 1.1, 1e-14);  // boxed: |1| + |0| + |0.1|
+  EXPECT_NEAR(R.generators()(1, 2), 1.0, 1e-14);
+  expect_error_naming<setbound::InvalidArgumentError>([&] { Z.reduce_girard(0.5); }, "order");
+  expect_error_naming<setbound::InvalidArgumentError>([&] { Z.reduce_girard_to(1); }, "limit");
+}
+
+// ---- zonotope / strip family (Property 6) -------------------------------------------------
+
+TEST(Zonotope, StripFamilyExactCase) {
+  // Z = [-1, 1]^2, S = {|x1 - 0.5| <= 0.1}, lambda = e1: the result is [0.4, 0.6] x [-1, 1],
+  // exactly Z ∩ S.
+  const Zonotope Z(VectorXd::Zero(2), MatrixXd::Identity(2, 2));
+  const Strip S(Eigen::Vector2d(1, 0), 0.5, 0.1);
+  const Zonotope R = Z.intersect_strip_family(S, Eigen::Vector2d(1, 0));
+  ASSERT_EQ(R.num_generators(), 3);
+  const auto h = R.interval_hull();
+  EXPECT_EIGEN_NEAR(h.lo, Eigen::Vector2d(0.4, -1), 1e-14);
+  EXPECT_EIGEN_NEAR(h.hi, Eigen::Vector2d(0.6, 1), 1e-14);
+  // lambda = 0 gives Z back (plus a zero generator).
+  const Zonotope R0 = Z.intersect_strip_family(S, VectorXd::Zero(2));
+  EXPECT_EIGEN_NEAR(R0.remove_zero_generators().generators(), Z.generators(), 0.0);
+}
+
+TEST(Zonotope, StripFamilyContainsTheIntersectionForRandomLambda) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 30; ++trial) {
+    const int n = 2 + trial % 2, m = 3 + trial % 4;
+    const Zonotope Z = random_zonotope(n, m, rng);
+    const VectorXd c = random_vector(n, rng);
+    // A strip through the zonotope: centred at the image of a random point of Z.
+    const double y = c.dot(sample_in(Z, rng, false));
+    const double phi = 0.05 + 0.5 * std::abs(u(rng));
+    const Strip S(c, y, phi);
+    const VectorXd lambda = random_vector(n, rng, trial % 3 == 0 ? 3.0 : 0.3);
+    const Zonotope R = Z.intersect_strip_family(S, lambda);
+    EXPECT_EQ(R.num_generators(), m + 1);
+    int tested = 0;
+    for (int k = 0; k < 2000 && tested < 200; ++k) {
+      const VectorXd x = sample_in(Z, rng, false);
+      if (!S.contains(x)) continue;
+      ++tested;
+      EXPECT_TRUE(R.contains(x)) << "trial " << trial;
+    }
+    EXPECT_GT(tested, 10);
+  }
+}
+
+// ---- interval matrices (Property 4 and the §3.1 prediction) -------------------------------
+
+TEST(Zonotope, IntervalLinearMapContainsEveryImage) {
+  std::mt19937 rng(14);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 20; ++trial) {
+    const int n = 2 + trial % 2, k = 2 + (trial / 2) % 2, m = 2 + trial % 3;
+    const Zonotope Z = random_zonotope(n, m, rng);
+    const MatrixXd mid = random_matrix(k, n, rng);
+    MatrixXd rad = random_matrix(k, n, rng, 0.2).cwiseAbs();
+    if (trial % 4 == 0) rad(0, 0) = 0.0;  // a certain entry
+    const Zonotope R = setbound::interval_linear_map(mid, rad, Z);
+    ASSERT_EQ(R.num_generators(), m + 2 * k);
+    for (int s = 0; s < 200; ++s) {
+      MatrixXd A(k, n);
+      const bool vertex = s % 2 == 0;  // vertices of [A] and of Z are the hardest cases
+      for (int i = 0; i < k; ++i)
+        for (int j = 0; j < n; ++j)
+          A(i, j) = mid(i, j) + rad(i, j) * (vertex ? (u(rng) < 0 ? -1.0 : 1.0) : u(rng));
+      const VectorXd x = A * sample_in(Z, rng, vertex);
+      EXPECT_TRUE(R.contains(x)) << "trial " << trial;
+      for (int t = 0; t < 5; ++t) {
+        const VectorXd d = random_vector(k, rng);
+        EXPECT_LE(d.dot(x), R.support(d) + 1e-10 * (1 + std::abs(R.support(d))));
+      }
+    }
+  }
+  // Point interval matrix (rad = 0): the exact linear image plus zero boxes.
+  const Zonotope Z = random_zonotope(2, 3, rng);
+  const MatrixXd A = random_matrix(2, 2, rng);
+  const Zonotope R = setbound::interval_linear_map(A, MatrixXd::Zero(2, 2), Z);
+  EXPECT_EIGEN_NEAR(R.remove_zero_generators().generators(), Z.linear_map(A).generators(), 1e-15);
+  expect_error_naming<setbound::InvalidArgumentError>(
+      [&] { setbound::interval_linear_map(A, -MatrixXd::Ones(2, 2), Z); }, "rad");
+  expect_error_naming<setbound::DimensionError>(
+      [&] { setbound::interval_linear_map(A, MatrixXd::Zero(2, 3), Z); }, "rad");
+  expect_error_naming<setbound::DimensionError>(
+      [&] { setbound::interval_linear_map(MatrixXd::Zero(2, 3), MatrixXd::Zero(2, 3), Z); }, "mid");
+}
+
+TEST(Zonotope, IntervalGeneratorInclusionProperty4) {
+  // p ⊕ [M] B^m ⊆ p ⊕ [mid M, rs(rad M)] B^(m+n) for every M in [M].
+  std::mt19937 rng(15);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const int n = 2, m = 4;
+  const VectorXd p = random_vector(n, rng);
+  const MatrixXd mid = random_matrix(n, m, rng);
+  const MatrixXd rad = random_matrix(n, m, rng, 0.3).cwiseAbs();
+  const Zonotope R = setbound::interval_generator_inclusion(p, mid, rad);
+  ASSERT_EQ(R.num_generators(), m + n);
+  for (int s = 0; s < 500; ++s) {
+    MatrixXd M(n, m);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < m; ++j) M(i, j) = mid(i, j) + rad(i, j) * (s % 2 ? u(rng) : (u(rng) < 0 ? -1 : 1));
+    EXPECT_TRUE(R.contains(p + M * random_box_point(m, rng, s % 2 == 0)));
+  }
+}
+
+// ---- validation ---------------------------------------------------------------------------
+
+TEST(Zonotope, ConstructorErrorsNameTheArgument) {
+  using namespace setbound;
+  expect_error_naming<DimensionError>([] { Zonotope(VectorXd::Zero(2), MatrixXd::Zero(3, 2)); }, "H");
+  expect_error_naming<DimensionError>([] { Zonotope(VectorXd(), MatrixXd()); }, "p");
+  VectorXd p = VectorXd::Zero(2);
+  p(0) = std::nan("");
+  expect_error_naming<NotFiniteError>([&] { Zonotope(p, MatrixXd::Identity(2, 2)); }, "p");
+  MatrixXd H = MatrixXd::Identity(2, 2);
+  H(1, 0) = std::numeric_limits<double>::infinity();
+  expect_error_naming<NotFiniteError>([&] { Zonotope(VectorXd::Zero(2), H); }, "H");
+  const Zonotope Z(VectorXd::Zero(2), MatrixXd::Identity(2, 2));
+  expect_error_naming<DimensionError>([&] { Z.support(VectorXd::Zero(3)); }, "d");
+  expect_error_naming<DimensionError>([&] { Z.linear_map(MatrixXd::Zero(2, 3)); }, "M");
+  expect_error_naming<DimensionError>(
+      [&] { Z.intersect_strip_family(Strip(VectorXd::Ones(3), 0, 1), VectorXd::Zero(2)); }, "c");
+  expect_error_naming<DimensionError>(
+      [&] { Z.intersect_strip_family(Strip(VectorXd::Ones(2), 0, 1), VectorXd::Zero(3)); }, "lambda");
+}
+
+// ---- C ABI --------------------------------------------------------------------------------
+
+TEST(ZonotopeCApi, MatchesCxx) {
+  // Row-major H (2 x 3) = [[1, 0, 2], [0, 1, -1]].
+  const double p[2] = {1.0, -1.0};
+  const double H[6] = {1, 0, 2, 0, 1, -1};
+  MatrixXd Hm(2, 3);
+  Hm << 1, 0, 2, 0, 1, -1;
+  const Zonotope Z(Eigen::Vector2d(1, -1), Hm);
+  ASSERT_EQ(sb_zonotope_validate(2, 3, p, H), SB_OK);
+
+  double lo[2], hi[2];
+  ASSERT_EQ(sb_zonotope_interval_hull(2, 3, p, H, lo, hi), SB_OK) << sb_last_error();
+  EXPECT_NEAR(hi[0], 1 + 3, 1e-14);
+  EXPECT_NEAR(lo[1], -1 - 2, 1e-14);
+
+  double vol = 0;
+  ASSERT_EQ(sb_zonotope_volume(2, 3, p, H, &vol), SB_OK);
+  EXPECT_NEAR(vol, 4.0 * (1 + 1 + 2), 1e-13);  // |det| of the pairs: 1, |-1|, |0*(-1) - 2*1| = 2
+
+  const double P[4] = {2, 0, 0, 1};
+  double rad = 0, vertex[3];
+  ASSERT_EQ(sb_zonotope_pradius(2, 3, p, H, P, &rad, vertex), SB_OK);
+  EXPECT_NEAR(rad, Z.pradius(Eigen::Vector2d(2, 1).asDiagonal().toDenseMatrix()), 1e-13);
+  const VectorXd e = Hm * Eigen::Map<VectorXd>(vertex, 3);
+  EXPECT_NEAR(2 * e(0) * e(0) + e(1) * e(1), rad, 1e-13);
+  ASSERT_EQ(sb_zonotope_pradius(2, 3, p, H, P, &rad, nullptr), SB_OK);
+
+  const double dirs[4] = {1, 0, 1, 1};
+  double h[2];
+  ASSERT_EQ(sb_zonotope_support(2, 3, p, H, 2, dirs, h), SB_OK);
+  EXPECT_NEAR(h[0], hi[0], 1e-13);
+  EXPECT_NEAR(h[1], Z.support(Eigen::Vector2d(1, 1)), 1e-14);
+
+  const double pts[4] = {1, -1, 4.5, -1};
+  int inside[2] = {-1, -1};
+  ASSERT_EQ(sb_zonotope_contains(2, 3, p, H, 2, pts, 1e-9, inside), SB_OK);
+  EXPECT_EQ(inside[0], 1);
+  EXPECT_EQ(inside[1], 0);
+
+  // Reduction to 2 generators (= n): both methods give the interval hull.
+  int mout = 2;
+  double Hout[6];
+  for (int method : {SB_REDUCE_COMBASTEL, SB_REDUCE_GIRARD}) {
+    mout = 3;
+    ASSERT_EQ(sb_zonotope_reduce(2, 3, p, H, method, 2, &mout, Hout), SB_OK) << sb_last_error();
+    ASSERT_EQ(mout, 2);
+    EXPECT_NEAR(Hout[0], 3.0, 1e-14);  // compact 2 x 2 row-major: diag(3, 2)
+    EXPECT_EQ(Hout[1], 0.0);
+    EXPECT_EQ(Hout[2], 0.0);
+    EXPECT_NEAR(Hout[3], 2.0, 1e-14);
+  }
+  // Unchanged when m <= limit; a too-small buffer reports the needed count.
+  mout = 3;
+  ASSERT_EQ(sb_zonotope_reduce(2, 3, p, H, SB_REDUCE_COMBASTEL, 5, &mout, Hout), SB_OK);
+  EXPECT_EQ(mout, 3);
+  EXPECT_EIGEN_NEAR(setbound::capi::ConstRowMap(Hout, 2, 3), Hm, 0.0);
+  mout = 1;
+  EXPECT_EQ(sb_zonotope_reduce(2, 3, p, H, SB_REDUCE_COMBASTEL, 2, &mout, Hout), SB_ERR_BUFFER_TOO_SMALL);
+  EXPECT_EQ(mout, 2);
+
+  const double c[2] = {1, 0}, lam[2] = {1, 0};
+  double pout[2], Hs[8];
+  ASSERT_EQ(sb_zonotope_intersect_strip(2, 3, p, H, c, 0.5, 0.1, lam, pout, Hs), SB_OK);
+  const Zonotope Rs = Z.intersect_strip_family(Strip(Eigen::Vector2d(1, 0), 0.5, 0.1), Eigen::Vector2d(1, 0));
+  EXPECT_EIGEN_NEAR(Eigen::Map<VectorXd>(pout, 2), Rs.center(), 0.0);
+  EXPECT_EIGEN_NEAR(setbound::capi::ConstRowMap(Hs, 2, 4), Rs.generators(), 0.0);
+
+  // Interval linear map with k = 1 (a row): mid = [1, 1], rad = [0.5, 0].
+  const double mid[2] = {1, 1}, radm[2] = {0.5, 0};
+  double pk[1], Hk[5];
+  ASSERT_EQ(sb_zonotope_interval_linear_map(1, 2, 3, mid, radm, p, H, pk, Hk), SB_OK) << sb_last_error();
+  EXPECT_NEAR(pk[0], 0.0, 1e-15);
+  EXPECT_NEAR(Hk[0], 1, 1e-15);
+  EXPECT_NEAR(Hk[1], 1, 1e-15);
+  EXPECT_NEAR(Hk[2], 1, 1e-15);
+  EXPECT_NEAR(Hk[3], 0.5 * 3, 1e-14);  // rs(rad |H|) = 0.5 (1 + 0 + 2)
+  EXPECT_NEAR(Hk[4], 0.5 * 1, 1e-14);  // rad |p| = 0.5 * 1
+}
+
+TEST(ZonotopeCApi, ErrorPaths) {
+  const double p[2] = {1.0, -1.0};
+  const double H[6] = {1, 0, 2, 0, 1, -1};
+  double lo[2], hi[2], v;
+  EXPECT_EQ(sb_zonotope_interval_hull(2, 3, nullptr, H, lo, hi), SB_ERR_INVALID_ARGUMENT);
+  EXPECT_EQ(std::string(sb_last_error()), "sb_zonotope_interval_hull: p: null pointer");
+  EXPECT_EQ(sb_zonotope_interval_hull(2, 3, p, nullptr, lo, hi), SB_ERR_INVALID_ARGUMENT);
+  EXPECT_EQ(sb_zonotope_interval_hull(2, 0, p, nullptr, lo, hi), SB_OK);  // m = 0: H may be NULL
+  EXPECT_EQ(lo[0], 1.0);
+  EXPECT_EQ(sb_zonotope_interval_hull(2, -1, p, H, lo, hi), SB_ERR_DIMENSION);
+  EXPECT_EQ(sb_zonotope_volume(0, 3, p, H, &v), SB_ERR_DIMENSION);
+  const double Hnan[6] = {1, 0, std::nan(""), 0, 1, -1};
+  EXPECT_EQ(sb_zonotope_validate(2, 3, p, Hnan), SB_ERR_NOT_FINITE);
+  EXPECT_EQ(std::string(sb_last_error()).rfind("sb_zonotope_validate: H: entry (0, 2)", 0), 0u) << sb_last_error();
+  const double Pbad[4] = {1, 2, 2, 1};
+  EXPECT_EQ(sb_zonotope_pradius(2, 3, p, H, Pbad, &v, nullptr), SB_ERR_NOT_POSITIVE_DEFINITE);
+  EXPECT_EQ(sb_zonotope_pradius(2, 3, p, H, nullptr, &v, nullptr), SB_ERR_INVALID_ARGUMENT);
+  int mout = 3;
+  double Hout[6];
+  EXPECT_EQ(sb_zonotope_reduce(2, 3, p, H, 7, 2, &mout, Hout), SB_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(sb_last_error()).find("method:"), std::string::npos);
+  EXPECT_EQ(sb_zonotope_reduce(2, 3, p, H, SB_REDUCE_GIRARD, 1, &mout, Hout), SB_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(sb_last_error()).find("limit:"), std::string::npos);
+  EXPECT_EQ(sb_zonotope_reduce(2, 3, p, H, SB_REDUCE_GIRARD, 2, nullptr, Hout), SB_ERR_INVALID_ARGUMENT);
+  EXPECT_EQ(sb_zonotope_reduce(2, 3, p, H, SB_REDUCE_GIRARD, 2, &mout, nullptr), SB_ERR_INVALID_ARGUMENT);
+  const double c[2] = {1, 0}, lam[2] = {1, 0}, zero[2] = {0, 0};
+  double pout[2], Hs[8];
+  EXPECT_EQ(sb_zonotope_intersect_strip(2, 3, p, H, c, 0.5, -0.1, lam, pout, Hs), SB_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(sb_last_error()).find("phi:"), std::string::npos);
+  EXPECT_EQ(sb_zonotope_intersect_strip(2, 3, p, H, zero, 0.5, 0.1, lam, pout, Hs), SB_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(sb_last_error()).find("c:"), std::string::npos);
+  EXPECT_EQ(sb_zonotope_intersect_strip(2, 3, p, H, c, 0.5, 0.1, nullptr, pout, Hs), SB_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(sb_last_error()).find("lambda:"), std::string::npos);
+  const double mid[2] = {1, 1}, radneg[2] = {-0.5, 0};
+  double pk[1], Hk[5];
+  EXPECT_EQ(sb_zonotope_interval_linear_map(1, 2, 3, mid, radneg, p, H, pk, Hk), SB_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(sb_last_error()).find("rad:"), std::string::npos);
+  EXPECT_EQ(sb_zonotope_interval_linear_map(0, 2, 3, mid, radneg, p, H, pk, Hk), SB_ERR_DIMENSION);
+  double hv[1];
+  const double nandir[2] = {std::nan(""), 1};
+  EXPECT_EQ(sb_zonotope_support(2, 3, p, H, 1, nandir, hv), SB_ERR_NOT_FINITE);
+  int inside[1];
+  EXPECT_EQ(sb_zonotope_contains(2, 3, p, H, 1, nullptr, 0.0, inside), SB_ERR_INVALID_ARGUMENT);
+  EXPECT_EQ(sb_zonotope_contains(2, 3, p, H, 1, p, -1.0, inside), SB_ERR_INVALID_ARGUMENT);
+}

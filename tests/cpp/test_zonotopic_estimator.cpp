@@ -1,0 +1,210 @@
+// The zonotopic estimator structure (papers.md §3.1) with the segment-minimisation gain
+// (§5.1): containment of the true state under random and vertex disturbances, for known and
+// interval A, and the model's validation.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "setbound/core/linear_system.hpp"
+#include "setbound/estimators/zonotopic.hpp"
+#include "test_helpers.hpp"
+
+using namespace setbound;
+
+namespace {
+
+// EX-LE13 (papers §3.5): x+ = [0 -0.5; 1 1+0.3δ] x + F_w ω, y = C x + 0.2 v.
+LinearSystem le13(bool interval_A) {
+  Eigen::MatrixXd A(2, 2), C(2, 2), E(2, 3), F(2, 3), Arad = Eigen::MatrixXd::Zero(2, 2);
+  A << 0, -0.5, 1, 1;
+  C << -2, 1, 1, 1;
+  E << -0.12, 0, 0, 0.02, 0, 0;  // ω = [w; v1; v2]
+  F << 0, 0.2, 0, 0, 0, 0.2;
+  if (interval_A) Arad(1, 1) = 0.3;
+  return LinearSystem(A, C, E, F, {}, {}, Arad);
+}
+
+struct RunStats {
+  int steps = 0, violations = 0;
+};
+
+// Simulates the true system with A_true ∈ [A] and ω drawn uniformly or at box vertices, and
+// checks x_k ∈ X̂_k at every step with the exact membership test.
+RunStats simulate(const LinearSystem& sys, const Eigen::MatrixXd& A_true, const Eigen::VectorXd& x0,
+             const Zonotope& X0, bool vertex, unsigned seed, int N, ZonotopicOptions opt = {}) {
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<double> unif(-1.0, 1.0);
+  auto draw = [&](Eigen::Index n) {
+    Eigen::VectorXd w(n);
+    for (Eigen::Index i = 0; i < n; ++i) w(i) = vertex ? (unif(gen) < 0 ? -1.0 : 1.0) : unif(gen);
+    return w;
+  };
+  ZonotopicEstimator est(sys, X0, segment_min_gain, opt);
+  Eigen::VectorXd x = x0, u = Eigen::VectorXd::Zero(sys.nu());
+  RunStats r;
+  for (int k = 0; k < N; ++k) {
+    const Eigen::VectorXd w = draw(sys.nw());
+    if (sys.nu() > 0) u = 2.0 * draw(sys.nu());
+    const Eigen::VectorXd y = sys.C() * x + sys.D() * u + sys.F() * w;
+    const Zonotope X = est.step(y, u);
+    ++r.steps;
+    if (!X.contains(x, 0.0)) ++r.violations;
+    x = A_true * x + sys.B() * u + sys.E() * draw(sys.nw());
+  }
+  return r;
+}
+
+}  // namespace
+
+TEST(ZonotopicEstimator, ContainsTruthOnLe13KnownA) {
+  const LinearSystem sys = le13(false);
+  const Zonotope X0(Eigen::Vector2d::Zero(), 3.0 * Eigen::Matrix2d::Identity());
+  for (bool vertex : {false, true})
+    for (unsigned seed = 1; seed <= 5; ++seed) {
+      std::mt19937 g(seed);
+      std::uniform_real_distribution<double> u(-3, 3);
+      const Eigen::Vector2d x0(vertex ? 3.0 : u(g), vertex ? -3.0 : u(g));
+      const RunStats r = simulate(sys, sys.A(), x0, X0, vertex, seed, 100);
+      EXPECT_EQ(r.violations, 0) << "seed " << seed << (vertex ? " vertex" : " random");
+    }
+}
+
+TEST(ZonotopicEstimator, ContainsTruthOnLe13IntervalA) {
+  const LinearSystem sys = le13(true);
+  const Zonotope X0(Eigen::Vector2d::Zero(), 3.0 * Eigen::Matrix2d::Identity());
+  for (double delta : {-1.0, -0.3, 0.5, 1.0})
+    for (bool vertex : {false, true}) {
+      Eigen::MatrixXd A_true = sys.A();
+      A_true(1, 1) += 0.3 * delta;
+      const RunStats r = simulate(sys, A_true, Eigen::Vector2d(3.0, 3.0), X0, vertex, 7, 100);
+      EXPECT_EQ(r.violations, 0) << "delta " << delta;
+    }
+}
+
+TEST(ZonotopicEstimator, ContainsTruthOnRandomSystemsWithInputs) {
+  std::mt19937 gen(42);
+  std::normal_distribution<double> nrm;
+  int total = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    const int n = 2 + trial % 3, ny = 1 + trial % 2, nu = 1, nw = n + ny;
+    Eigen::MatrixXd A(n, n), C(ny, n), B(n, nu), E = Eigen::MatrixXd::Zero(n, nw),
+        F = Eigen::MatrixXd::Zero(ny, nw);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) A(i, j) = nrm(gen) / std::sqrt(double(n));
+    if (trial % 2) A *= 1.3 / std::abs(Eigen::EigenSolver<Eigen::MatrixXd>(A).eigenvalues().array().abs().maxCoeff());
+    for (int i = 0; i < ny; ++i)
+      for (int j = 0; j < n; ++j) C(i, j) = nrm(gen);
+    for (int i = 0; i < n; ++i) B(i, 0) = nrm(gen), E(i, i) = 0.05;
+    for (int i = 0; i < ny; ++i) F(i, n + i) = 0.1;
+    if (!check_detectability(A, C).detectable) continue;
+    const LinearSystem sys(A, C, E, F, B);
+    const Zonotope X0(Eigen::VectorXd::Zero(n), Eigen::MatrixXd::Identity(n, n));
+    for (bool vertex : {false, true}) {
+      const RunStats r = simulate(sys, A, Eigen::VectorXd::Constant(n, vertex ? 1.0 : 0.3), X0, vertex,
+                             100 + trial, 60, ZonotopicOptions{8, true, {}});
+      EXPECT_EQ(r.violations, 0) << "trial " << trial;
+      total += r.steps;
+    }
+  }
+  EXPECT_GE(total, 1500);
+}
+
+TEST(ZonotopicEstimator, ReductionLimitAndStripOrderAreHonoured) {
+  const LinearSystem sys = le13(false);
+  const Zonotope X0(Eigen::Vector2d::Zero(), 3.0 * Eigen::Matrix2d::Identity());
+  ZonotopicEstimator est(sys, X0, segment_min_gain, ZonotopicOptions{5, true, {1, 0}});
+  Eigen::Vector2d y(0.1, -0.2);
+  for (int k = 0; k < 10; ++k) EXPECT_LE(est.step(y, Eigen::VectorXd(0)).num_generators(), 5);
+  EXPECT_THROW(ZonotopicEstimator(sys, X0, segment_min_gain, ZonotopicOptions{1, true, {}}), InvalidArgumentError);
+  EXPECT_THROW(ZonotopicEstimator(sys, X0, segment_min_gain, ZonotopicOptions{20, true, {0, 0}}),
+               InvalidArgumentError);
+}
+
+TEST(ZonotopicEstimator, WithoutFirstMeasurementTheFirstSetIsX0) {
+  const LinearSystem sys = le13(false);
+  const Zonotope X0(Eigen::Vector2d(1, 2), 3.0 * Eigen::Matrix2d::Identity());
+  ZonotopicEstimator est(sys, X0, segment_min_gain, ZonotopicOptions{20, false, {}});
+  const Zonotope first = est.step(Eigen::Vector2d(0, 3), Eigen::VectorXd(0));
+  EXPECT_EIGEN_NEAR(first.center(), X0.center(), 0.0);
+  EXPECT_EIGEN_NEAR(first.generators(), X0.generators(), 0.0);
+}
+
+TEST(ZonotopicEstimator, CorrectionShrinksAndKeepsConsistentPoints) {
+  // Points of X that satisfy the strip stay in the corrected set (Property 6).
+  const LinearSystem sys = le13(false);
+  const Zonotope X(Eigen::Vector2d(0.2, -0.1), (Eigen::Matrix2d() << 2, 0.5, -0.3, 1).finished());
+  ZonotopicEstimator est(sys, X, segment_min_gain);
+  const Eigen::Vector2d y(0.4, 0.7);
+  const Zonotope Xc = est.correct(X, y, Eigen::VectorXd(0));
+  EXPECT_LT(Xc.volume(), X.volume());
+  std::mt19937 gen(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int kept = 0;
+  for (int s = 0; s < 20000; ++s) {
+    const Eigen::Vector2d x = X.center() + X.generators() * Eigen::Vector2d(u(gen), u(gen));
+    const Eigen::Vector2d r = sys.C() * x - y;
+    if (std::abs(r(0)) <= 0.2 && std::abs(r(1)) <= 0.2) {
+      ++kept;
+      EXPECT_TRUE(Xc.contains(x, 0.0));
+    }
+  }
+  EXPECT_GT(kept, 50);
+}
+
+TEST(ZonotopicEstimator, BadInputLeavesStateUnchanged) {
+  const LinearSystem sys = le13(false);
+  const Zonotope X0(Eigen::Vector2d::Zero(), Eigen::Matrix2d::Identity());
+  ZonotopicEstimator est(sys, X0, segment_min_gain);
+  EXPECT_THROW(est.step(Eigen::Vector2d(std::nan(""), 0), Eigen::VectorXd(0)), NotFiniteError);
+  EXPECT_THROW(est.step(Eigen::Vector3d(0, 0, 0), Eigen::VectorXd(0)), DimensionError);
+  EXPECT_EQ(est.steps_taken(), 0);
+  EXPECT_EIGEN_NEAR(est.prediction().generators(), X0.generators(), 0.0);
+  EXPECT_THROW(ZonotopicEstimator(sys, Zonotope(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity()),
+                                  segment_min_gain),
+               DimensionError);
+}
+
+TEST(LinearSystem, ValidatesShapesAndNamesArguments) {
+  Eigen::MatrixXd A = Eigen::MatrixXd::Identity(2, 2), C(1, 2), E = Eigen::MatrixXd::Identity(2, 2),
+                  F = Eigen::MatrixXd::Zero(1, 2);
+  C << 1, 0;
+  EXPECT_NO_THROW(LinearSystem(A, C, E, F));
+  try {
+    LinearSystem(A, C, E, Eigen::MatrixXd::Zero(2, 2));
+    FAIL();
+  } catch (const DimensionError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("F:", 0), 0u) << e.what();
+  }
+  EXPECT_THROW(LinearSystem(Eigen::MatrixXd::Zero(2, 3), C, E, F), DimensionError);
+  Eigen::MatrixXd An = A;
+  An(0, 1) = std::nan("");
+  EXPECT_THROW(LinearSystem(An, C, E, F), NotFiniteError);
+  EXPECT_THROW(LinearSystem(A, C, E, F, {}, {}, -Eigen::MatrixXd::Ones(2, 2)), InvalidArgumentError);
+  const LinearSystem s(A, C, E, F, {}, {}, (Eigen::MatrixXd(2, 2) << 0.1, 0, 0, 0.2).finished());
+  EXPECT_TRUE(s.uncertain_A());
+  const auto V = s.A_vertices();
+  ASSERT_EQ(V.size(), 4u);
+  for (const auto& v : V) EXPECT_NEAR(std::abs(v(0, 0) - 1.0) + std::abs(v(1, 1) - 1.0), 0.3, 1e-15);
+}
+
+TEST(LinearSystem, DetectabilityIsThePbhTest) {
+  Eigen::MatrixXd A(2, 2), C(1, 2);
+  A << 1.2, 0, 0, 0.5;
+  C << 0, 1;  // sees only the stable mode
+  const auto r = check_detectability(A, C);
+  EXPECT_FALSE(r.detectable);
+  EXPECT_NEAR(r.mode.real(), 1.2, 1e-12);
+  try {
+    require_detectable(A, C);
+    FAIL();
+  } catch (const NotDetectableError& e) {
+    EXPECT_NE(std::string(e.what()).find("1.2"), std::string::npos) << e.what();
+  }
+  C << 1, 0;  // sees the unstable mode; the stable one need not be seen
+  EXPECT_TRUE(check_detectability(A, C).detectable);
+  A << 0, 1, -1, 0;  // rotation, |λ| = 1: must be observable
+  C << 1, 0;
+  EXPECT_TRUE(check_detectability(A, C).detectable);
+  C << 0, 0;
+  EXPECT_FALSE(check_detectability(A, C).detectable);
+}

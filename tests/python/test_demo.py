@@ -1,0 +1,37 @@
+"""The main job (make demo) runs, checks its guarantees and writes its figure."""
+import math
+
+import numpy as np
+import pytest
+
+from setbound import demo
+
+
+def test_wrapping_effect_box_grows_zonotope_does_not():
+    rows = demo.wrapping_effect(steps=6)
+    box_widths = [r[1] for r in rows]
+    zono_widths = [r[2] for r in rows]
+    # Re-boxing a rotated box multiplies its width by sqrt(2) each step (thesis §1.2.7) ...
+    for k, w in enumerate(box_widths, start=1):
+        assert w == pytest.approx(2.0 * math.sqrt(2.0) ** k, rel=1e-9)
+    # ... the zonotope is the exact image: a square of side 2 rotated, hull width 2 or 2·sqrt(2).
+    for k, w in enumerate(zono_widths, start=1):
+        assert w == pytest.approx(2.0 * (math.sqrt(2.0) if k % 2 else 1.0), rel=1e-9)
+
+
+@pytest.mark.parametrize("vertex", [False, True])
+def test_tube_contains_truth_and_stays_bounded(vertex):
+    lo, hi, x, inside = demo.zonotopic_tube(steps=60, seed=3, vertex=vertex)
+    assert inside.all()
+    assert np.all(lo <= x + 1e-12) and np.all(x <= hi + 1e-12)
+    # Bounded: after the transient the widths stay well below the initial box (width 6).
+    assert np.max(hi[20:] - lo[20:]) < 2.0
+
+
+def test_main_prints_and_plots(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    assert demo.main(["--out", str(tmp_path), "--steps", "30"]) == 0
+    out = capsys.readouterr().out
+    assert "true state inside at 30/30 steps" in out
+    png = tmp_path / "sets.png"
+    assert png.is_file() and png.stat().st_size > 10_000
