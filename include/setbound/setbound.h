@@ -179,6 +179,75 @@ int sb_strip_contains(int n, const double* c, double y, double phi, int npoints,
 /* ==== end ellipsoids, zonotopes, strips ==== */
 
 /* ==== LMI solver (lmi/) ==== */
+/* Problem form (lmi/problem.hpp): minimise c^T x subject to, for every block b,
+ *   F_b0 + sum_i x_i F_bi >= 0 (positive semidefinite; 1x1 blocks are linear inequalities),
+ *   optional Aeq x = beq, optional objective term -log det(G0 + sum_i x_i G_i) (maxdet).
+ * Block data: F0 is n x n, Fs is num_vars x n x n (row-major, Fs[i] = F_bi), all symmetric
+ * and finite. The structure is analysed when a block is added; sb_lmi_update_block only
+ * replaces values (no re-analysis unless a new variable starts touching the block). */
+typedef struct sb_lmi_problem sb_lmi_problem;
+
+/* Solve statuses (sb_lmi_result.status). */
+#define SB_LMI_OPTIMAL 0
+#define SB_LMI_INFEASIBLE 1
+#define SB_LMI_UNBOUNDED 2
+#define SB_LMI_MAX_ITERATIONS 3
+#define SB_LMI_NUMERICAL_ERROR 4
+#define SB_LMI_INACCURATE 5
+
+/* Problem classes for sb_lmi_solve_class. */
+#define SB_LMI_CLASS_AUTO 0
+#define SB_LMI_CLASS_FEASIBILITY 1
+
+typedef struct sb_lmi_result {
+  int status;              /* SB_LMI_* */
+  int iterations;          /* interior-point (or Newton) iterations */
+  double objective;        /* c^T x (minus log det G(x) for maxdet) */
+  double dual_objective;
+  double margin;           /* verified: Cholesky of F_b(x) - margin*I succeeded for all b */
+  double solve_time;       /* seconds, measured in C++ */
+  double gap;              /* duality gap (s^T z, or nu/t for maxdet) */
+  double relative_gap;
+  double primal_residual;
+  double dual_residual;
+} sb_lmi_result;
+
+int sb_lmi_problem_create(int num_vars, sb_lmi_problem** out);
+/* Accepts NULL. */
+int sb_lmi_problem_free(sb_lmi_problem* problem);
+/* c: num_vars entries. */
+int sb_lmi_set_objective(sb_lmi_problem* problem, const double* c);
+/* Adds the block F0 + sum_i x_i Fs[i] >= 0 of size n; *block_index (may be NULL) gets its index. */
+int sb_lmi_add_block(sb_lmi_problem* problem, int n, const double* F0, const double* Fs, int* block_index);
+/* Replaces the values of block `block` (same size n). */
+int sb_lmi_update_block(sb_lmi_problem* problem, int block, int n, const double* F0, const double* Fs);
+/* Objective term -log det(G0 + sum_i x_i Gs[i]) (n x n); n = 0 removes it. */
+int sb_lmi_set_logdet(sb_lmi_problem* problem, int n, const double* G0, const double* Gs);
+/* Aeq: rows x num_vars, beq: rows; rows = 0 removes the equalities. */
+int sb_lmi_set_equalities(sb_lmi_problem* problem, int rows, const double* Aeq, const double* beq);
+/* Solver options; a value <= 0 keeps the default (max_iterations 100, gap_rel 1e-7,
+ * feas 1e-8, time_limit 30 s). */
+int sb_lmi_set_options(sb_lmi_problem* problem, int max_iterations, double gap_rel, double feas, double time_limit);
+int sb_lmi_problem_size(const sb_lmi_problem* problem, int* num_vars, int* num_blocks);
+/* Solves (maxdet when a log-det term is set, linear objective otherwise); x: num_vars
+ * entries (may be NULL). For SB_LMI_INFEASIBLE x is NaN and sb_lmi_dual returns the
+ * certificate Z (Z_b >= 0, sum_b tr(F_b0 Z_b) + beq^T y = -1, tr(F_bi Z) = (Aeq^T y)_i). */
+int sb_lmi_solve(sb_lmi_problem* problem, sb_lmi_result* result, double* x);
+/* Like sb_lmi_solve with a problem class: SB_LMI_CLASS_FEASIBILITY stops at the first
+ * strictly feasible point (status OPTIMAL means "certified feasible", margin > 0). */
+int sb_lmi_solve_class(sb_lmi_problem* problem, int problem_class, sb_lmi_result* result, double* x);
+/* Dual matrix (or infeasibility certificate) of block `block` from the last solve, n x n. */
+int sb_lmi_dual(const sb_lmi_problem* problem, int block, double* Z);
+/* Equality multipliers (or certificate part) from the last solve, `rows` entries. */
+int sb_lmi_dual_eq(const sb_lmi_problem* problem, double* y);
+/* Verified margin of a given point x (num_vars entries). */
+int sb_lmi_margin(const sb_lmi_problem* problem, const double* x, double* margin);
+/* Generalised eigenvalue problem: minimise lambda s.t. lambda*B(x) - A(x) >= 0, B(x) > 0 and
+ * the problem's blocks; A0, B0 n x n, As, Bs num_vars x n x n. [lambda_lo, lambda_hi] is
+ * an initial bracket guess (expanded as needed), tol the relative bracket width. */
+int sb_lmi_solve_gevp(sb_lmi_problem* problem, int n, const double* A0, const double* As, const double* B0,
+                      const double* Bs, double lambda_lo, double lambda_hi, double tol,
+                      sb_lmi_result* result, double* lambda, double* x);
 /* ==== end LMI solver ==== */
 
 /* ==== models (core/linear_system.hpp) ==== */

@@ -18,3 +18,8 @@ extern "C" {
 #include "setbound/sets/strip.hpp"
 #include "setbound/sets/zonotope.hpp"
 #include "setbound/estimators/zonotopic.hpp"
+#include "setbound/lmi/classes.hpp"
+#include "setbound/lmi/model.hpp"
+#include "setbound/lmi/problem.hpp"
+#include "setbound/lmi/scalar_search.hpp"
+#include "setbound/lmi/solver.hpp"

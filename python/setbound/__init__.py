@@ -7,7 +7,7 @@ library's message.
 """
 from __future__ import annotations
 
-from . import errors
+from . import errors, lmi
 from ._native import ABI_VERSION, version
 from .errors import *  # noqa: F401,F403  (the exception classes are part of the API)
 from .interval import Box, Interval, IntervalMatrix
@@ -30,5 +30,6 @@ __all__ = [
     "is_detectable",
     "__version__",
     "errors",
+    "lmi",
     "version",
 ] + list(errors.__all__)

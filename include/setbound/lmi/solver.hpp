@@ -1,0 +1,769 @@
+// setbound — primal-dual interior-point method for the LMI form of problem.hpp.
+//
+// Conic view (CVXOPT coneprog notation): minimise cᵀx s.t. Gx + s = h, Ax = b, s ⪰ 0 with
+// G x = −Σ x_i F_i (blockwise), h = F0, so s = F(x). Dual: maximise −hᵀz − bᵀy with
+// Gᵀz + Aᵀy + c = 0, z ⪰ 0, i.e. tr(F_i Z) = c_i + (Aᵀy)_i.
+//
+// Algorithm (ARCHITECTURE.md "Solver"; CVXOPT/Clarabel/ECOS were read as references):
+//  * homogeneous self-dual embedding in (x, y, s, z, τ, κ), so that infeasibility
+//    (τ → 0, hᵀz + bᵀy < 0) and unboundedness (cᵀx < 0) come with certificates;
+//  * Nesterov–Todd scaling per block: R with RᵀZR = R⁻¹SR⁻ᵀ = Λ, computed from the
+//    Cholesky factors of S and Z and an SVD of L_zᵀL_s; Q = R⁻ᵀ;
+//  * Schur complement M_ij = Σ_b tr(F_bi T_b F_bj T_b), T_b = QQᵀ, assembled block by block
+//    as a Gram matrix of the scaled coefficients F̃_bi = QᵀF_biQ (only variables that touch a
+//    block contribute; sparse coefficients are scaled by rank-one updates); dense Cholesky;
+//  * Mehrotra predictor–corrector with σ = (1 − α_aff)³;
+//  * two-tier termination (full / reduced tolerances → "inaccurate"), best iterate kept.
+// All work arrays are allocated in setup(); solve() itself does not allocate.
+#pragma once
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "setbound/lmi/problem.hpp"
+
+namespace setbound::lmi {
+
+enum class SolveStatus : int {
+  Optimal = 0,
+  Infeasible = 1,
+  Unbounded = 2,
+  MaxIterations = 3,   // iteration or time limit reached before any tolerance was met
+  NumericalError = 4,
+  Inaccurate = 5,      // only the reduced tolerances were met (best iterate returned)
+};
+
+inline const char* status_name(SolveStatus s) {
+  switch (s) {
+    case SolveStatus::Optimal: return "optimal";
+    case SolveStatus::Infeasible: return "infeasible";
+    case SolveStatus::Unbounded: return "unbounded";
+    case SolveStatus::MaxIterations: return "max_iterations";
+    case SolveStatus::NumericalError: return "numerical_error";
+    case SolveStatus::Inaccurate: return "inaccurate";
+  }
+  return "unknown";
+}
+
+struct SolverOptions {
+  int max_iterations = 100;
+  double time_limit = 30.0;          // seconds, checked once per iteration
+  double gap_rel = 1e-7;             // relative duality gap
+  double gap_abs = 1e-9;             // absolute duality gap
+  double feas = 1e-8;                // relative primal/dual residuals, certificate residuals
+  double reduced_gap_rel = 5e-5;     // "inaccurate" tier
+  double reduced_gap_abs = 5e-7;
+  double reduced_feas = 1e-5;
+  double step_fraction = 0.99;
+  bool compute_margin = true;
+  // Feasibility mode (classes.hpp): stop at the first iterate where x[feasibility_var] < 0
+  // and the verified margin of all blocks, evaluated without that variable, is positive.
+  int feasibility_var = -1;
+
+  void validate() const {
+    if (max_iterations <= 0) throw InvalidArgumentError("max_iterations: must be > 0");
+    require_positive(time_limit, "time_limit");
+    require_positive(gap_rel, "gap_rel");
+    require_positive(gap_abs, "gap_abs");
+    require_positive(feas, "feas");
+    require_positive(reduced_gap_rel, "reduced_gap_rel");
+    require_positive(reduced_gap_abs, "reduced_gap_abs");
+    require_positive(reduced_feas, "reduced_feas");
+    if (!(step_fraction > 0.5 && step_fraction < 1.0))
+      throw InvalidArgumentError("step_fraction: must be in (0.5, 1)");
+  }
+};
+
+struct SolveResult {
+  SolveStatus status = SolveStatus::NumericalError;
+  int iterations = 0;
+  double objective = std::numeric_limits<double>::quiet_NaN();       // cᵀx (primal)
+  double dual_objective = std::numeric_limits<double>::quiet_NaN();  // −(hᵀz + bᵀy)
+  double gap = std::numeric_limits<double>::quiet_NaN();             // sᵀz
+  double relative_gap = std::numeric_limits<double>::quiet_NaN();
+  double primal_residual = std::numeric_limits<double>::quiet_NaN();
+  double dual_residual = std::numeric_limits<double>::quiet_NaN();
+  double margin = -std::numeric_limits<double>::infinity();          // verified, see verified_margin()
+  double solve_time = 0.0;                                           // seconds
+  Eigen::VectorXd x;                     // primal point (or the unboundedness ray)
+  Eigen::VectorXd y;                     // equality multipliers (or certificate part)
+  std::vector<Eigen::MatrixXd> Z;        // dual matrices (or the infeasibility certificate,
+                                         // normalised so that Σ tr(F_b0 Z_b) + beqᵀy = −1)
+};
+
+/// Workspace and verified margin of a point, reusable without allocation.
+class MarginChecker {
+ public:
+  void setup(const LmiProblem& p) {
+    const size_t nb = static_cast<size_t>(p.num_blocks());
+    F_.resize(nb);
+    llt_.clear();
+    eig_.clear();
+    for (size_t b = 0; b < nb; ++b) {
+      const int n = p.block(static_cast<int>(b)).size;
+      F_[b].resize(n, n);
+      llt_.emplace_back(n);
+      eig_.emplace_back(n);
+    }
+  }
+
+  /// Largest δ among a few candidates for which the Cholesky factorisation of F_b(x) − δI
+  /// succeeded for every block (δ < 0: x is not feasible). `skip_var` ≥ 0 evaluates the
+  /// blocks as if x[skip_var] were 0 (feasibility mode's auxiliary variable).
+  double margin(const LmiProblem& p, const Eigen::VectorXd& x, int skip_var = -1) {
+    double lam = std::numeric_limits<double>::infinity();
+    double scale = 1.0;
+    const size_t nb = F_.size();
+    if (nb == 0) return lam;
+    for (size_t b = 0; b < nb; ++b) {
+      const LmiBlock& blk = p.block(static_cast<int>(b));
+      evaluate(p, blk, x, skip_var, F_[b]);
+      if (!F_[b].allFinite()) return -std::numeric_limits<double>::infinity();
+      eig_[b].compute(F_[b], Eigen::EigenvaluesOnly);
+      lam = std::min(lam, eig_[b].eigenvalues()(0));
+      scale = std::max(scale, F_[b].cwiseAbs().maxCoeff());
+    }
+    // Candidates δ = λ_min − 4^k·ε·n·scale: the eigenvalue estimate is only accurate to
+    // rounding, the Cholesky success is what we certify (ARCHITECTURE.md "Guarantees").
+    double slack = 8.0 * std::numeric_limits<double>::epsilon() * scale;
+    for (int attempt = 0; attempt < 12; ++attempt, slack *= 4.0) {
+      const double delta = lam - slack;
+      bool ok = true;
+      for (size_t b = 0; b < nb && ok; ++b) {
+        F_[b].diagonal().array() -= delta;
+        llt_[b].compute(F_[b]);
+        ok = llt_[b].info() == Eigen::Success;
+        F_[b].diagonal().array() += delta;
+      }
+      if (ok) return delta;
+    }
+    return -std::numeric_limits<double>::infinity();
+  }
+
+ private:
+  static void evaluate(const LmiProblem& p, const LmiBlock& blk, const Eigen::VectorXd& x, int skip_var,
+                       Eigen::MatrixXd& out) {
+    out = blk.constant;
+    for (const auto& co : blk.coefficients) {
+      if (co.var == skip_var) continue;
+      const double xi = x[co.var];
+      if (xi != 0.0) out.noalias() += xi * co.dense;
+    }
+    (void)p;
+  }
+  std::vector<Eigen::MatrixXd> F_;
+  std::vector<Eigen::LLT<Eigen::MatrixXd>> llt_;
+  std::vector<Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>> eig_;
+};
+
+class InteriorPointSolver {
+ public:
+  explicit InteriorPointSolver(const LmiProblem& problem, SolverOptions options = {})
+      : p_(&problem), opt_(options) {
+    opt_.validate();
+    setup();
+  }
+
+  const SolverOptions& options() const { return opt_; }
+  void set_options(const SolverOptions& o) {
+    o.validate();
+    opt_ = o;
+  }
+  const LmiProblem& problem() const { return *p_; }
+
+  /// Solves the linear-objective problem (the logdet term, if any, is ignored here; use
+  /// solve_maxdet in classes.hpp). No allocation unless the problem's structure changed.
+  const SolveResult& solve();
+
+  /// (Re)allocates all work arrays for the current structure of the problem.
+  void setup();
+
+ private:
+  struct BlockWork {
+    int n = 0, k = 0;
+    std::vector<int> vars;  // variables touching the block (coefficient order)
+    Eigen::MatrixXd S, Z, dS, dZ, rz, R, Q, LzLs, tmp, tmp2, F0t, Bt, Wds, Wdz, Wds_a, Wdz_a, U, best_Z;
+    Eigen::MatrixXd Ft;     // n²×k, column j = vec(QᵀF_{vars[j]}Q)
+    Eigen::MatrixXd gram;   // k×k
+    Eigen::VectorXd lambda, isq;
+    Eigen::LLT<Eigen::MatrixXd> llt_s, llt_z;
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd;
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig;
+  };
+
+  // --- helpers (inline below) ---
+  void residuals();
+  bool scaling();
+  bool assemble_and_factor();
+  void solve_reduced(const Eigen::VectorXd& g, const Eigen::VectorXd& by, Eigen::VectorXd& dx, Eigen::VectorXd& dy);
+  void kkt_solve(const Eigen::VectorXd& bx, const Eigen::VectorXd& by, bool use_F0, double eta_rz,
+                 bool with_u, Eigen::VectorXd& dx, Eigen::VectorXd& dy);
+  double max_step_scaled(BlockWork& w, const Eigen::MatrixXd& X);
+  void direction(double eta, double sigma, double mu, bool corrector);
+  double step_length();
+  void record_best(double merit);
+  void finish(SolveStatus status);
+
+  // Small blocks (n ≤ 16, the online case) use coefficient-based products: Eigen's GEMM
+  // packing costs more than the arithmetic at these sizes.
+  template <class Out, class L, class R>
+  static void mul(Out&& out, const L& a, const R& b) {
+    if (a.rows() <= 16 && b.cols() <= 16 && a.cols() <= 16) out.noalias() = a.lazyProduct(b);
+    else out.noalias() = a * b;
+  }
+
+  static void sym_product(const Eigen::VectorXd& lam, const Eigen::MatrixXd& X, Eigen::MatrixXd& out) {
+    // Λ ∘ X = (ΛX + XΛ)/2 for diagonal Λ.
+    const Eigen::Index n = X.rows();
+    for (Eigen::Index j = 0; j < n; ++j)
+      for (Eigen::Index i = 0; i < n; ++i) out(i, j) = 0.5 * (lam(i) + lam(j)) * X(i, j);
+  }
+
+  const LmiProblem* p_;
+  SolverOptions opt_;
+  std::uint64_t version_ = ~std::uint64_t{0};
+  int m_ = 0, pe_ = 0, nu_ = 0;
+  std::vector<BlockWork> w_;
+  MarginChecker margin_;
+  // iterate
+  Eigen::VectorXd x_, y_;
+  double tau_ = 1, kappa_ = 1;
+  // residuals
+  Eigen::VectorXd rx_, ry_;
+  double rtau_ = 0;
+  // linear algebra
+  Eigen::MatrixXd M_, K_, KinvAt_, SA_, AtA_;
+  Eigen::LLT<Eigen::MatrixXd> lltK_, lltSA_;
+  double rho_ = 1;
+  Eigen::VectorXd g_, gy_, t1_, t2_, t3_, ry2_, r1_, r2_, cdx_, cdy_;
+  // directions: x1/y1 (τ-direction), dx/dy
+  Eigen::VectorXd x1_, y1_, dx_, dy_, dx_a_, dy_a_, bx_, by_;
+  double dtau_ = 0, dkappa_ = 0, dtau_a_ = 0, dkappa_a_ = 0;
+  // norms for relative residuals
+  double resx0_ = 1, resy0_ = 1, resz0_ = 1;
+  // best iterate
+  double best_merit_ = std::numeric_limits<double>::infinity();
+  Eigen::VectorXd best_x_, best_y_, xhat_;
+  double best_pcost_ = 0, best_dcost_ = 0, best_gap_ = 0, best_relgap_ = 0, best_pres_ = 0, best_dres_ = 0;
+  // current metrics
+  double pcost_ = 0, dcost_ = 0, gap_ = 0, relgap_ = 0, pres_ = 0, dres_ = 0;
+  SolveResult result_;
+};
+
+// ---------------------------------------------------------------------------------------
+
+inline void InteriorPointSolver::setup() {
+  const LmiProblem& p = *p_;
+  p.require_solvable();
+  m_ = p.num_vars();
+  pe_ = p.num_equalities();
+  nu_ = p.degree();
+  const size_t nb = static_cast<size_t>(p.num_blocks());
+  w_.clear();
+  w_.resize(nb);
+  for (size_t b = 0; b < nb; ++b) {
+    const LmiBlock& blk = p.block(static_cast<int>(b));
+    BlockWork& w = w_[b];
+    const int n = blk.size;
+    w.n = n;
+    w.k = static_cast<int>(blk.coefficients.size());
+    w.vars.clear();
+    for (const auto& co : blk.coefficients) w.vars.push_back(co.var);
+    for (Eigen::MatrixXd* M : {&w.S, &w.Z, &w.dS, &w.dZ, &w.rz, &w.R, &w.Q, &w.LzLs, &w.tmp, &w.tmp2, &w.F0t,
+                               &w.Bt, &w.Wds, &w.Wdz, &w.Wds_a, &w.Wdz_a, &w.U, &w.best_Z})
+      M->setZero(n, n);
+    w.Ft.setZero(n * n, w.k);
+    w.gram.setZero(w.k, w.k);
+    w.lambda.setZero(n);
+    w.isq.setZero(n);
+    w.llt_s = Eigen::LLT<Eigen::MatrixXd>(n);
+    w.llt_z = Eigen::LLT<Eigen::MatrixXd>(n);
+    w.svd = Eigen::JacobiSVD<Eigen::MatrixXd>(n, n, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    w.eig = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(n);
+  }
+  margin_.setup(p);
+  for (Eigen::VectorXd* v : {&x_, &rx_, &g_, &t1_, &t2_, &r1_, &cdx_, &x1_, &dx_, &dx_a_, &bx_, &best_x_, &xhat_})
+    v->setZero(m_);
+  for (Eigen::VectorXd* v : {&y_, &ry_, &gy_, &t3_, &ry2_, &r2_, &cdy_, &y1_, &dy_, &dy_a_, &by_, &best_y_})
+    v->setZero(pe_);
+  M_.setZero(m_, m_);
+  K_.setZero(m_, m_);
+  lltK_ = Eigen::LLT<Eigen::MatrixXd>(m_);
+  KinvAt_.setZero(m_, pe_);
+  SA_.setZero(pe_, pe_);
+  lltSA_ = Eigen::LLT<Eigen::MatrixXd>(pe_);
+  AtA_.setZero(m_, m_);
+  if (pe_ > 0) AtA_.noalias() = p.eq_matrix().transpose() * p.eq_matrix();
+  result_.x.setZero(m_);
+  result_.y.setZero(pe_);
+  result_.Z.resize(nb);
+  for (size_t b = 0; b < nb; ++b) result_.Z[b].setZero(w_[b].n, w_[b].n);
+  version_ = p.structure_version();
+}
+
+inline void InteriorPointSolver::residuals() {
+  // rx = Aᵀy + Gᵀz + cτ;  ry = bτ − Ax;  rz = S − (F0 τ + Σ x_i F_i);  rτ = κ + cᵀx + bᵀy + hᵀz
+  const LmiProblem& p = *p_;
+  rx_ = p.objective() * tau_;
+  double hz = 0;
+  for (size_t b = 0; b < w_.size(); ++b) {
+    const LmiBlock& blk = p.block(static_cast<int>(b));
+    BlockWork& w = w_[b];
+    w.rz = w.S - tau_ * blk.constant;
+    for (const auto& co : blk.coefficients) {
+      rx_(co.var) -= co.dense.cwiseProduct(w.Z).sum();
+      w.rz.noalias() -= x_(co.var) * co.dense;
+    }
+    hz += blk.constant.cwiseProduct(w.Z).sum();
+  }
+  double by = 0;
+  if (pe_ > 0) {
+    rx_.noalias() += p.eq_matrix().transpose() * y_;
+    ry_ = p.eq_rhs() * tau_;
+    ry_.noalias() -= p.eq_matrix() * x_;
+    by = p.eq_rhs().dot(y_);
+  }
+  rtau_ = kappa_ + p.objective().dot(x_) + by + hz;
+  // Metrics of the current iterate (x/τ, y/τ, z/τ).
+  double sz = 0, rznorm2 = 0;
+  for (auto& w : w_) {
+    sz += w.S.cwiseProduct(w.Z).sum();
+    rznorm2 += w.rz.squaredNorm();
+  }
+  pcost_ = p.objective().dot(x_) / tau_;
+  dcost_ = -(by + hz) / tau_;
+  gap_ = sz / (tau_ * tau_);
+  const double pres_y = pe_ > 0 ? ry_.norm() / resy0_ : 0.0;
+  pres_ = std::max(pres_y, std::sqrt(rznorm2) / resz0_) / tau_;
+  dres_ = rx_.norm() / resx0_ / tau_;
+  const double dgap = std::max(gap_, std::abs(pcost_ - dcost_));
+  relgap_ = dgap / std::max(1.0, std::min(std::abs(pcost_), std::abs(dcost_)));
+}
+
+inline bool InteriorPointSolver::scaling() {
+  for (auto& w : w_) {
+    w.llt_s.compute(w.S);
+    if (w.llt_s.info() != Eigen::Success) return false;
+    w.llt_z.compute(w.Z);
+    if (w.llt_z.info() != Eigen::Success) return false;
+    // L_zᵀ L_s = U Λ Vᵀ;  R = L_s V Λ^{-1/2};  Q = R⁻ᵀ = L_z U Λ^{-1/2}.
+    w.tmp = w.llt_s.matrixL();
+    w.tmp2 = w.llt_z.matrixL();
+    mul(w.LzLs, w.tmp2.transpose(), w.tmp);
+    // (A symmetric eigensolver on GᵀG would be cheaper but allocates a Householder
+    // workspace when eigenvectors are requested; JacobiSVD with preallocated storage does not.)
+    w.svd.compute(w.LzLs);
+    w.lambda = w.svd.singularValues();
+    if (!(w.lambda.minCoeff() > 0) || !w.lambda.allFinite()) return false;
+    w.isq = w.lambda.cwiseSqrt().cwiseInverse();
+    mul(w.R, w.tmp, w.svd.matrixV());
+    w.R.array().rowwise() *= w.isq.transpose().array();
+    mul(w.Q, w.tmp2, w.svd.matrixU());
+    w.Q.array().rowwise() *= w.isq.transpose().array();
+  }
+  return true;
+}
+
+inline bool InteriorPointSolver::assemble_and_factor() {
+  const LmiProblem& p = *p_;
+  M_.setZero();
+  for (size_t b = 0; b < w_.size(); ++b) {
+    const LmiBlock& blk = p.block(static_cast<int>(b));
+    BlockWork& w = w_[b];
+    const int n = w.n;
+    for (int j = 0; j < w.k; ++j) {
+      const Coefficient& co = blk.coefficients[static_cast<size_t>(j)];
+      Eigen::Map<Eigen::MatrixXd> Fj(w.Ft.col(j).data(), n, n);
+      if (co.kind == CoefficientKind::Sparse) {
+        // QᵀFQ = Σ f_rc (q_r q_cᵀ + q_c q_rᵀ) over the upper-triangle entries (q_r = row r of Q).
+        Fj.setZero();
+        for (const auto& e : co.entries) {
+          if (e.row == e.col) {
+            Fj.noalias() += e.value * w.Q.row(e.row).transpose() * w.Q.row(e.col);
+          } else {
+            Fj.noalias() += e.value * w.Q.row(e.row).transpose() * w.Q.row(e.col);
+            Fj.noalias() += e.value * w.Q.row(e.col).transpose() * w.Q.row(e.row);
+          }
+        }
+      } else {
+        mul(w.tmp, co.dense, w.Q);
+        mul(Fj, w.Q.transpose(), w.tmp);
+      }
+    }
+    mul(w.tmp, blk.constant, w.Q);
+    mul(w.F0t, w.Q.transpose(), w.tmp);
+    if (w.k == 0) continue;
+    w.gram.noalias() = w.Ft.transpose() * w.Ft;
+    for (int j = 0; j < w.k; ++j)
+      for (int i = 0; i < w.k; ++i) M_(w.vars[static_cast<size_t>(i)], w.vars[static_cast<size_t>(j)]) += w.gram(i, j);
+  }
+  // Equalities: K = M + ρAᵀA keeps K positive definite when M is singular on ker A;
+  // the reduced system is equivalent for any ρ > 0 (see solve_reduced).
+  const double mscale = std::max(1.0, M_.diagonal().cwiseAbs().maxCoeff());
+  K_ = M_;
+  if (pe_ > 0) {
+    rho_ = mscale / std::max(1.0, AtA_.diagonal().maxCoeff());
+    K_.noalias() += rho_ * AtA_;
+  }
+  // Tiny static regularisation against exact singularity; iterative refinement in
+  // solve_reduced removes its effect on the directions.
+  K_.diagonal().array() += 1e-13 * mscale;
+  lltK_.compute(K_);
+  if (lltK_.info() != Eigen::Success) return false;
+  if (pe_ > 0) {
+    KinvAt_ = p.eq_matrix().transpose();
+    lltK_.solveInPlace(KinvAt_);
+    SA_.noalias() = p.eq_matrix() * KinvAt_;
+    SA_.diagonal().array() += 1e-14 * std::max(1.0, SA_.diagonal().maxCoeff());
+    lltSA_.compute(SA_);
+    if (lltSA_.info() != Eigen::Success) return false;
+  }
+  return true;
+}
+
+// Solves M dx + Aᵀdy = g, A dx = by (K = M + ρAᵀA formulation), with one refinement step.
+inline void InteriorPointSolver::solve_reduced(const Eigen::VectorXd& g, const Eigen::VectorXd& by,
+                                                Eigen::VectorXd& dx, Eigen::VectorXd& dy) {
+  const LmiProblem& p = *p_;
+  auto base = [&](const Eigen::VectorXd& gg, const Eigen::VectorXd& bb, Eigen::VectorXd& ox, Eigen::VectorXd& oy) {
+    t1_ = gg;
+    if (pe_ > 0) t1_.noalias() += rho_ * p.eq_matrix().transpose() * bb;
+    lltK_.solveInPlace(t1_);  // t1 = K⁻¹(g + ρAᵀb)
+    if (pe_ > 0) {
+      oy.noalias() = p.eq_matrix() * t1_;
+      oy -= bb;
+      lltSA_.solveInPlace(oy);
+      ox = t1_;
+      ox.noalias() -= KinvAt_ * oy;
+    } else {
+      ox = t1_;
+    }
+  };
+  base(g, by, dx, dy);
+  for (int it = 0; it < 2; ++it) {
+    r1_ = g;
+    r1_.noalias() -= M_ * dx;
+    if (pe_ > 0) {
+      r1_.noalias() -= p.eq_matrix().transpose() * dy;
+      r2_ = by;
+      r2_.noalias() -= p.eq_matrix() * dx;
+    }
+    base(r1_, r2_, cdx_, cdy_);
+    dx += cdx_;
+    if (pe_ > 0) dy += cdy_;
+  }
+}
+
+// Solves the KKT system  Aᵀdy + Gᵀdz = bx,  A dx = by,  G dx − WᵀW dz = bz  where
+//   bz = use_F0 ? F0 : −eta_rz·rz − Wᵀ(U)   (U = λ⁻¹◇ds_rhs held in w.U when with_u).
+// On return w.Bt = Qᵀ bz Q (needed to form W dz = −Σ dx_j F̃_j − B̃).
+inline void InteriorPointSolver::kkt_solve(const Eigen::VectorXd& bx, const Eigen::VectorXd& by, bool use_F0,
+                                            double eta_rz, bool with_u, Eigen::VectorXd& dx, Eigen::VectorXd& dy) {
+  g_ = bx;
+  for (auto& w : w_) {
+    if (use_F0) {
+      w.Bt = w.F0t;
+    } else {
+      mul(w.tmp, w.rz, w.Q);
+      mul(w.Bt, w.Q.transpose(), w.tmp);
+      w.Bt *= -eta_rz;
+      if (with_u) w.Bt -= w.U;  // QᵀR U RᵀQ = U since QᵀR = I
+    }
+    // g_i −= <F̃_i, B̃>
+    const Eigen::Map<const Eigen::VectorXd> bvec(w.Bt.data(), w.n * w.n);
+    for (int j = 0; j < w.k; ++j) g_(w.vars[static_cast<size_t>(j)]) -= w.Ft.col(j).dot(bvec);
+  }
+  solve_reduced(g_, by, dx, dy);
+}
+
+inline double InteriorPointSolver::max_step_scaled(BlockWork& w, const Eigen::MatrixXd& X) {
+  // Largest α with Λ + αX ⪰ 0: α = −1/λ_min(Λ^{-1/2} X Λ^{-1/2}) when that is negative.
+  for (int j = 0; j < w.n; ++j)
+    for (int i = 0; i < w.n; ++i) w.tmp(i, j) = X(i, j) * w.isq(i) * w.isq(j);
+  w.eig.compute(w.tmp, Eigen::EigenvaluesOnly);
+  const double e = w.eig.eigenvalues()(0);
+  return e >= 0 ? std::numeric_limits<double>::infinity() : -1.0 / e;
+}
+
+// One Newton direction of the embedding. Predictor: eta = 1, sigma = 0; corrector adds the
+// second-order term (W⁻ᵀds_a)∘(W dz_a) and centring σμ (Mehrotra).
+inline void InteriorPointSolver::direction(double eta, double sigma, double mu, bool corrector) {
+  const LmiProblem& p = *p_;
+  // ds_rhs = −λ∘λ + σμe − corr  ⇒  U = λ⁻¹◇ds_rhs: U_ij = 2 ds_rhs_ij / (λ_i + λ_j)
+  for (auto& w : w_) {
+    if (corrector) {
+      mul(w.tmp, w.Wds_a, w.Wdz_a);
+      w.tmp2 = 0.5 * (w.tmp + w.tmp.transpose());  // (Wds_a)∘(Wdz_a)
+    }
+    for (int j = 0; j < w.n; ++j)
+      for (int i = 0; i < w.n; ++i) {
+        double r = (i == j) ? (-w.lambda(i) * w.lambda(i) + sigma * mu) : 0.0;
+        if (corrector) r -= w.tmp2(i, j);
+        w.U(i, j) = 2.0 * r / (w.lambda(i) + w.lambda(j));
+      }
+  }
+  double dk_rhs = -tau_ * kappa_ + sigma * mu;
+  if (corrector) dk_rhs -= dtau_a_ * dkappa_a_;
+  // u0: bx = −η rx, by = η ry, bz = −η rz − Wᵀ U.
+  bx_ = -eta * rx_;
+  if (pe_ > 0) by_ = eta * ry_;
+  kkt_solve(bx_, by_, false, eta, true, dx_, dy_);
+  // hᵀdz0 = <F̃0, W dz0>,  W dz0 = −Σ dx_j F̃_j − B̃0
+  double cx0 = p.objective().dot(dx_) + (pe_ > 0 ? p.eq_rhs().dot(dy_) : 0.0);
+  double cx1 = p.objective().dot(x1_) + (pe_ > 0 ? p.eq_rhs().dot(y1_) : 0.0);
+  for (auto& w : w_) {
+    const Eigen::Map<const Eigen::VectorXd> f0(w.F0t.data(), w.n * w.n);
+    const Eigen::Map<const Eigen::VectorXd> bt(w.Bt.data(), w.n * w.n);
+    double hz0 = -f0.dot(bt), hz1 = -f0.squaredNorm();
+    for (int j = 0; j < w.k; ++j) {
+      const double fj = w.Ft.col(j).dot(f0);
+      hz0 -= dx_(w.vars[static_cast<size_t>(j)]) * fj;
+      hz1 -= x1_(w.vars[static_cast<size_t>(j)]) * fj;
+    }
+    cx0 += hz0;
+    cx1 += hz1;
+  }
+  dtau_ = (-eta * rtau_ - dk_rhs / tau_ - cx0) / (cx1 - kappa_ / tau_);
+  dx_ += dtau_ * x1_;
+  if (pe_ > 0) dy_ += dtau_ * y1_;
+  dkappa_ = (dk_rhs - kappa_ * dtau_) / tau_;
+  for (size_t b = 0; b < w_.size(); ++b) {
+    BlockWork& w = w_[b];
+    // W dz = −Σ dx_j F̃_j − B̃0 − dτ F̃0;  W⁻ᵀds = U − W dz
+    w.Wdz = -w.Bt - dtau_ * w.F0t;
+    for (int j = 0; j < w.k; ++j) {
+      const Eigen::Map<const Eigen::MatrixXd> Fj(w.Ft.col(j).data(), w.n, w.n);
+      w.Wdz.noalias() -= dx_(w.vars[static_cast<size_t>(j)]) * Fj;
+    }
+    w.Wds = w.U - w.Wdz;
+  }
+}
+
+inline double InteriorPointSolver::step_length() {
+  double amax = std::numeric_limits<double>::infinity();
+  for (auto& w : w_) {
+    amax = std::min(amax, max_step_scaled(w, w.Wds));
+    amax = std::min(amax, max_step_scaled(w, w.Wdz));
+  }
+  if (dtau_ < 0) amax = std::min(amax, -tau_ / dtau_);
+  if (dkappa_ < 0) amax = std::min(amax, -kappa_ / dkappa_);
+  return amax;
+}
+
+inline void InteriorPointSolver::record_best(double merit) {
+  if (!(merit < best_merit_)) return;
+  best_merit_ = merit;
+  best_x_ = x_ / tau_;
+  if (pe_ > 0) best_y_ = y_ / tau_;
+  for (auto& w : w_) w.best_Z = w.Z / tau_;
+  best_pcost_ = pcost_;
+  best_dcost_ = dcost_;
+  best_gap_ = gap_;
+  best_relgap_ = relgap_;
+  best_pres_ = pres_;
+  best_dres_ = dres_;
+}
+
+inline void InteriorPointSolver::finish(SolveStatus status) {
+  // Returns the best iterate for non-converged statuses, the current one otherwise.
+  result_.status = status;
+  if (status == SolveStatus::Optimal) {
+    result_.x = x_ / tau_;
+    if (pe_ > 0) result_.y = y_ / tau_;
+    for (size_t b = 0; b < w_.size(); ++b) result_.Z[b] = w_[b].Z / tau_;
+    result_.objective = pcost_;
+    result_.dual_objective = dcost_;
+    result_.gap = gap_;
+    result_.relative_gap = relgap_;
+    result_.primal_residual = pres_;
+    result_.dual_residual = dres_;
+  } else if (status == SolveStatus::Infeasible || status == SolveStatus::Unbounded) {
+    // set by caller
+  } else {
+    result_.x = best_x_;
+    if (pe_ > 0) result_.y = best_y_;
+    for (size_t b = 0; b < w_.size(); ++b) result_.Z[b] = w_[b].best_Z;
+    result_.objective = best_pcost_;
+    result_.dual_objective = best_dcost_;
+    result_.gap = best_gap_;
+    result_.relative_gap = best_relgap_;
+    result_.primal_residual = best_pres_;
+    result_.dual_residual = best_dres_;
+    if (best_pres_ <= opt_.reduced_feas && best_dres_ <= opt_.reduced_feas &&
+        (best_gap_ <= opt_.reduced_gap_abs || best_relgap_ <= opt_.reduced_gap_rel))
+      result_.status = SolveStatus::Inaccurate;
+  }
+  const bool has_point = result_.status == SolveStatus::Optimal || result_.status == SolveStatus::Inaccurate ||
+                         result_.status == SolveStatus::MaxIterations || result_.status == SolveStatus::NumericalError;
+  if (opt_.compute_margin && has_point && result_.x.allFinite())
+    result_.margin = margin_.margin(*p_, result_.x, opt_.feasibility_var);
+  else
+    result_.margin = -std::numeric_limits<double>::infinity();
+}
+
+inline const SolveResult& InteriorPointSolver::solve() {
+  const auto t0 = std::chrono::steady_clock::now();
+  const LmiProblem& p = *p_;
+  if (p.structure_version() != version_) setup();
+  p.require_solvable();
+  if (p.num_blocks() == 0) throw InvalidArgumentError("blocks: the problem has no LMI block (add at least one)");
+
+  resx0_ = std::max(1.0, p.objective().norm());
+  resy0_ = std::max(1.0, pe_ > 0 ? p.eq_rhs().norm() : 0.0);
+  double h2 = 0;
+  for (const auto& blk : p.blocks()) h2 += blk.constant.squaredNorm();
+  resz0_ = std::max(1.0, std::sqrt(h2));
+  if (pe_ > 0) AtA_.noalias() = p.eq_matrix().transpose() * p.eq_matrix();
+
+  // Standard embedding start: x = 0, y = 0, S = Z = I, τ = κ = 1 (on the central ray).
+  x_.setZero();
+  y_.setZero();
+  for (auto& w : w_) {
+    w.S.setIdentity();
+    w.Z.setIdentity();
+  }
+  tau_ = kappa_ = 1.0;
+  best_merit_ = std::numeric_limits<double>::infinity();
+  result_.x.setZero();
+  result_.margin = -std::numeric_limits<double>::infinity();
+
+  const double nu1 = static_cast<double>(nu_ + 1);
+  int iter = 0;
+  SolveStatus status = SolveStatus::MaxIterations;
+  MarginChecker& mc = margin_;
+  for (;; ++iter) {
+    residuals();
+    const double merit = std::max({pres_, dres_, std::min(relgap_, gap_ / opt_.gap_abs * opt_.gap_rel)});
+    if (std::isfinite(merit)) record_best(merit);
+
+    // --- termination ---
+    if (pres_ <= opt_.feas && dres_ <= opt_.feas && (gap_ <= opt_.gap_abs || relgap_ <= opt_.gap_rel)) {
+      status = SolveStatus::Optimal;
+      break;
+    }
+    if (opt_.feasibility_var >= 0 && x_(opt_.feasibility_var) < 0) {
+      xhat_ = x_ / tau_;
+      if (mc.margin(p, xhat_, opt_.feasibility_var) > 0) {
+        status = SolveStatus::Optimal;
+        break;
+      }
+    }
+    {
+      // Primal infeasibility certificate: Gᵀz + Aᵀy ≈ 0 with hᵀz + bᵀy < 0.
+      double hz = 0;
+      for (size_t b = 0; b < w_.size(); ++b) hz += p.block(static_cast<int>(b)).constant.cwiseProduct(w_[b].Z).sum();
+      const double ny = -(hz + (pe_ > 0 ? p.eq_rhs().dot(y_) : 0.0));
+      if (ny > 0) {
+        // ‖Aᵀy + Gᵀz‖ = ‖rx − cτ‖
+        const double r = (rx_ - p.objective() * tau_).norm() / resx0_;
+        if (r <= opt_.feas * ny) {
+          status = SolveStatus::Infeasible;
+          break;
+        }
+      }
+      // Dual infeasibility (unbounded): Gx + s ≈ 0, Ax ≈ 0, cᵀx < 0.
+      const double cx = -p.objective().dot(x_);
+      if (cx > 0) {
+        double r2 = 0;
+        for (auto& w : w_) r2 = std::max(r2, (w.rz + tau_ * p.block(static_cast<int>(&w - w_.data())).constant).norm() / resz0_);
+        if (pe_ > 0) r2 = std::max(r2, (ry_ - p.eq_rhs() * tau_).norm() / resy0_);
+        if (r2 <= opt_.feas * cx) {
+          status = SolveStatus::Unbounded;
+          break;
+        }
+      }
+    }
+    if (iter >= opt_.max_iterations) {
+      status = SolveStatus::MaxIterations;
+      break;
+    }
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > opt_.time_limit) {
+      status = SolveStatus::MaxIterations;
+      break;
+    }
+
+    // --- Newton system ---
+    double sz = 0;
+    for (auto& w : w_) sz += w.S.cwiseProduct(w.Z).sum();
+    const double mu = (sz + tau_ * kappa_) / nu1;
+    if (!scaling() || !assemble_and_factor()) {
+      status = SolveStatus::NumericalError;
+      break;
+    }
+    // τ-direction: K (x1, y1, z1) = (−c, b, h)
+    bx_ = -p.objective();
+    if (pe_ > 0) by_ = p.eq_rhs();
+    kkt_solve(bx_, by_, true, 0.0, false, x1_, y1_);
+
+    direction(1.0, 0.0, mu, false);
+    double alpha_a = std::min(1.0, step_length());
+    for (auto& w : w_) {
+      w.Wds_a = w.Wds;
+      w.Wdz_a = w.Wdz;
+    }
+    dtau_a_ = dtau_;
+    dkappa_a_ = dkappa_;
+    const double sigma = std::pow(1.0 - alpha_a, 3);
+    direction(1.0 - sigma, sigma, mu, true);
+    const double amax = step_length();
+    const double alpha = std::min(1.0, opt_.step_fraction * amax);
+    if (!(alpha > 1e-12) || !dx_.allFinite()) {
+      status = SolveStatus::NumericalError;
+      break;
+    }
+    // Update: ds = R (W⁻ᵀds) Rᵀ, dz = Q (W dz) Qᵀ.
+    x_ += alpha * dx_;
+    if (pe_ > 0) y_ += alpha * dy_;
+    for (auto& w : w_) {
+      mul(w.tmp, w.R, w.Wds);
+      mul(w.dS, w.tmp, w.R.transpose());
+      mul(w.tmp, w.Q, w.Wdz);
+      mul(w.dZ, w.tmp, w.Q.transpose());
+      w.S += alpha * w.dS;
+      w.Z += alpha * w.dZ;
+      w.tmp = 0.5 * (w.S + w.S.transpose());
+      w.S = w.tmp;
+      w.tmp = 0.5 * (w.Z + w.Z.transpose());
+      w.Z = w.tmp;
+    }
+    tau_ += alpha * dtau_;
+    kappa_ += alpha * dkappa_;
+  }
+
+  result_.iterations = iter;
+  if (status == SolveStatus::Infeasible) {
+    double hz = 0;
+    for (size_t b = 0; b < w_.size(); ++b) hz += p.block(static_cast<int>(b)).constant.cwiseProduct(w_[b].Z).sum();
+    const double ny = -(hz + (pe_ > 0 ? p.eq_rhs().dot(y_) : 0.0));
+    for (size_t b = 0; b < w_.size(); ++b) result_.Z[b] = w_[b].Z / ny;
+    if (pe_ > 0) result_.y = y_ / ny;
+    result_.x.setConstant(std::numeric_limits<double>::quiet_NaN());
+    result_.objective = std::numeric_limits<double>::infinity();
+    result_.dual_objective = std::numeric_limits<double>::infinity();
+    finish(status);
+  } else if (status == SolveStatus::Unbounded) {
+    const double cx = -p.objective().dot(x_);
+    result_.x = x_ / cx;  // ray with cᵀx = −1
+    result_.objective = -std::numeric_limits<double>::infinity();
+    result_.dual_objective = -std::numeric_limits<double>::infinity();
+    finish(status);
+  } else {
+    finish(status);
+  }
+  result_.solve_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return result_;
+}
+
+/// Convenience: one solve of a linear-objective problem.
+inline SolveResult solve_linear(const LmiProblem& problem, const SolverOptions& options = {}) {
+  InteriorPointSolver s(problem, options);
+  return s.solve();
+}
+
+}  // namespace setbound::lmi

@@ -1,0 +1,249 @@
+"""The bundled LMI solver (``include/setbound/lmi``), through the C ABI.
+
+Problem form: minimise ``c @ x`` subject to, for every block ``(F0, Fs)``,
+``F0 + sum_i x[i] * Fs[i] ⪰ 0`` (1×1 blocks are linear inequalities), optional equalities
+``Aeq @ x == beq`` and an optional objective term ``-log det(G0 + sum_i x[i] * Gs[i])``.
+
+* :func:`solve` — one-shot solve (the contract of issue 3).
+* :class:`Problem` — set up once, update values, solve many times with tiny per-call
+  overhead (preallocated buffers, cffi pointers made once); also feasibility, GEVP and the
+  verified margin of a point.
+
+Statuses are the strings ``"optimal"``, ``"infeasible"``, ``"unbounded"``,
+``"max_iterations"``, ``"numerical_error"`` and ``"inaccurate"``. ``margin`` is verified: a
+Cholesky factorisation of ``F_b(x) - margin*I`` succeeded for every block (``margin < 0``
+means ``x`` is not feasible); code that needs a guarantee must check it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+
+from ._native import as_f64, check, dptr, ffi, lib
+from .errors import DimensionError, InvalidArgumentError
+
+STATUS_NAMES = {
+    lib.SB_LMI_OPTIMAL: "optimal",
+    lib.SB_LMI_INFEASIBLE: "infeasible",
+    lib.SB_LMI_UNBOUNDED: "unbounded",
+    lib.SB_LMI_MAX_ITERATIONS: "max_iterations",
+    lib.SB_LMI_NUMERICAL_ERROR: "numerical_error",
+    lib.SB_LMI_INACCURATE: "inaccurate",
+}
+
+
+@dataclass
+class LmiResult:
+    """Result of a solve. For ``"infeasible"``, ``x`` is NaN and ``Z``/``y`` hold the
+    certificate (``Z_b ⪰ 0``, ``Σ tr(F_b0 Z_b) + beq·y = −1``, ``tr(F_bi Z) = (Aeqᵀy)_i``)."""
+
+    status: str
+    x: np.ndarray
+    objective: float
+    iterations: int
+    margin: float
+    solve_time: float
+    dual_objective: float = float("nan")
+    gap: float = float("nan")
+    relative_gap: float = float("nan")
+    primal_residual: float = float("nan")
+    dual_residual: float = float("nan")
+    Z: list = field(default_factory=list)
+    y: np.ndarray | None = None
+
+    @property
+    def ok(self) -> bool:
+        """True when the point is optimal (or certified feasible) with a positive margin."""
+        return self.status == "optimal" and self.margin > 0
+
+
+def _block_arrays(F0, Fs, m: int, name: str):
+    F0a = as_f64(F0, f"{name}[0] (F0)", ndim=2)
+    if F0a.shape[0] != F0a.shape[1] or F0a.shape[0] == 0:
+        raise DimensionError(f"{name}: F0 must be a non-empty square matrix, got shape {F0a.shape}")
+    n = F0a.shape[0]
+    Fsa = as_f64(Fs, f"{name}[1] (Fs)", shape=(m, n, n))
+    return F0a, Fsa, n
+
+
+class Problem:
+    """A reusable LMI problem: set up once, then update values and re-solve."""
+
+    def __init__(self, num_vars: int):
+        if not isinstance(num_vars, (int, np.integer)) or num_vars <= 0:
+            raise DimensionError(f"num_vars: expected a positive integer, got {num_vars!r}")
+        h = ffi.new("sb_lmi_problem**")
+        check(lib.sb_lmi_problem_create(int(num_vars), h))
+        self._h = ffi.gc(h[0], lib.sb_lmi_problem_free)
+        self.num_vars = int(num_vars)
+        self._sizes: list[int] = []
+        self._neq = 0
+        self._res = ffi.new("sb_lmi_result*")
+        self._x = np.empty(self.num_vars)
+        self._xp = dptr(self._x)
+
+    # --- set-up ------------------------------------------------------------------------
+    def set_objective(self, c) -> None:
+        ca = as_f64(c, "c", shape=(self.num_vars,))
+        check(lib.sb_lmi_set_objective(self._h, dptr(ca)))
+
+    def add_block(self, F0, Fs) -> int:
+        F0a, Fsa, n = _block_arrays(F0, Fs, self.num_vars, "block")
+        idx = ffi.new("int*")
+        check(lib.sb_lmi_add_block(self._h, n, dptr(F0a), dptr(Fsa), idx))
+        self._sizes.append(n)
+        return int(idx[0])
+
+    def update_block(self, index: int, F0, Fs) -> None:
+        """Replace the values of a block (no re-analysis of the structure)."""
+        if not 0 <= index < len(self._sizes):
+            raise InvalidArgumentError(f"index: block {index} out of range [0, {len(self._sizes)})")
+        n = self._sizes[index]
+        F0a = as_f64(F0, "F0", shape=(n, n))
+        Fsa = as_f64(Fs, "Fs", shape=(self.num_vars, n, n))
+        check(lib.sb_lmi_update_block(self._h, int(index), n, dptr(F0a), dptr(Fsa)))
+
+    def set_logdet(self, G0, Gs) -> None:
+        """Objective term ``-log det(G0 + Σ x_i Gs[i])``; ``None`` removes it."""
+        if G0 is None:
+            check(lib.sb_lmi_set_logdet(self._h, 0, ffi.NULL, ffi.NULL))
+            return
+        G0a, Gsa, n = _block_arrays(G0, Gs, self.num_vars, "logdet")
+        check(lib.sb_lmi_set_logdet(self._h, n, dptr(G0a), dptr(Gsa)))
+
+    def set_equalities(self, Aeq, beq) -> None:
+        A = as_f64(Aeq, "Aeq", ndim=2)
+        if A.shape[1] != self.num_vars:
+            raise DimensionError(f"Aeq: expected {self.num_vars} columns, got shape {A.shape}")
+        b = as_f64(beq, "beq", shape=(A.shape[0],))
+        check(lib.sb_lmi_set_equalities(self._h, A.shape[0], dptr(A), dptr(b)))
+        self._neq = A.shape[0]
+
+    def set_options(self, *, tol=None, max_iter=None, feas=None, time_limit=None) -> None:
+        """``tol``: relative gap (default 1e-7; feasibility defaults to tol/10)."""
+        if tol is not None and feas is None:
+            feas = float(tol) * 0.1
+        check(
+            lib.sb_lmi_set_options(
+                self._h,
+                int(max_iter) if max_iter is not None else 0,
+                float(tol) if tol is not None else 0.0,
+                float(feas) if feas is not None else 0.0,
+                float(time_limit) if time_limit is not None else 0.0,
+            )
+        )
+
+    # --- solving -----------------------------------------------------------------------
+    def solve(self, *, feasibility: bool = False, duals: bool = True) -> LmiResult:
+        """Solve (maxdet if a log-det term is set). ``feasibility=True`` stops at the first
+        certified strictly feasible point. ``duals=False`` skips copying the dual matrices
+        (fastest path for repeated solves)."""
+        cls = lib.SB_LMI_CLASS_FEASIBILITY if feasibility else lib.SB_LMI_CLASS_AUTO
+        check(lib.sb_lmi_solve_class(self._h, cls, self._res, self._xp))
+        return self._result(duals)
+
+    def _result(self, duals: bool) -> LmiResult:
+        r = self._res
+        out = LmiResult(
+            STATUS_NAMES.get(r.status, "numerical_error"),
+            self._x.copy(),
+            r.objective,
+            r.iterations,
+            r.margin,
+            r.solve_time,
+            r.dual_objective,
+            r.gap,
+            r.relative_gap,
+            r.primal_residual,
+            r.dual_residual,
+        )
+        if duals:
+            out.Z = self.duals()
+            if self._neq:
+                y = np.empty(self._neq)
+                check(lib.sb_lmi_dual_eq(self._h, dptr(y)))
+                out.y = y
+        return out
+
+    def duals(self) -> list[np.ndarray]:
+        Zs = []
+        for b, n in enumerate(self._sizes):
+            Z = np.empty((n, n))
+            check(lib.sb_lmi_dual(self._h, b, ffi.cast("double*", ffi.from_buffer(Z))))
+            Zs.append(Z)
+        return Zs
+
+    def margin(self, x) -> float:
+        """Verified margin of the point ``x``."""
+        xa = as_f64(x, "x", shape=(self.num_vars,))
+        out = ffi.new("double*")
+        check(lib.sb_lmi_margin(self._h, dptr(xa), out))
+        return float(out[0])
+
+    def gevp(self, A, B, *, lambda_lo=0.0, lambda_hi=1.0, tol=1e-6) -> tuple[float, LmiResult]:
+        """Minimise λ s.t. λB(x) − A(x) ⪰ 0, B(x) ≻ 0 and this problem's blocks; ``A`` and
+        ``B`` are pairs ``(M0, Ms)``. Returns ``(λ, result)``; ``result.x`` is a certified
+        point at λ and ``result.dual_objective`` a certified-infeasible lower value."""
+        A0, As, n = _block_arrays(A[0], A[1], self.num_vars, "A")
+        B0 = as_f64(B[0], "B0", shape=(n, n))
+        Bs = as_f64(B[1], "Bs", shape=(self.num_vars, n, n))
+        lam = ffi.new("double*")
+        check(
+            lib.sb_lmi_solve_gevp(
+                self._h, n, dptr(A0), dptr(As), dptr(B0), dptr(Bs),
+                float(lambda_lo), float(lambda_hi), float(tol), self._res, lam, self._xp,
+            )
+        )
+        return float(lam[0]), self._result(False)
+
+
+def solve(
+    c,
+    blocks: Sequence,
+    *,
+    logdet=None,
+    eq=None,
+    tol: float | None = None,
+    max_iter: int | None = None,
+) -> LmiResult:
+    """Minimise ``c @ x`` (− log det G(x) with ``logdet=(G0, Gs)``) subject to
+    ``F0 + Σ x_i Fs[i] ⪰ 0`` for every ``(F0, Fs)`` in ``blocks`` and ``Aeq x = beq`` for
+    ``eq=(Aeq, beq)``."""
+    ca = as_f64(c, "c", ndim=1)
+    if ca.shape[0] == 0:
+        raise DimensionError("c: the problem needs at least one variable, got shape (0,)")
+    if blocks is None:
+        raise InvalidArgumentError("blocks: a list of (F0, Fs) pairs is required")
+    blocks = list(blocks)
+    if not blocks and logdet is None:
+        raise InvalidArgumentError("blocks: the problem has no LMI block (add at least one)")
+    p = Problem(ca.shape[0])
+    p.set_objective(ca)
+    for i, blk in enumerate(blocks):
+        if isinstance(blk, np.ndarray) or not isinstance(blk, (tuple, list)) or len(blk) != 2:
+            raise InvalidArgumentError(f"blocks[{i}]: expected a pair (F0, Fs)")
+        F0, Fs = blk
+        F0a, Fsa, n = _block_arrays(F0, Fs, ca.shape[0], f"blocks[{i}]")
+        idx = ffi.new("int*")
+        check(lib.sb_lmi_add_block(p._h, n, dptr(F0a), dptr(Fsa), idx))
+        p._sizes.append(n)
+    if logdet is not None:
+        try:
+            G0, Gs = logdet
+        except (TypeError, ValueError):
+            raise InvalidArgumentError("logdet: expected a pair (G0, Gs)") from None
+        p.set_logdet(G0, Gs)
+    if eq is not None:
+        try:
+            Aeq, beq = eq
+        except (TypeError, ValueError):
+            raise InvalidArgumentError("eq: expected a pair (Aeq, beq)") from None
+        p.set_equalities(Aeq, beq)
+    if tol is not None or max_iter is not None:
+        p.set_options(tol=tol, max_iter=max_iter)
+    return p.solve()
+
+
+__all__ = ["solve", "Problem", "LmiResult", "STATUS_NAMES"]

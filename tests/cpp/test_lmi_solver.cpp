@@ -1,0 +1,530 @@
+// The interior-point core (lmi/solver.hpp), the problem classes (lmi/classes.hpp) and the
+// scalar search (lmi/scalar_search.hpp): exact known optima, certificates checked by hand,
+// verified margins, no allocation inside solve(), degenerate inputs.
+//
+// Allocation guard, two independent layers:
+//  1. Eigen's runtime check (EIGEN_RUNTIME_NO_MALLOC + set_is_malloc_allowed(false)), with
+//     eigen_assert redirected to a counter because Release builds define NDEBUG;
+//  2. malloc itself is interposed in this executable (glibc allows replacing malloc) and
+//     counts calls while armed, so std::vector growth or any other heap use inside solve()
+//     is caught even where an out-of-line Eigen function from another object is linked.
+#define EIGEN_RUNTIME_NO_MALLOC
+#include <atomic>
+#include <cerrno>
+#include <cstddef>
+#include <cstdlib>
+#include <malloc.h>
+namespace {
+std::atomic<long> g_eigen_assert_failures{0};
+std::atomic<long> g_malloc_calls{0};
+std::atomic<bool> g_count_malloc{false};
+inline void count_malloc() {
+  if (g_count_malloc.load(std::memory_order_relaxed)) g_malloc_calls.fetch_add(1, std::memory_order_relaxed);
+}
+}  // namespace
+#define eigen_assert(x) ((x) ? (void)0 : (void)g_eigen_assert_failures.fetch_add(1))
+
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void* __libc_memalign(std::size_t, std::size_t);
+void* malloc(std::size_t n) noexcept {
+  count_malloc();
+  return __libc_malloc(n);
+}
+void* calloc(std::size_t a, std::size_t b) noexcept {
+  count_malloc();
+  return __libc_calloc(a, b);
+}
+void* realloc(void* p, std::size_t n) noexcept {
+  count_malloc();
+  return __libc_realloc(p, n);
+}
+void* aligned_alloc(std::size_t al, std::size_t n) noexcept {
+  count_malloc();
+  return __libc_memalign(al, n);
+}
+void* memalign(std::size_t al, std::size_t n) noexcept {
+  count_malloc();
+  return __libc_memalign(al, n);
+}
+int posix_memalign(void** out, std::size_t al, std::size_t n) noexcept {
+  count_malloc();
+  void* p = __libc_memalign(al, n);
+  if (p == nullptr) return ENOMEM;
+  *out = p;
+  return 0;
+}
+}
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <random>
+
+#include "setbound/lmi/classes.hpp"
+#include "setbound/lmi/problem.hpp"
+#include "setbound/lmi/scalar_search.hpp"
+#include "setbound/lmi/solver.hpp"
+#include "test_helpers.hpp"
+
+using namespace setbound;
+using namespace setbound::lmi;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+namespace {
+
+MatrixXd random_symmetric(std::mt19937& rng, int n) {
+  std::normal_distribution<double> N(0.0, 1.0);
+  MatrixXd A(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) A(i, j) = N(rng);
+  return 0.5 * (A + A.transpose());
+}
+
+double lambda_min(const MatrixXd& M) { return Eigen::SelfAdjointEigenSolver<MatrixXd>(M).eigenvalues()(0); }
+
+MatrixXd block_value(const LmiProblem& p, int b, const VectorXd& x) {
+  MatrixXd F;
+  p.evaluate_block(p.block(b), x, F);
+  return F;
+}
+
+// min t s.t. t I − A ⪰ 0 has the optimum λ_max(A).
+LmiProblem max_eigenvalue_problem(const MatrixXd& A) {
+  LmiProblem p(1);
+  p.add_block(-A, {MatrixXd::Identity(A.rows(), A.cols())});
+  p.set_objective(VectorXd::Ones(1));
+  return p;
+}
+
+}  // namespace
+
+TEST(LmiSolver, KnownOptimumSchurComplement) {
+  // [[x, 1], [1, 1]] ⪰ 0  ⇔  x ≥ 1 (Schur complement, papers.md §0.2).
+  LmiProblem p(1);
+  MatrixXd F0(2, 2), F1(2, 2);
+  F0 << 0, 1, 1, 1;
+  F1 << 1, 0, 0, 0;
+  p.add_block(F0, {F1});
+  p.set_objective(VectorXd::Ones(1));
+  const SolveResult r = solve_linear(p);
+  ASSERT_EQ(r.status, SolveStatus::Optimal);
+  EXPECT_NEAR(r.x(0), 1.0, 1e-7);
+  EXPECT_NEAR(r.objective, 1.0, 1e-7);
+  EXPECT_LE(r.relative_gap, 1e-7);
+  EXPECT_GT(r.solve_time, 0.0);
+  // Optimum on the boundary: the verified margin is ~0 (slightly negative or positive).
+  EXPECT_LT(std::abs(r.margin), 1e-6);
+}
+
+TEST(LmiSolver, MaxEigenvalueOfRandomMatrices) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 20; ++trial) {
+    const int n = 1 + trial % 7;
+    const MatrixXd A = random_symmetric(rng, n);
+    const LmiProblem p = max_eigenvalue_problem(A);
+    const SolveResult r = solve_linear(p);
+    ASSERT_EQ(r.status, SolveStatus::Optimal) << trial;
+    const double lmax = Eigen::SelfAdjointEigenSolver<MatrixXd>(A).eigenvalues()(n - 1);
+    EXPECT_NEAR(r.objective, lmax, 1e-7 * std::max(1.0, std::abs(lmax))) << trial;
+    // Dual: Z ⪰ 0, tr Z = 1, and tr(−A Z) = −λ_max (strong duality).
+    EXPECT_NEAR(r.Z[0].trace(), 1.0, 1e-7);
+    EXPECT_GE(lambda_min(r.Z[0]), -1e-8);
+    EXPECT_NEAR((A * r.Z[0]).trace(), lmax, 1e-6 * std::max(1.0, std::abs(lmax)));
+  }
+}
+
+TEST(LmiSolver, VerifiedMarginIsACholeskyCertificate) {
+  std::mt19937 rng(11);
+  LmiProblem p(2);
+  const MatrixXd F1 = random_symmetric(rng, 4), F2 = random_symmetric(rng, 4);
+  p.add_block(MatrixXd::Identity(4, 4) * 3.0, {F1, F2});
+  MarginChecker mc;
+  mc.setup(p);
+  for (int k = 0; k < 10; ++k) {
+    VectorXd x = VectorXd::Random(2);
+    const MatrixXd F = block_value(p, 0, x);
+    const double m = mc.margin(p, x);
+    const double lmin = lambda_min(F);
+    EXPECT_LE(m, lmin);                        // never claims more than is true
+    EXPECT_GE(m, lmin - 1e-12 * (1 + F.cwiseAbs().maxCoeff()));  // and is tight
+    MatrixXd shifted = F - m * MatrixXd::Identity(4, 4);
+    EXPECT_EQ(Eigen::LLT<MatrixXd>(shifted).info(), Eigen::Success);
+  }
+}
+
+TEST(LmiSolver, InfeasibleComesWithAVerifiedCertificate) {
+  // Block 1: [[x, 1], [1, −1 − x]]... simpler: x ≥ 1 and x ≤ −1 as a 2×2 diagonal block plus
+  // a dense 3×3 block that does not help.
+  std::mt19937 rng(3);
+  LmiProblem p(2);
+  MatrixXd F0 = MatrixXd::Zero(2, 2), F1 = MatrixXd::Zero(2, 2), F2 = MatrixXd::Zero(2, 2);
+  F0 << -1, 0, 0, -1;
+  F1 << 1, 0, 0, -1;  // x0 − 1 ≥ 0, −x0 − 1 ≥ 0
+  p.add_block(F0, {F1, F2});
+  const MatrixXd G1 = random_symmetric(rng, 3), G2 = random_symmetric(rng, 3);
+  p.add_block(MatrixXd::Identity(3, 3), {G1, G2});
+  p.set_objective(VectorXd::Ones(2));
+  const SolveResult r = solve_linear(p);
+  ASSERT_EQ(r.status, SolveStatus::Infeasible);
+  // Σ tr(F_b0 Z_b) = −1, tr(F_bi Z) = 0, Z ⪰ 0 — checked here, not trusted.
+  double f0z = 0, f1z = 0, f2z = 0;
+  f0z = (F0 * r.Z[0]).trace() + r.Z[1].trace();
+  f1z = (F1 * r.Z[0]).trace() + (G1 * r.Z[1]).trace();
+  f2z = (F2 * r.Z[0]).trace() + (G2 * r.Z[1]).trace();
+  EXPECT_NEAR(f0z, -1.0, 1e-9);
+  EXPECT_NEAR(f1z, 0.0, 1e-7);
+  EXPECT_NEAR(f2z, 0.0, 1e-7);
+  EXPECT_GE(lambda_min(r.Z[0]), -1e-9);
+  EXPECT_GE(lambda_min(r.Z[1]), -1e-9);
+}
+
+TEST(LmiSolver, UnboundedComesWithARay) {
+  // min −x0 s.t. [[1 + x0, x1], [x1, 1 + x0]] ⪰ 0: x0 → ∞ is a ray.
+  LmiProblem p(2);
+  MatrixXd F1 = MatrixXd::Identity(2, 2), F2(2, 2);
+  F2 << 0, 1, 1, 0;
+  p.add_block(MatrixXd::Identity(2, 2), {F1, F2});
+  VectorXd c(2);
+  c << -1, 0;
+  p.set_objective(c);
+  const SolveResult r = solve_linear(p);
+  ASSERT_EQ(r.status, SolveStatus::Unbounded);
+  EXPECT_NEAR(c.dot(r.x), -1.0, 1e-9);
+  const MatrixXd D = r.x(0) * F1 + r.x(1) * F2;
+  EXPECT_GE(lambda_min(D), -1e-8);
+}
+
+TEST(LmiSolver, EqualityConstraints) {
+  // min x0 + x1 s.t. diag(x0, x1) ⪰ 0... with x0 − x1 = 1 and x0 + 2x1 ≥ ... use λ_max:
+  // min t s.t. tI − A − s B ⪰ 0, s = 0.5 (equality) → λ_max(A + 0.5 B).
+  std::mt19937 rng(5);
+  const MatrixXd A = random_symmetric(rng, 4), B = random_symmetric(rng, 4);
+  LmiProblem p(2);
+  p.add_block(-A, {MatrixXd::Identity(4, 4), -B});
+  VectorXd c(2);
+  c << 1, 0;
+  p.set_objective(c);
+  MatrixXd Aeq(1, 2);
+  Aeq << 0, 1;
+  VectorXd beq(1);
+  beq << 0.5;
+  p.set_equalities(Aeq, beq);
+  const SolveResult r = solve_linear(p);
+  ASSERT_EQ(r.status, SolveStatus::Optimal);
+  const MatrixXd C = A + 0.5 * B;
+  const double lmax = Eigen::SelfAdjointEigenSolver<MatrixXd>(C).eigenvalues()(3);
+  EXPECT_NEAR(r.objective, lmax, 1e-7 * std::max(1.0, std::abs(lmax)));
+  EXPECT_NEAR(r.x(1), 0.5, 1e-8);
+}
+
+TEST(LmiSolver, UpdateValuesWithoutReanalysisAndReuseSolver) {
+  std::mt19937 rng(9);
+  MatrixXd A = random_symmetric(rng, 5);
+  LmiProblem p = max_eigenvalue_problem(A);
+  InteriorPointSolver solver(p);
+  const auto version = p.structure_version();
+  for (int k = 0; k < 5; ++k) {
+    A = random_symmetric(rng, 5);
+    p.update_block(0, -A, {MatrixXd::Identity(5, 5)});
+    EXPECT_EQ(p.structure_version(), version);
+    const SolveResult& r = solver.solve();
+    ASSERT_EQ(r.status, SolveStatus::Optimal);
+    const double lmax = Eigen::SelfAdjointEigenSolver<MatrixXd>(A).eigenvalues()(4);
+    EXPECT_NEAR(r.objective, lmax, 1e-7 * std::max(1.0, std::abs(lmax)));
+  }
+  // A new variable touching the block is a structural change (re-analysis, new version).
+  LmiProblem q(2);
+  q.add_block_terms(MatrixXd::Identity(2, 2), {{0, MatrixXd::Identity(2, 2)}});
+  const auto v0 = q.structure_version();
+  q.update_block_terms(0, MatrixXd::Identity(2, 2), {{0, MatrixXd::Identity(2, 2)}});
+  EXPECT_EQ(q.structure_version(), v0);
+  q.update_block_terms(0, MatrixXd::Identity(2, 2), {{1, MatrixXd::Identity(2, 2)}});
+  EXPECT_NE(q.structure_version(), v0);
+}
+
+TEST(LmiSolver, SolveDoesNotAllocateAfterSetup) {
+  // Positive control: the interposed malloc sees an Eigen allocation and a vector growth.
+  g_malloc_calls = 0;
+  g_count_malloc = true;
+  {
+    MatrixXd probe = MatrixXd::Random(20, 20);
+    std::vector<int> v;
+    v.push_back(1);
+    volatile double sink = probe.sum() + v[0];
+    (void)sink;
+  }
+  g_count_malloc = false;
+  ASSERT_GE(g_malloc_calls.load(), 2) << "the malloc interposer is not active";
+
+  // Online-sized problem: 4 blocks (7×7, 5×5, 3×3, 1×1), 12 variables, dense and sparse
+  // coefficients, one equality.
+  std::mt19937 rng(21);
+  const int m = 12;
+  LmiProblem p(m);
+  VectorXd x0 = VectorXd::Random(m);
+  VectorXd c = VectorXd::Zero(m);
+  for (int n : {7, 5, 3, 1}) {
+    std::vector<MatrixXd> Fs;
+    MatrixXd F0 = MatrixXd::Identity(n, n);
+    const MatrixXd Z0 = MatrixXd::Identity(n, n) + 0.1 * random_symmetric(rng, n).cwiseAbs();
+    for (int i = 0; i < m; ++i) {
+      MatrixXd Fi = (i % 3 == 0) ? MatrixXd(MatrixXd::Zero(n, n)) : random_symmetric(rng, n);
+      if (i % 3 == 1) {  // sparse coefficient
+        Fi.setZero();
+        Fi(0, 0) = 1.0;
+        if (n > 1) Fi(1, 0) = Fi(0, 1) = 0.5;
+      }
+      F0 -= x0(i) * Fi;
+      c(i) += (Fi * Z0).trace();
+      Fs.push_back(Fi);
+    }
+    p.add_block(F0, Fs);
+  }
+  MatrixXd Aeq = MatrixXd::Zero(1, m);
+  Aeq(0, 1) = 1.0;
+  VectorXd beq(1);
+  beq << x0(1);
+  p.set_equalities(Aeq, beq);
+  p.set_objective(c);
+  InteriorPointSolver solver(p);
+  const SolveResult& first = solver.solve();  // warm-up (solver allocates nothing here either)
+  ASSERT_EQ(first.status, SolveStatus::Optimal);
+  const double obj = first.objective;
+
+  g_eigen_assert_failures = 0;
+  g_malloc_calls = 0;
+  g_count_malloc = true;
+  Eigen::internal::set_is_malloc_allowed(false);
+  const SolveResult& r = solver.solve();
+  Eigen::internal::set_is_malloc_allowed(true);
+  g_count_malloc = false;
+  EXPECT_EQ(g_eigen_assert_failures.load(), 0) << "Eigen allocated (or asserted) inside solve()";
+  EXPECT_EQ(g_malloc_calls.load(), 0) << "the heap was used inside solve()";
+  ASSERT_EQ(r.status, SolveStatus::Optimal);
+  EXPECT_NEAR(r.objective, obj, 1e-12 * std::max(1.0, std::abs(obj)));
+  EXPECT_GT(r.margin, -1e-6);
+}
+
+TEST(LmiSolver, StatusesForLimits) {
+  std::mt19937 rng(2);
+  const LmiProblem p = max_eigenvalue_problem(random_symmetric(rng, 6));
+  SolverOptions o;
+  o.max_iterations = 2;
+  const SolveResult r = solve_linear(p, o);
+  EXPECT_TRUE(r.status == SolveStatus::MaxIterations || r.status == SolveStatus::Inaccurate);
+  EXPECT_EQ(r.iterations, 2);
+  EXPECT_TRUE(r.x.allFinite());  // the best iterate is returned
+}
+
+TEST(LmiSolver, DegenerateInputsGiveClearErrors) {
+  EXPECT_THROW(LmiProblem(0), DimensionError);
+  LmiProblem empty;
+  EXPECT_THROW(empty.set_objective(VectorXd::Ones(1)), InvalidArgumentError);
+  LmiProblem p(2);
+  EXPECT_THROW(solve_linear(p), InvalidArgumentError);  // zero blocks
+  MatrixXd ns(2, 2);
+  ns << 1, 2, 0, 1;
+  try {
+    p.add_block(ns, {MatrixXd::Identity(2, 2), MatrixXd::Identity(2, 2)});
+    FAIL();
+  } catch (const NotSymmetricError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("F0:", 0), 0u) << e.what();
+  }
+  try {
+    p.add_block(MatrixXd::Identity(2, 2), {MatrixXd::Identity(2, 2), ns});
+    FAIL();
+  } catch (const NotSymmetricError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("Fs[1]:", 0), 0u) << e.what();
+  }
+  MatrixXd nan = MatrixXd::Identity(2, 2);
+  nan(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(p.add_block(nan, {MatrixXd::Identity(2, 2), MatrixXd::Identity(2, 2)}), NotFiniteError);
+  EXPECT_THROW(p.add_block(MatrixXd::Identity(2, 2), {MatrixXd::Identity(3, 3), MatrixXd::Identity(2, 2)}),
+               DimensionError);
+  EXPECT_THROW(p.add_block(MatrixXd::Identity(2, 2), {MatrixXd::Identity(2, 2)}), DimensionError);
+  EXPECT_THROW(p.set_objective(VectorXd::Ones(3)), DimensionError);
+  EXPECT_THROW(p.set_equalities(MatrixXd::Ones(1, 3), VectorXd::Ones(1)), DimensionError);
+  EXPECT_EQ(p.num_blocks(), 0);  // nothing half-added
+  SolverOptions bad;
+  bad.gap_rel = -1;
+  EXPECT_THROW(bad.validate(), InvalidArgumentError);
+}
+
+// ---- problem classes -------------------------------------------------------------------
+
+namespace {
+// Lyapunov LMI for x_{k+1} = A x_k: P − AᵀPA ⪰ 0, P ⪰ I, P symmetric 2×2 (3 variables).
+LmiProblem lyapunov(const MatrixXd& A) {
+  LmiProblem p(3);
+  std::vector<MatrixXd> E(3, MatrixXd::Zero(2, 2));
+  E[0](0, 0) = 1;
+  E[1](0, 1) = E[1](1, 0) = 1;
+  E[2](1, 1) = 1;
+  std::vector<MatrixXd> L;
+  for (auto& Ei : E) L.push_back(Ei - A.transpose() * Ei * A);
+  p.add_block(MatrixXd::Zero(2, 2), L);
+  p.add_block(-MatrixXd::Identity(2, 2), E);
+  return p;
+}
+}  // namespace
+
+TEST(LmiClasses, FeasibilityStopsAtACertifiedPoint) {
+  MatrixXd A(2, 2);
+  A << 0.5, 1.0, 0.0, 0.8;  // Schur stable
+  const LmiProblem p = lyapunov(A);
+  const SolveResult r = find_feasible(p);
+  ASSERT_EQ(r.status, SolveStatus::Optimal);
+  ASSERT_GT(r.margin, 0.0);
+  // Independent check of the certified point.
+  MatrixXd P(2, 2);
+  P << r.x(0), r.x(1), r.x(1), r.x(2);
+  EXPECT_GT(lambda_min(P - A.transpose() * P * A), 0.0);
+  EXPECT_GT(lambda_min(P - MatrixXd::Identity(2, 2)), 0.0);
+}
+
+TEST(LmiClasses, FeasibilityOfAnUnstableSystemIsCertifiedInfeasible) {
+  MatrixXd A(2, 2);
+  A << 1.1, 0.3, 0.0, 0.5;  // eigenvalue 1.1: no Lyapunov matrix exists
+  const LmiProblem p = lyapunov(A);
+  const SolveResult r = find_feasible(p);
+  ASSERT_EQ(r.status, SolveStatus::Infeasible);
+  double f0z = 0;
+  std::vector<double> fiz(3, 0.0);
+  for (int b = 0; b < 2; ++b) {
+    f0z += p.block(b).constant.cwiseProduct(r.Z[static_cast<size_t>(b)]).sum();
+    for (const auto& co : p.block(b).coefficients) fiz[static_cast<size_t>(co.var)] += co.dense.cwiseProduct(r.Z[static_cast<size_t>(b)]).sum();
+    EXPECT_GE(lambda_min(r.Z[static_cast<size_t>(b)]), -1e-9);
+  }
+  EXPECT_NEAR(f0z, -1.0, 1e-9);
+  for (double v : fiz) EXPECT_NEAR(v, 0.0, 1e-6);
+}
+
+TEST(LmiClasses, MaxdetClosedForms) {
+  // max log det X s.t. X ⪯ S (X symmetric 3×3): the optimum is X = S.
+  std::mt19937 rng(4);
+  const MatrixXd R = random_symmetric(rng, 3);
+  const MatrixXd S = R * R.transpose() + MatrixXd::Identity(3, 3);
+  LmiProblem p(6);
+  std::vector<MatrixXd> E;
+  for (int j = 0; j < 3; ++j)
+    for (int i = j; i < 3; ++i) {
+      MatrixXd Ei = MatrixXd::Zero(3, 3);
+      Ei(i, j) = Ei(j, i) = 1;
+      E.push_back(Ei);
+    }
+  std::vector<MatrixXd> negE;
+  for (auto& Ei : E) negE.push_back(-Ei);
+  p.add_block(S, negE);
+  p.set_logdet(MatrixXd::Zero(3, 3), E);
+  const SolveResult r = solve_maxdet(p);
+  ASSERT_EQ(r.status, SolveStatus::Optimal);
+  MatrixXd X(3, 3);
+  int k = 0;
+  for (int j = 0; j < 3; ++j)
+    for (int i = j; i < 3; ++i, ++k) X(i, j) = X(j, i) = r.x(k);
+  EXPECT_EIGEN_NEAR(X, S, 1e-6 * S.norm());
+  EXPECT_NEAR(r.objective, -std::log(S.determinant()), 1e-6);
+
+  // min −Σ log x_i s.t. Σ x_i ≤ 1, x ≥ 0 (diagonal G): x_i = 1/n.
+  const int n = 4;
+  LmiProblem q(n);
+  std::vector<MatrixXd> ones(n, -MatrixXd::Ones(1, 1)), Gd;
+  q.add_block(MatrixXd::Ones(1, 1), ones);
+  for (int i = 0; i < n; ++i) {
+    MatrixXd Ei = MatrixXd::Zero(n, n);
+    Ei(i, i) = 1;
+    Gd.push_back(Ei);
+  }
+  q.set_logdet(MatrixXd::Zero(n, n), Gd);
+  const SolveResult s = solve(q);
+  ASSERT_EQ(s.status, SolveStatus::Optimal);
+  EXPECT_EIGEN_NEAR(s.x, VectorXd::Constant(n, 1.0 / n), 1e-6);
+  EXPECT_NEAR(s.objective, n * std::log(static_cast<double>(n)), 1e-6);
+}
+
+TEST(LmiClasses, GevpBracketsTheEigenvalue) {
+  // min λ s.t. λI − diag(x, 2 − x) ⪰ 0, −1 ≤ x ≤ 3: λ* = 1 at x = 1.
+  LmiProblem cons(1);
+  MatrixXd one = MatrixXd::Ones(1, 1);
+  cons.add_block(one, {one});         // x ≥ −1
+  cons.add_block(3 * one, {-one});    // x ≤ 3
+  MatrixXd A0 = MatrixXd::Zero(2, 2), A1 = MatrixXd::Zero(2, 2);
+  A0(1, 1) = 2;
+  A1(0, 0) = 1;
+  A1(1, 1) = -1;
+  GevpOptions go;
+  go.lambda_lo = 0.0;
+  go.lambda_hi = 5.0;
+  go.tol = 1e-7;
+  const GevpResult g = solve_gevp(cons, A0, {{0, A1}}, MatrixXd::Identity(2, 2), {}, go);
+  ASSERT_EQ(g.status, SolveStatus::Optimal);
+  EXPECT_NEAR(g.lambda, 1.0, 1e-6);
+  EXPECT_LE(g.lower, 1.0);
+  EXPECT_GE(g.lambda, 1.0 - 1e-12);  // the certified upper value never undercuts λ*
+  EXPECT_GT(g.margin, 0.0);
+  // The certified point satisfies λB − A(x) ≻ 0 at the returned λ.
+  EXPECT_GT(g.lambda - g.x(0), 0.0);
+  EXPECT_GT(g.lambda - (2 - g.x(0)), 0.0);
+
+  // Constant pencil: λ* = λ_max(B⁻¹A) for B ≻ 0.
+  std::mt19937 rng(8);
+  const MatrixXd Am = random_symmetric(rng, 3);
+  const MatrixXd Rb = random_symmetric(rng, 3);
+  const MatrixXd Bm = Rb * Rb + MatrixXd::Identity(3, 3);
+  LmiProblem dummy(1);
+  dummy.add_block(one, {one});
+  const GevpResult h = solve_gevp(dummy, Am, {}, Bm, {}, go);
+  Eigen::GeneralizedSelfAdjointEigenSolver<MatrixXd> ges(Am, Bm);
+  ASSERT_EQ(h.status, SolveStatus::Optimal);
+  EXPECT_NEAR(h.lambda, ges.eigenvalues()(2), 1e-6 * std::max(1.0, std::abs(ges.eigenvalues()(2))));
+}
+
+TEST(LmiScalarSearch, FindsTheMinimumAndSkipsInfeasibleValues) {
+  int calls = 0;
+  auto f = [&](double b) {
+    ++calls;
+    if (b > 0.8) return std::numeric_limits<double>::infinity();  // "LMI infeasible"
+    return (b - 0.3137) * (b - 0.3137) + 2.0;
+  };
+  const ScalarSearchResult r = minimize_scalar(f, 0.0, 1.0);
+  ASSERT_TRUE(r.found());
+  EXPECT_NEAR(r.argmin, 0.3137, 1e-4);
+  EXPECT_NEAR(r.value, 2.0, 1e-8);
+  EXPECT_EQ(r.evaluations, calls);
+  const ScalarSearchResult none = minimize_scalar([](double) { return std::numeric_limits<double>::infinity(); }, 0, 1);
+  EXPECT_FALSE(none.found());
+  EXPECT_THROW(minimize_scalar(f, 1.0, 0.0), InvalidArgumentError);
+  EXPECT_THROW(minimize_scalar([](double) -> double { throw NumericalError("x"); }, 0.0, 1.0), NumericalError);
+}
+
+TEST(LmiScalarSearch, BetaSearchOnAnLmiReusesOneProblem) {
+  // σ(β) = min σ s.t. [[βP − AᵀPA, 0], [0, σ − 1]]... use the decay LMI: for x⁺ = a x + w,
+  // |w| ≤ 1, the radius bound ρ∞ = σ/(1−β) with [[β − a², −a], [−a, σ − 1]] ⪰ 0 (p = 1):
+  // σ(β) = 1 + a²/(β − a²) for β > a², and the minimiser of σ/(1−β) is β* = |a|.
+  const double a = 0.6;
+  LmiProblem p(1);  // variable: σ
+  MatrixXd F0(2, 2), F1(2, 2);
+  F1 << 0, 0, 0, 1;
+  F0 << 0.7 - a * a, -a, -a, -1;
+  p.add_block(F0, {F1});
+  p.set_objective(VectorXd::Ones(1));
+  InteriorPointSolver solver(p);
+  const auto version = p.structure_version();
+  auto crit = [&](double beta) {
+    MatrixXd G0(2, 2);
+    G0 << beta - a * a, -a, -a, -1;
+    p.update_block(0, G0, {F1});
+    const SolveResult& r = solver.solve();
+    if (r.status != SolveStatus::Optimal) return std::numeric_limits<double>::infinity();
+    return r.objective / (1 - beta);
+  };
+  const ScalarSearchResult r = minimize_scalar(crit, 0.0, 1.0);
+  EXPECT_EQ(p.structure_version(), version);
+  ASSERT_TRUE(r.found());
+  EXPECT_NEAR(r.argmin, a, 1e-3);
+  EXPECT_NEAR(r.value, 1.0 / ((1 - a) * (1 - a)), 1e-5);
+}
