@@ -10,6 +10,8 @@
 #include "setbound/sets/ellipsoid.hpp"
 #include "test_helpers.hpp"
 
+using setbound::testing::expect_error_naming;
+
 using setbound::Ellipsoid;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
@@ -46,18 +48,6 @@ VectorXd sample_in(const Ellipsoid& E, std::mt19937& rng, bool on_boundary = fal
 
 double quad(const Ellipsoid& E, const VectorXd& x) {
   return (x - E.center()).dot(E.shape() * (x - E.center()));
-}
-
-template <class Err, class F>
-void expect_error_naming(F&& f, const std::string& name) {
-  try {
-    f();
-    ADD_FAILURE() << "expected an exception naming " << name;
-  } catch (const Err& e) {
-    EXPECT_EQ(std::string(e.what()).rfind(name + ":", 0), 0u) << e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "wrong exception type: " << e.what();
-  }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <sstream>
+#include <string>
 
 namespace setbound::testing {
 
@@ -22,6 +23,19 @@ template <class A, class B>
   s << ea << " and " << eb << " differ by " << diff << " > " << tol << "\n"
     << ea << " =\n" << a << "\n" << eb << " =\n" << b;
   return ::testing::AssertionFailure() << s.str();
+}
+
+/// Runs f, which must throw Err with a message starting "<name>:" (errors name their argument).
+template <class Err, class F>
+void expect_error_naming(F&& f, const std::string& name) {
+  try {
+    f();
+    ADD_FAILURE() << "expected an exception naming " << name;
+  } catch (const Err& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(name + ":", 0), 0u) << e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "wrong exception type: " << e.what();
+  }
 }
 
 }  // namespace setbound::testing

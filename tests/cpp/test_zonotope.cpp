@@ -12,6 +12,8 @@
 #include "setbound/sets/zonotope.hpp"
 #include "test_helpers.hpp"
 
+using setbound::testing::expect_error_naming;
+
 using setbound::Strip;
 using setbound::Zonotope;
 using Eigen::MatrixXd;
@@ -89,18 +91,6 @@ std::vector<VectorXd> all_vertices(const Zonotope& Z) {
     v.push_back(Z.center() + Z.generators() * s);
   }
   return v;
-}
-
-template <class Err, class F>
-void expect_error_naming(F&& f, const std::string& name) {
-  try {
-    f();
-    ADD_FAILURE() << "expected an exception naming " << name;
-  } catch (const Err& e) {
-    EXPECT_EQ(std::string(e.what()).rfind(name + ":", 0), 0u) << e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "wrong exception type: " << e.what();
-  }
 }
 
 }  // namespace
