@@ -5,6 +5,7 @@
 
 #include "c_api_common.hpp"
 #include "setbound/core/linear_system.hpp"
+#include "setbound/estimators/pradius.hpp"
 #include "setbound/estimators/zonotopic.hpp"
 
 using namespace setbound;
@@ -91,9 +92,9 @@ int sb_check_detectability(int nx, int ny, const double* A, const double* C, int
   });
 }
 
-int sb_zonotopic_create(const sb_linear_system* system, int gain, int max_generators,
-                        int use_first_measurement, const int* strip_order, int m0,
-                        const double* p0, const double* H0, sb_zonotopic** out) {
+int sb_zonotopic_create(const sb_linear_system* system, int gain, const double* lambdas,
+                        int max_generators, int use_first_measurement, const int* strip_order,
+                        int m0, const double* p0, const double* H0, sb_zonotopic** out) {
   return guard("sb_zonotopic_create", [&] {
     require_pointer(out, "out");
     *out = nullptr;
@@ -101,6 +102,14 @@ int sb_zonotopic_create(const sb_linear_system* system, int gain, int max_genera
     ZonotopeGainRule rule;
     switch (gain) {
       case SB_ZONO_GAIN_SEGMENT_MIN: rule = segment_min_gain; break;
+      case SB_ZONO_GAIN_FIXED: {
+        require_pointer(lambdas, "lambdas");
+        PRadiusDesign fixed;
+        fixed.lambdas = matrix_arg(lambdas, static_cast<int>(sys.ny()), static_cast<int>(sys.nx()), "lambdas");
+        require_finite(fixed.lambdas, "lambdas");
+        rule = pradius_gain(fixed);
+        break;
+      }
       default: throw InvalidArgumentError("gain: unknown gain rule " + std::to_string(gain));
     }
     require_dimension(m0, "m0", true);
@@ -167,6 +176,37 @@ int sb_zonotopic_last_set(const sb_zonotopic* estimator, int* m, double* p, doub
       require_pointer(H, "H");
       RowMap(H, nx, need) = X.generators();
     }
+  });
+}
+
+int sb_pradius_design(const sb_linear_system* system, int approach, const int* strip_order,
+                      int try_all_orders, double beta_lo, double beta_hi, double* lambdas,
+                      double* P, double* beta, double* tau, double* psi, int* order_out) {
+  return guard("sb_pradius_design", [&] {
+    const LinearSystem& sys = system_arg(system);
+    PRadiusOptions opt;
+    if (approach == 1) opt.approach = PRadiusApproach::Sequential;
+    else if (approach == 2) opt.approach = PRadiusApproach::Coupled;
+    else throw InvalidArgumentError("approach: must be 1 (sequential) or 2 (coupled), got " + std::to_string(approach));
+    if (strip_order != nullptr) opt.strip_order.assign(strip_order, strip_order + sys.ny());
+    opt.try_all_orders = try_all_orders != 0;
+    require_finite(beta_lo, "beta_lo");
+    require_finite(beta_hi, "beta_hi");
+    opt.beta_lo = beta_lo;
+    opt.beta_hi = beta_hi;
+    require_pointer(lambdas, "lambdas");
+    require_pointer(P, "P");
+    require_pointer(beta, "beta");
+    require_pointer(tau, "tau");
+    const PRadiusDesign d = design_pradius(sys, opt);
+    const Eigen::Index n = sys.nx(), ny = sys.ny();
+    RowMap(lambdas, ny, n) = d.lambdas;
+    for (Eigen::Index i = 0; i < ny; ++i) RowMap(P + i * n * n, n, n) = d.P[static_cast<std::size_t>(i)];
+    VecMap(beta, ny) = d.beta;
+    VecMap(tau, ny) = d.tau;
+    if (psi) *psi = d.psi;
+    if (order_out)
+      for (Eigen::Index i = 0; i < ny; ++i) order_out[i] = static_cast<int>(d.strip_order[static_cast<std::size_t>(i)]);
   });
 }
 

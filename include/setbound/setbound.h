@@ -272,13 +272,25 @@ int sb_check_detectability(int nx, int ny, const double* A, const double* C, int
  * rule, reduction to at most max_generators generators. Time indexing: step k takes y_k and
  * u_k and returns the set for x_k (after using y_k), then predicts x_{k+1} with u_k. */
 typedef struct sb_zonotopic sb_zonotopic;
-/* Gain rules. */
+/* Gain rules: segment minimisation ([Alamo2005], papers.md §5.1), or fixed gains lambda_i
+ * given as the rows of `lambdas` (ny x nx), e.g. a P-radius design. */
 #define SB_ZONO_GAIN_SEGMENT_MIN 1
+#define SB_ZONO_GAIN_FIXED 2
 /* x0 = p0 + H0 [-1,1]^m0 (H0 nx x m0, row-major). strip_order: NULL or a permutation of
- * 0..ny-1. use_first_measurement = 0 returns X0 unchanged at step 0 ([Le2013]). */
-int sb_zonotopic_create(const sb_linear_system* system, int gain, int max_generators,
-                        int use_first_measurement, const int* strip_order, int m0,
-                        const double* p0, const double* H0, sb_zonotopic** out);
+ * 0..ny-1. use_first_measurement = 0 returns X0 unchanged at step 0 ([Le2013]). lambdas: NULL
+ * unless gain = SB_ZONO_GAIN_FIXED. */
+int sb_zonotopic_create(const sb_linear_system* system, int gain, const double* lambdas,
+                        int max_generators, int use_first_measurement, const int* strip_order,
+                        int m0, const double* p0, const double* H0, sb_zonotopic** out);
+/* P-radius gain design ([Le2013], papers.md §3.2 approach 1 / §3.3 approach 2), beta chosen
+ * in (beta_lo, beta_hi) by a scalar search maximising tau. strip_order: NULL (0..ny-1) or a
+ * permutation; try_all_orders = 1 (approach 2) keeps the best of the ny! orders. Outputs:
+ * lambdas (ny x nx, row i = lambda_i), P (ny x nx x nx, P of output i), beta and tau (ny),
+ * psi, order_out (ny, the order used; may be NULL). Infeasible designs give
+ * SB_ERR_INFEASIBLE with a message naming the output. */
+int sb_pradius_design(const sb_linear_system* system, int approach, const int* strip_order,
+                      int try_all_orders, double beta_lo, double beta_hi, double* lambdas,
+                      double* P, double* beta, double* tau, double* psi, int* order_out);
 int sb_zonotopic_free(sb_zonotopic* estimator);
 /* One step: y (ny), u (nu; NULL when nu = 0). Writes the centre, the interval hull (lower,
  * upper, nx each) and the number of generators *m of the set for x_k; its generators are

@@ -17,6 +17,7 @@ extern "C" {
 #include "setbound/sets/interval_matrix.hpp"
 #include "setbound/sets/strip.hpp"
 #include "setbound/sets/zonotope.hpp"
+#include "setbound/estimators/pradius.hpp"
 #include "setbound/estimators/zonotopic.hpp"
 #include "setbound/lmi/classes.hpp"
 #include "setbound/lmi/model.hpp"

@@ -14,6 +14,7 @@ from .interval import Box, Interval, IntervalMatrix
 from .sets import Ellipsoid, Strip, Zonotope
 from .system import LinearSystem, is_detectable
 from .trajectory import Trajectory
+from . import zonotopic  # noqa: E402  (needs the classes above)
 
 __version__ = version()
 
@@ -31,5 +32,6 @@ __all__ = [
     "__version__",
     "errors",
     "lmi",
+    "zonotopic",
     "version",
 ] + list(errors.__all__)

@@ -5,9 +5,13 @@ The estimator structure of papers.md §3.1: exact prediction ``A X ⊕ E B`` (or
 reduction to at most ``max_generators`` generators. The true state is in the set for any
 ``λ``; the gain rule only decides the size.
 
-Available now: :class:`SegmentMinEstimator` ([Alamo2005] segment minimisation, §5.1).
+Available: :class:`SegmentMinEstimator` ([Alamo2005] segment minimisation, §5.1) and
+:class:`PRadiusEstimator` with the offline gains of :func:`design_pradius` ([Le2013],
+§3.2 approach 1 and §3.3 approach 2).
 """
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -20,6 +24,7 @@ from .trajectory import Trajectory
 
 class _ZonotopicEstimator:
     _gain: int
+    _lambdas = None
 
     def __init__(self, system: LinearSystem, x0: Zonotope, *, max_generators: int = 20,
                  use_first_measurement: bool = True, strip_order=None):
@@ -38,7 +43,8 @@ class _ZonotopicEstimator:
             self._order = ffi.new("int[]", [int(i) for i in order])
             order_ptr = self._order
         handle = ffi.new("sb_zonotopic**")
-        check(lib.sb_zonotopic_create(system._handle, self._gain, int(max_generators),
+        lam = ffi.NULL if self._lambdas is None else dptr(self._lambdas)
+        check(lib.sb_zonotopic_create(system._handle, self._gain, lam, int(max_generators),
                                       1 if use_first_measurement else 0, order_ptr, x0.m,
                                       dptr(x0.center), dptr(x0.generators), handle))
         self._handle = ffi.gc(handle[0], lib.sb_zonotopic_free)
@@ -89,3 +95,67 @@ class SegmentMinEstimator(_ZonotopicEstimator):
     ``λ* = H Hᵀ c / (cᵀ H Hᵀ c + φ²)``, the minimiser of the squared generator lengths."""
 
     _gain = lib.SB_ZONO_GAIN_SEGMENT_MIN
+
+
+@dataclass(frozen=True)
+class PRadiusDesign:
+    """Offline P-radius gains ([Le2013]): row ``i`` of ``lambdas`` is the gain of output ``i``;
+    ``P[i]``, ``beta[i]`` and ``tau[i]`` are that strip's certificate (the P-radius recursion
+    ``L_k <= beta L_{k-1} + psi + sum phi^2``, ``tau`` the smallest eigenvalue of the normalised
+    limit ellipsoid), ``strip_order`` the order in which the strips are applied."""
+
+    system: LinearSystem
+    approach: int
+    strip_order: np.ndarray
+    lambdas: np.ndarray
+    P: np.ndarray
+    beta: np.ndarray
+    tau: np.ndarray
+    psi: float
+
+
+def design_pradius(system: LinearSystem, approach: int = 1, order=None, *,
+                   beta_range: tuple[float, float] = (1e-3, 1 - 1e-3)) -> PRadiusDesign:
+    """P-radius gain design: ``approach=1`` designs every strip alone (papers.md §3.2),
+    ``approach=2`` designs strip ``j`` with the earlier gains fixed (§3.3). ``order`` is a
+    permutation of the outputs, ``None`` (natural order) or ``"best"`` (approach 2: try every
+    order, keep the one with the largest final ``tau``). ``beta`` is chosen in ``beta_range``
+    by a scalar search maximising ``tau``. Raises InfeasibleError when no gain contracts."""
+    if not isinstance(system, LinearSystem):
+        raise InvalidArgumentError(f"system: expected a setbound.LinearSystem, got {type(system).__name__}")
+    if approach not in (1, 2):
+        raise InvalidArgumentError(f"approach: must be 1 or 2, got {approach!r}")
+    ny, nx = system.ny, system.nx
+    try_all = isinstance(order, str)
+    if try_all and order != "best":
+        raise InvalidArgumentError(f"order: expected a permutation of the outputs, None or 'best', got {order!r}")
+    order_ptr = ffi.NULL
+    if order is not None and not try_all:
+        o = np.asarray(order)
+        if o.shape != (ny,) or not np.issubdtype(o.dtype, np.integer):
+            raise InvalidArgumentError(f"order: expected {ny} integers (a permutation of the outputs)")
+        order_ptr = ffi.new("int[]", [int(i) for i in o])
+    lo, hi = (float(b) for b in beta_range)
+    lambdas, P = np.empty((ny, nx)), np.empty((ny, nx, nx))
+    beta, tau, used = np.empty(ny), np.empty(ny), ffi.new("int[]", ny)
+    psi = ffi.new("double*")
+    check(lib.sb_pradius_design(system._handle, approach, order_ptr, 1 if try_all else 0, lo, hi,
+                                dptr(lambdas), dptr(P), dptr(beta), dptr(tau), psi, used))
+    return PRadiusDesign(system, approach, np.array([used[i] for i in range(ny)]), lambdas, P, beta, tau,
+                         float(psi[0]))
+
+
+class PRadiusEstimator(_ZonotopicEstimator):
+    """Zonotopic estimator with the offline P-radius gains of a :class:`PRadiusDesign`,
+    applied in the design's strip order."""
+
+    _gain = lib.SB_ZONO_GAIN_FIXED
+
+    def __init__(self, design: PRadiusDesign, x0: Zonotope, *, max_generators: int = 20,
+                 use_first_measurement: bool = True):
+        if not isinstance(design, PRadiusDesign):
+            raise InvalidArgumentError(f"design: expected a PRadiusDesign, got {type(design).__name__}")
+        self.design = design
+        self._lambdas = np.ascontiguousarray(design.lambdas, dtype=float)
+        super().__init__(design.system, x0, max_generators=max_generators,
+                         use_first_measurement=use_first_measurement, strip_order=design.strip_order)

@@ -140,3 +140,83 @@ def test_detectability():
     assert not setbound.is_detectable([[1.2, 0], [0, 0.5]], [[0, 1]])
     assert setbound.is_detectable([[1.2, 0], [0, 0.5]], [[1, 0]])
     assert le13().is_detectable()
+
+
+# ---- P-radius design ([Le2013], papers.md §3.2–3.3) -------------------------------------
+
+def _schur(M):
+    return max(abs(np.linalg.eigvals(M))) < 1
+
+
+@pytest.mark.parametrize("approach", [1, 2])
+def test_pradius_design_contracts_and_estimator_contains_truth(approach, rng):
+    sys = le13()
+    d = setbound.zonotopic.design_pradius(sys, approach=approach)
+    assert d.lambdas.shape == (2, 2) and d.P.shape == (2, 2, 2)
+    assert np.all(d.tau > 0) and np.all((0 < d.beta) & (d.beta < 1))
+    assert d.psi == pytest.approx(0.0148, rel=1e-12)
+    verts = sys.A_interval.vertices()
+    K = np.eye(2)
+    for i in d.strip_order:
+        kappa = np.eye(2) - np.outer(d.lambdas[i], sys.C[i])
+        K = kappa @ K if approach == 2 else kappa
+        assert all(_schur(K @ G) for G in verts)
+    for delta in (-1.0, 1.0):
+        for vertex in (False, True):
+            A_true = sys.A + [[0, 0], [0, 0.3 * delta]]
+            xs, ys, _ = simulate(sys, A_true, rng.uniform(-3, 3, 2), 60, rng, vertex)
+            est = setbound.zonotopic.PRadiusEstimator(d, Zonotope([0, 0], 3 * np.eye(2)))
+            traj = est.run(ys)
+            assert all(Z.contains(x) for Z, x in zip(traj.sets, xs))
+
+
+def test_pradius_design_agrees_with_cvxpy_at_its_beta():
+    """The LMI (9) of papers §3.2 solved by CVXPY + Clarabel at the design's β gives the same τ."""
+    cp = pytest.importorskip("cvxpy")
+    pytest.importorskip("clarabel")
+    sys = le13()
+    d = setbound.zonotopic.design_pradius(sys, approach=1)
+    Fw = np.array([[-0.12], [0.02]])
+    for i in range(2):
+        c, phi, beta = sys.C[i], 0.2, d.beta[i]
+        P = cp.Variable((2, 2), symmetric=True)
+        Y = cp.Variable((2, 1))
+        tau = cp.Variable()
+        cons = [tau >= 0, (1 - beta) * P / (phi**2 + d.psi) - tau * np.eye(2) >> 0]
+        for G in sys.A_interval.vertices():
+            M = P - c[:, None] @ Y.T
+            Mt = M.T
+            blk = cp.bmat([
+                [beta * P, np.zeros((2, 1)), np.zeros((2, 1)), G.T @ M],
+                [np.zeros((1, 2)), Fw.T @ Fw, np.zeros((1, 1)), Fw.T @ M],
+                [np.zeros((1, 2)), np.zeros((1, 1)), np.array([[phi**2]]), phi * Y.T],
+                [Mt @ G, Mt @ Fw, phi * Y, P],
+            ])
+            cons.append((blk + blk.T) / 2 >> 0)
+        cp.Problem(cp.Maximize(tau), cons).solve(solver="CLARABEL")
+        assert tau.value == pytest.approx(d.tau[i], rel=1e-4)
+
+
+def test_pradius_best_order_is_at_least_the_natural_one():
+    sys = le13()
+    d_nat = setbound.zonotopic.design_pradius(sys, approach=2)
+    d_best = setbound.zonotopic.design_pradius(sys, approach=2, order="best")
+    assert d_best.tau[d_best.strip_order[-1]] >= d_nat.tau[d_nat.strip_order[-1]] * (1 - 1e-6)
+    assert sorted(d_best.strip_order) == [0, 1]
+
+
+def test_pradius_bad_input():
+    sys = le13()
+    with pytest.raises(setbound.InvalidArgumentError, match="approach"):
+        setbound.zonotopic.design_pradius(sys, approach=3)
+    with pytest.raises(setbound.InvalidArgumentError, match="order"):
+        setbound.zonotopic.design_pradius(sys, order=[0, 0])
+    with pytest.raises(setbound.InvalidArgumentError, match="order"):
+        setbound.zonotopic.design_pradius(sys, order="worst")
+    with pytest.raises(setbound.InvalidArgumentError, match="beta"):
+        setbound.zonotopic.design_pradius(sys, beta_range=(0.9, 0.2))
+    bad = LinearSystem([[1.5, 0], [0, 0.5]], [[0, 1]], E=0.1 * np.eye(2), F=[[0, 0.1]])
+    with pytest.raises(setbound.InfeasibleError, match="output 0"):
+        setbound.zonotopic.design_pradius(bad)
+    with pytest.raises(setbound.InvalidArgumentError, match="design"):
+        setbound.zonotopic.PRadiusEstimator("d", Zonotope([0, 0], np.eye(2)))

@@ -8,9 +8,11 @@
 //
 // Guarantee: x_k ∈ X̂_k for ANY choice of λ_i ([Le2013] Property 6), because prediction,
 // correction and reduction are all outer approximations. The gain rule only changes the size.
-// Floating point: the products A p, A H, λ(y − cᵀp) and (I − λcᵀ)H are rounded; each step adds
-// a box that encloses their rounding errors (rounding_radius_*), so the guarantee holds for the
-// sets actually computed. The boxes are of relative size ~1e-15 and are absorbed by reduction.
+// Floating point: the products A p, A H, λ(y − cᵀp) and (I − λcᵀ)H are rounded. Their errors
+// are bounded (rounding_radius_*) and collected in one pending box radius r per step, which is
+// carried exactly through later corrections ((Z ⊕ B_r) ∩ S ⊆ family(Z) ⊕ κB_r ⊆ family(Z) ⊕
+// box(|κ|r), κ = I − λcᵀ) and appended as n generators once per step, before the reduction.
+// So the guarantee holds for the sets actually computed; the box is ~1e-15 relative.
 //
 // Time indexing (identical for every estimator of the library): measurements y_0 … y_{N−1},
 // inputs u_0 … u_{N−1}; row k of a trajectory is a set for x_k. step(y_k, u_k) returns the set
@@ -111,7 +113,7 @@ class ZonotopicEstimator {
 
   const LinearSystem& system() const { return sys_; }
   /// Set for the next state x_{k+1} (before its measurement is used).
-  const Zonotope& prediction() const { return next_; }
+  Zonotope prediction() const { return with_rounding_box(next_, pending_); }
   Eigen::Index steps_taken() const { return k_; }
 
   /// Uses y_k (and u_k for D u_k), returns the set for x_k, then predicts x_{k+1} with u_k.
@@ -123,9 +125,12 @@ class ZonotopicEstimator {
       throw DimensionError("u: expected length " + std::to_string(sys_.nu()) + ", got " + std::to_string(u.size()));
     require_finite(y, "y");
     require_finite(u, "u");
-    Zonotope current = (k_ == 0 && !opt_.use_first_measurement) ? next_ : correct(next_, y, u);
-    Zonotope predicted = predict(current, u);
+    Zonotope current = (k_ == 0 && !opt_.use_first_measurement) ? with_rounding_box(next_, pending_)
+                                                                 : correct_impl(next_, pending_, y, u);
+    Eigen::VectorXd pending(sys_.nx());
+    Zonotope predicted = predict_impl(current, u, pending);
     next_ = std::move(predicted);
+    pending_ = std::move(pending);
     ++k_;
     return current;
   }
@@ -154,36 +159,55 @@ class ZonotopicEstimator {
   /// Strip-by-strip correction (papers §3.1), followed by the reduction.
   Zonotope correct(const Zonotope& X, const Eigen::Ref<const Eigen::VectorXd>& y,
                    const Eigen::Ref<const Eigen::VectorXd>& u) const {
-    Zonotope Z = X;
-    for (Eigen::Index i : opt_.strip_order) {
-      const double yi = y(i) - (sys_.nu() > 0 ? sys_.D().row(i).dot(u) : 0.0);
-      StripMeasurement m{Strip(sys_.C().row(i).transpose(), yi, sys_.output_noise_bound(i)), i};
-      const Eigen::VectorXd lambda = rule_(Z, m);
-      if (lambda.size() != sys_.nx() || !lambda.allFinite())
-        throw NumericalError("gain rule: returned a non-finite or wrongly sized lambda for output " +
-                             std::to_string(i));
-      Zonotope corrected = Z.intersect_strip_family(m.strip, lambda);
-      Z = with_rounding_box(corrected, rounding_radius_strip(Z, m, lambda));
-    }
-    return reduce(Z);
+    return correct_impl(X, Eigen::VectorXd::Zero(sys_.nx()), y, u);
   }
 
   /// Prediction of x_{k+1} from a set for x_k (exact for known A, [Le2013] inclusion for [A]).
   Zonotope predict(const Zonotope& X, const Eigen::Ref<const Eigen::VectorXd>& u) const {
-    Zonotope P = sys_.uncertain_A() ? interval_linear_map(sys_.A(), sys_.A_rad(), X) : X.linear_map(sys_.A());
-    const Eigen::VectorXd err = rounding_radius_linear_map(sys_.A(), X);
-    Eigen::VectorXd shift = Eigen::VectorXd::Zero(sys_.nx());
-    if (sys_.nu() > 0) shift = sys_.B() * u;
-    Eigen::MatrixXd H(sys_.nx(), P.num_generators() + sys_.nw());
-    H << P.generators(), sys_.E();
-    Zonotope out(P.center() + shift, std::move(H));
-    Eigen::VectorXd shift_err = Eigen::VectorXd::Zero(sys_.nx());
-    if (sys_.nu() > 0) shift_err = rounding_bounds::gamma(sys_.nu()) * (sys_.B().cwiseAbs() * u.cwiseAbs());
-    shift_err += rounding_bounds::gamma(1) * (P.center().cwiseAbs() + shift.cwiseAbs());
-    return with_rounding_box(out, err + shift_err);  // reduced after the correction
+    Eigen::VectorXd r(sys_.nx());
+    Zonotope P = predict_impl(X, u, r);
+    return with_rounding_box(P, r);
   }
 
  private:
+  /// Correction of X ⊕ box(r): the pending box is carried through every κ_i, the strips'
+  /// own rounding is added, and one box is appended before the reduction.
+  Zonotope correct_impl(const Zonotope& X, Eigen::VectorXd r, const Eigen::Ref<const Eigen::VectorXd>& y,
+                        const Eigen::Ref<const Eigen::VectorXd>& u) const {
+    Zonotope Z = X;
+    const Eigen::Index n = sys_.nx();
+    for (Eigen::Index i : opt_.strip_order) {
+      const double yi = y(i) - (sys_.nu() > 0 ? sys_.D().row(i).dot(u) : 0.0);
+      StripMeasurement m{Strip(sys_.C().row(i).transpose(), yi, sys_.output_noise_bound(i)), i};
+      const Eigen::VectorXd lambda = rule_(Z, m);
+      if (lambda.size() != n || !lambda.allFinite())
+        throw NumericalError("gain rule: returned a non-finite or wrongly sized lambda for output " +
+                             std::to_string(i));
+      const Eigen::VectorXd strip_err = rounding_radius_strip(Z, m, lambda);
+      Z = Z.intersect_strip_family(m.strip, lambda);
+      // |κ| r with κ = I − λcᵀ, rounded up by a relative γ.
+      const Eigen::MatrixXd abs_kappa =
+          (Eigen::MatrixXd::Identity(n, n) - lambda * m.strip.normal().transpose()).cwiseAbs();
+      r = (1.0 + rounding_bounds::gamma(n + 2)) * (abs_kappa * r) + strip_err;
+    }
+    return reduce(with_rounding_box(Z, r));
+  }
+
+  /// Prediction without its rounding box; the rounding radius is returned in r.
+  Zonotope predict_impl(const Zonotope& X, const Eigen::Ref<const Eigen::VectorXd>& u, Eigen::VectorXd& r) const {
+    Zonotope P = sys_.uncertain_A() ? interval_linear_map(sys_.A(), sys_.A_rad(), X) : X.linear_map(sys_.A());
+    r = rounding_radius_linear_map(sys_.A(), X);
+    Eigen::VectorXd shift = Eigen::VectorXd::Zero(sys_.nx());
+    if (sys_.nu() > 0) {
+      shift = sys_.B() * u;
+      r += rounding_bounds::gamma(sys_.nu()) * (sys_.B().cwiseAbs() * u.cwiseAbs());
+    }
+    r += rounding_bounds::gamma(1) * (P.center().cwiseAbs() + shift.cwiseAbs());
+    Eigen::MatrixXd H(sys_.nx(), P.num_generators() + sys_.nw());
+    H << P.generators(), sys_.E();
+    return Zonotope(P.center() + shift, std::move(H)).remove_zero_generators();
+  }
+
   /// Rounding of p̂ = p + λ(y − cᵀp) and Ĥ = H − λ(cᵀH) (papers §0.1 Property 6).
   Eigen::VectorXd rounding_radius_strip(const Zonotope& Z, const StripMeasurement& m,
                                         const Eigen::VectorXd& lambda) const {
@@ -213,6 +237,7 @@ class ZonotopicEstimator {
 
   LinearSystem sys_;
   Zonotope next_;
+  Eigen::VectorXd pending_ = Eigen::VectorXd::Zero(next_.dimension());  ///< rounding box of next_
   ZonotopeGainRule rule_;
   ZonotopicOptions opt_;
   Eigen::Index k_ = 0;
