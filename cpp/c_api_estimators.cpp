@@ -5,7 +5,9 @@
 
 #include "c_api_common.hpp"
 #include "setbound/core/linear_system.hpp"
+#include "setbound/estimators/exact_hull.hpp"
 #include "setbound/estimators/pradius.hpp"
+#include "setbound/estimators/volume_min.hpp"
 #include "setbound/estimators/zonotopic.hpp"
 
 using namespace setbound;
@@ -102,6 +104,7 @@ int sb_zonotopic_create(const sb_linear_system* system, int gain, const double* 
     ZonotopeGainRule rule;
     switch (gain) {
       case SB_ZONO_GAIN_SEGMENT_MIN: rule = segment_min_gain; break;
+      case SB_ZONO_GAIN_VOLUME_MIN: rule = volume_min_gain; break;
       case SB_ZONO_GAIN_FIXED: {
         require_pointer(lambdas, "lambdas");
         PRadiusDesign fixed;
@@ -207,6 +210,30 @@ int sb_pradius_design(const sb_linear_system* system, int approach, const int* s
     if (psi) *psi = d.psi;
     if (order_out)
       for (Eigen::Index i = 0; i < ny; ++i) order_out[i] = static_cast<int>(d.strip_order[static_cast<std::size_t>(i)]);
+  });
+}
+
+int sb_exact_hull(const sb_linear_system* system, int m0, const double* p0, const double* H0,
+                  int N, const double* Y, const double* U, int use_first_measurement,
+                  double* lower, double* upper) {
+  return guard("sb_exact_hull", [&] {
+    const LinearSystem& sys = system_arg(system);
+    const int nx = static_cast<int>(sys.nx()), ny = static_cast<int>(sys.ny()), nu = static_cast<int>(sys.nu());
+    require_dimension(m0, "m0", true);
+    require_dimension(N, "N");
+    require_pointer(lower, "lower");
+    require_pointer(upper, "upper");
+    const Zonotope x0(vector_arg(p0, nx, "p0"),
+                      m0 > 0 ? Eigen::MatrixXd(matrix_arg(H0, nx, m0, "H0")) : Eigen::MatrixXd::Zero(nx, 0));
+    const Eigen::MatrixXd Ym = matrix_arg(Y, N, ny, "y");
+    Eigen::MatrixXd Um;
+    if (nu > 0) {
+      require_pointer(U, "u");
+      Um = matrix_arg(U, N, nu, "u");
+    }
+    const ExactHull h = exact_hull(sys, x0, Ym, Um, use_first_measurement != 0);
+    RowMap(lower, N, nx) = h.lower;
+    RowMap(upper, N, nx) = h.upper;
   });
 }
 

@@ -276,6 +276,8 @@ typedef struct sb_zonotopic sb_zonotopic;
  * given as the rows of `lambdas` (ny x nx), e.g. a P-radius design. */
 #define SB_ZONO_GAIN_SEGMENT_MIN 1
 #define SB_ZONO_GAIN_FIXED 2
+/* [Alamo2005] volume minimisation (papers.md §5.2): an LP per strip on the bundled solver. */
+#define SB_ZONO_GAIN_VOLUME_MIN 3
 /* x0 = p0 + H0 [-1,1]^m0 (H0 nx x m0, row-major). strip_order: NULL or a permutation of
  * 0..ny-1. use_first_measurement = 0 returns X0 unchanged at step 0 ([Le2013]). lambdas: NULL
  * unless gain = SB_ZONO_GAIN_FIXED. */
@@ -300,4 +302,11 @@ int sb_zonotopic_step(sb_zonotopic* estimator, const double* y, const double* u,
 /* The set returned by the last step: p (nx) and H (nx x m, row-major); *m in: capacity in
  * columns, out: the number of generators. */
 int sb_zonotopic_last_set(const sb_zonotopic* estimator, int* m, double* p, double* H);
+/* The exact reference: interval hull of the exact consistent state set at each step (2 nx
+ * LPs per step over x0 = p0 + H0 xi and all disturbances; known A only). Y: N x ny, U: N x nu
+ * (NULL when nu = 0); lower, upper: N x nx. Row k uses y_0..y_k (y_1..y_k when
+ * use_first_measurement = 0). Inconsistent data give SB_ERR_INFEASIBLE. */
+int sb_exact_hull(const sb_linear_system* system, int m0, const double* p0, const double* H0,
+                  int N, const double* Y, const double* U, int use_first_measurement,
+                  double* lower, double* upper);
 /* ==== end zonotopic estimators ==== */

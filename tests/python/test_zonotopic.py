@@ -220,3 +220,48 @@ def test_pradius_bad_input():
         setbound.zonotopic.design_pradius(bad)
     with pytest.raises(setbound.InvalidArgumentError, match="design"):
         setbound.zonotopic.PRadiusEstimator("d", Zonotope([0, 0], np.eye(2)))
+
+
+# ---- volume minimisation and the exact hull ---------------------------------------------
+
+def test_exact_hull_inside_every_estimator_and_contains_truth(rng):
+    from setbound.zonotopic import VolumeMinEstimator, PRadiusEstimator, design_pradius, exact_hull
+    sys = le13(interval=False)
+    X0 = Zonotope([0, 0], 3 * np.eye(2))
+    for vertex in (False, True):
+        # The exact set uses one ω_k for y_k and x_{k+1}, as the model says.
+        x, xs, ys = rng.uniform(-3, 3, 2), [], []
+        for _ in range(8):
+            w = rng.choice([-1.0, 1.0], 3) if vertex else rng.uniform(-1, 1, 3)
+            xs.append(x.copy())
+            ys.append(sys.C @ x + sys.F @ w)
+            x = sys.A @ x + sys.E @ w
+        xs = np.array(xs)
+        ys = np.array(ys)
+        hull = exact_hull(sys, ys, x0=X0)
+        assert np.all(hull.lower <= xs + 1e-6) and np.all(xs <= hull.upper + 1e-6)
+        for est in (SegmentMinEstimator(sys, X0), VolumeMinEstimator(sys, X0),
+                    PRadiusEstimator(design_pradius(sys), X0)):
+            t = est.run(ys)
+            assert np.all(t.lower <= hull.lower + 1e-6) and np.all(t.upper >= hull.upper - 1e-6)
+
+
+def test_volume_min_is_never_larger_than_segment_min_per_step():
+    from setbound.zonotopic import VolumeMinEstimator
+    sys = le13(interval=False)
+    X0 = Zonotope([0, 0], 3 * np.eye(2))
+    vm, sm = VolumeMinEstimator(sys, X0), SegmentMinEstimator(sys, X0)
+    y = np.array([0.3, -0.2])
+    # One correction from the same prior set: the LP optimum has the smaller volume.
+    assert vm.step(y).volume <= sm.step(y).volume * (1 + 1e-7)
+
+
+def test_exact_hull_bad_input():
+    from setbound.zonotopic import exact_hull
+    X0 = Zonotope([0, 0], np.eye(2))
+    with pytest.raises(setbound.InvalidArgumentError, match="known A"):
+        exact_hull(le13(interval=True), np.zeros((3, 2)), x0=X0)
+    with pytest.raises(setbound.InfeasibleError, match="inconsistent"):
+        exact_hull(le13(interval=False), np.array([[50.0, 0.0]]), x0=X0)
+    with pytest.raises(setbound.DimensionError, match="x0"):
+        exact_hull(le13(interval=False), np.zeros((3, 2)), x0=Zonotope([0, 0, 0], np.eye(3)))

@@ -1,0 +1,131 @@
+// Volume minimisation (papers.md §5.2) and the exact reference hull, both LPs on the bundled
+// solver: optimality against brute force, and every estimator's hull containing the exact one.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "setbound/estimators/exact_hull.hpp"
+#include "setbound/estimators/pradius.hpp"
+#include "setbound/estimators/volume_min.hpp"
+#include "test_helpers.hpp"
+
+using namespace setbound;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+namespace {
+double family_volume(const Zonotope& Z, const Strip& s, const VectorXd& lambda) {
+  return Z.intersect_strip_family(s, lambda).volume();
+}
+
+LinearSystem le13_known() {
+  MatrixXd A(2, 2), C(2, 2), E(2, 3), F(2, 3);
+  A << 0, -0.5, 1, 1;
+  C << -2, 1, 1, 1;
+  E << -0.12, 0, 0, 0.02, 0, 0;
+  F << 0, 0.2, 0, 0, 0, 0.2;
+  return LinearSystem(A, C, E, F);
+}
+}  // namespace
+
+TEST(VolumeMin, LpOptimumBeatsEveryOtherGain) {
+  std::mt19937 gen(8);
+  std::normal_distribution<double> N;
+  for (int trial = 0; trial < 12; ++trial) {
+    const int n = 2 + trial % 2, m = n + 2 + trial % 3;
+    MatrixXd H(n, m);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < m; ++j) H(i, j) = N(gen);
+    VectorXd c(n);
+    for (int i = 0; i < n; ++i) c(i) = N(gen);
+    const Zonotope Z(VectorXd::Zero(n), H);
+    const Strip s(c, 0.3 * N(gen), 0.2 + 0.1 * trial);
+    const StripMeasurement meas{s, 0};
+    const VectorXd lam = volume_min_gain(Z, meas);
+    const double best = family_volume(Z, s, lam);
+    EXPECT_LE(best, family_volume(Z, s, segment_min_gain(Z, meas)) * (1 + 1e-7));
+    EXPECT_LE(best, family_volume(Z, s, VectorXd::Zero(n)) * (1 + 1e-7));
+    // Brute force: random and local perturbations never do better.
+    for (int k = 0; k < 400; ++k) {
+      VectorXd l(n);
+      for (int i = 0; i < n; ++i) l(i) = (k < 200 ? 0.05 : 1.0) * N(gen);
+      if (k < 200) l += lam;
+      EXPECT_LE(best, family_volume(Z, s, l) * (1 + 1e-6)) << "trial " << trial << " k " << k;
+    }
+  }
+}
+
+TEST(VolumeMin, EstimatorContainsTruth) {
+  const LinearSystem sys = le13_known();
+  std::mt19937 gen(2);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (bool vertex : {false, true}) {
+    auto draw = [&](int n) {
+      VectorXd w(n);
+      for (int i = 0; i < n; ++i) w(i) = vertex ? (U(gen) < 0 ? -1 : 1) : U(gen);
+      return w;
+    };
+    ZonotopicEstimator est(sys, Zonotope(VectorXd::Zero(2), 3 * MatrixXd::Identity(2, 2)), volume_min_gain);
+    VectorXd x = 3 * draw(2);
+    for (int k = 0; k < 60; ++k) {
+      ASSERT_TRUE(est.step(sys.C() * x + sys.F() * draw(3), VectorXd(0)).contains(x, 0.0)) << k;
+      x = sys.A() * x + sys.E() * draw(3);
+    }
+  }
+}
+
+TEST(ExactHull, ContainsTruthAndIsInsideEveryEstimator) {
+  const LinearSystem sys = le13_known();
+  const Zonotope X0(VectorXd::Zero(2), 3 * MatrixXd::Identity(2, 2));
+  const PRadiusDesign d = design_pradius(sys);
+  for (bool vertex : {false, true}) {
+    std::mt19937 gen(vertex ? 5 : 6);
+    std::uniform_real_distribution<double> U(-1, 1);
+    auto draw = [&](int n) {
+      VectorXd w(n);
+      for (int i = 0; i < n; ++i) w(i) = vertex ? (U(gen) < 0 ? -1 : 1) : U(gen);
+      return w;
+    };
+    const int N = 8;
+    MatrixXd Y(N, 2), X(N, 2);
+    VectorXd x = 3 * draw(2);
+    for (int k = 0; k < N; ++k) {
+      const VectorXd w = draw(3);
+      X.row(k) = x.transpose();
+      Y.row(k) = (sys.C() * x + sys.F() * w).transpose();
+      x = sys.A() * x + sys.E() * w;  // the same ω_k drives y_k and x_{k+1}
+    }
+    const ExactHull hull = exact_hull(sys, X0, Y);
+    const double tol = 1e-6;
+    for (int k = 0; k < N; ++k)
+      for (int i = 0; i < 2; ++i) {
+        EXPECT_LE(hull.lower(k, i), X(k, i) + tol);
+        EXPECT_GE(hull.upper(k, i), X(k, i) - tol);
+        EXPECT_LE(hull.lower(k, i), hull.upper(k, i) + tol);
+      }
+    for (const ZonotopeGainRule& rule : {ZonotopeGainRule(segment_min_gain), ZonotopeGainRule(volume_min_gain),
+                                         pradius_gain(d)}) {
+      ZonotopicEstimator est(sys, X0, rule);
+      const ZonotopeTrajectory t = est.run(Y);
+      for (int k = 0; k < N; ++k)
+        for (int i = 0; i < 2; ++i) {
+          EXPECT_LE(t.lower(k, i), hull.lower(k, i) + tol) << "k " << k;
+          EXPECT_GE(t.upper(k, i), hull.upper(k, i) - tol) << "k " << k;
+        }
+    }
+  }
+}
+
+TEST(ExactHull, RejectsIntervalAAndInconsistentData) {
+  MatrixXd A(1, 1), C(1, 1), E(1, 2), F(1, 2), Arad(1, 1);
+  A << 0.5;
+  C << 1;
+  E << 0.1, 0;
+  F << 0, 0.1;
+  Arad << 0.1;
+  const Zonotope X0(VectorXd::Zero(1), MatrixXd::Identity(1, 1));
+  EXPECT_THROW(exact_hull(LinearSystem(A, C, E, F, {}, {}, Arad), X0, MatrixXd::Zero(3, 1)), InvalidArgumentError);
+  MatrixXd Y(2, 1);
+  Y << 5.0, 0.0;  // |x_0| ≤ 1 and |noise| ≤ 0.1: y_0 = 5 is impossible
+  EXPECT_THROW(exact_hull(LinearSystem(A, C, E, F), X0, Y), InfeasibleError);
+}
