@@ -6,7 +6,8 @@ Where the library and header are looked up, in order:
 1. ``$SETBOUND_LIBRARY`` (path of ``libsetbound.so``) and ``$SETBOUND_HEADER``;
 2. every directory of the package ``__path__`` (a wheel installs both next to this file;
    an editable install adds the build's install directory to ``__path__``);
-3. the source tree (``include/setbound/setbound.h``) for the header.
+3. the source tree (``include/setbound/setbound.h``) for the header; it comes first when
+   ``$SETBOUND_LIBRARY`` is set, since a hand-picked library is usually a build of the tree.
 
 Conventions for the bindings (every module of the package uses them):
 
@@ -70,8 +71,14 @@ def _header_path() -> Path:
     if env:
         return _find([Path(env)], "C header named by $SETBOUND_HEADER")
     here = Path(__file__).resolve().parent
+    source_header = here.parent.parent / "include" / "setbound" / "setbound.h"
     candidates = [d / "setbound.h" for d in _package_dirs()]
-    candidates.append(here.parent.parent / "include" / "setbound" / "setbound.h")
+    if os.environ.get("SETBOUND_LIBRARY"):
+        # A library picked by hand is usually a fresh build of this source tree: pair it with
+        # the tree's header rather than one installed earlier next to the package.
+        candidates.insert(0, source_header)
+    else:
+        candidates.append(source_header)
     return _find(candidates, "C header setbound.h")
 
 
