@@ -15,6 +15,7 @@ from .sets import Ellipsoid, Strip, Zonotope
 from .system import LinearSystem, is_detectable
 from .trajectory import Trajectory
 from . import zonotopic  # noqa: E402  (needs the classes above)
+from .zonotopic import exact_hull  # noqa: E402
 
 __version__ = version()
 
@@ -31,6 +32,7 @@ __all__ = [
     "is_detectable",
     "__version__",
     "errors",
+    "exact_hull",
     "lmi",
     "zonotopic",
     "version",

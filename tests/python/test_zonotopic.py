@@ -257,7 +257,7 @@ def test_volume_min_is_never_larger_than_segment_min_per_step():
 
 
 def test_exact_hull_bad_input():
-    from setbound.zonotopic import exact_hull
+    from setbound import exact_hull  # the contract: setbound.exact_hull
     X0 = Zonotope([0, 0], np.eye(2))
     with pytest.raises(setbound.InvalidArgumentError, match="known A"):
         exact_hull(le13(interval=True), np.zeros((3, 2)), x0=X0)
