@@ -156,10 +156,7 @@ def main():
         "(b) 32 blocks 7x7, 20 vars": (*random_lmi(2, [7] * 32, 20), None),
         "(c) maxdet G 4x4, 8 vars, 8 blocks 3x3": maxdet_problem(3),
     }
-    import os
-
-    # Timings on a loaded machine are slower; print the load so that numbers can be compared.
-    print("load average (1, 5, 15 min): " + ", ".join(f"{v:.2f}" for v in os.getloadavg()))
+    rows = []
     results = {}
     for name, (c, blocks, logdet) in problems.items():
         res = {"ours": bench_ours(c, blocks, logdet, args.reps)}

@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
-#include <random>
 #include <sstream>
 #include <string>
 
@@ -24,15 +23,6 @@ template <class A, class B>
   s << ea << " and " << eb << " differ by " << diff << " > " << tol << "\n"
     << ea << " =\n" << a << "\n" << eb << " =\n" << b;
   return ::testing::AssertionFailure() << s.str();
-}
-
-/// A random symmetric n×n matrix with standard normal entries (seeded by the caller).
-inline Eigen::MatrixXd random_symmetric(std::mt19937& rng, int n) {
-  std::normal_distribution<double> N(0.0, 1.0);
-  Eigen::MatrixXd A(n, n);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) A(i, j) = N(rng);
-  return 0.5 * (A + A.transpose());
 }
 
 /// Runs f, which must throw Err with a message starting "<name>:" (errors name their argument).

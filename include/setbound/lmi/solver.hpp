@@ -8,17 +8,13 @@
 //  * homogeneous self-dual embedding in (x, y, s, z, τ, κ), so that infeasibility
 //    (τ → 0, hᵀz + bᵀy < 0) and unboundedness (cᵀx < 0) come with certificates;
 //  * Nesterov–Todd scaling per block: R with RᵀZR = R⁻¹SR⁻ᵀ = Λ, computed from the
-//    Cholesky factors of S and Z and the singular vectors of G = L_zᵀL_s (an SVD for large
-//    blocks, the symmetric eigendecomposition of GᵀG for blocks ≤ 8×8); Q = R⁻ᵀ;
+//    Cholesky factors of S and Z and an SVD of L_zᵀL_s; Q = R⁻ᵀ;
 //  * Schur complement M_ij = Σ_b tr(F_bi T_b F_bj T_b), T_b = QQᵀ, assembled block by block
-//    as a Gram matrix of svec(F̃_bi), F̃_bi = QᵀF_biQ (only variables that touch a block
-//    contribute; sparse coefficients are scaled by rank-one updates); dense Cholesky;
-//  * Mehrotra predictor–corrector with σ = (1 − α_aff)³; step lengths from λ_min of the
-//    scaled directions, skipped (one Cholesky) for blocks that do not limit the step;
+//    as a Gram matrix of the scaled coefficients F̃_bi = QᵀF_biQ (only variables that touch a
+//    block contribute; sparse coefficients are scaled by rank-one updates); dense Cholesky;
+//  * Mehrotra predictor–corrector with σ = (1 − α_aff)³;
 //  * two-tier termination (full / reduced tolerances → "inaccurate"), best iterate kept.
-// All work arrays are allocated in setup(); solve() itself does not allocate. Blocks of size
-// ≤ 8 (the online case) run fixed-size kernels (detail::dispatch_size), larger ones the same
-// code on dynamic-size maps.
+// All work arrays are allocated in setup(); solve() itself does not allocate.
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -28,7 +24,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <type_traits>
 #include <vector>
 
 #include "setbound/lmi/problem.hpp"
@@ -70,10 +65,6 @@ struct SolverOptions {
   // Feasibility mode (classes.hpp): stop at the first iterate where x[feasibility_var] < 0
   // and the verified margin of all blocks, evaluated without that variable, is positive.
   int feasibility_var = -1;
-  // Per-block kernels for blocks of size ≤ 8 run on fixed-size Eigen types (no heap, unrolled
-  // products, stack eigensolvers). false forces the dynamic-size path everywhere; both paths
-  // compute the same iterates up to rounding (tests compare them).
-  bool fixed_size_kernels = true;
 
   void validate() const {
     if (max_iterations <= 0) throw InvalidArgumentError("max_iterations: must be > 0");
@@ -106,152 +97,6 @@ struct SolveResult {
                                          // normalised so that Σ tr(F_b0 Z_b) + beqᵀy = −1)
 };
 
-namespace detail {
-
-/// Largest block size with a fixed-size kernel. Online LMIs have blocks of at most 7×7
-/// (papers.md §1.4, §3.2); at these sizes dynamic-size Eigen code is dominated by loop and
-/// dispatch overhead and the eigensolvers by their generic paths.
-constexpr int kMaxFixedBlock = 8;
-
-/// Calls f(std::integral_constant<int, N>) with N = n for 1 ≤ n ≤ kMaxFixedBlock when `fixed`,
-/// N = Eigen::Dynamic otherwise. Kernels are written once as generic lambdas over N and map
-/// the (preallocated, dynamic) work arrays with fixed-size Eigen::Map.
-template <class F>
-inline void dispatch_size(int n, bool fixed, F&& f) {
-  if (fixed) {
-    switch (n) {
-      case 1: f(std::integral_constant<int, 1>{}); return;
-      case 2: f(std::integral_constant<int, 2>{}); return;
-      case 3: f(std::integral_constant<int, 3>{}); return;
-      case 4: f(std::integral_constant<int, 4>{}); return;
-      case 5: f(std::integral_constant<int, 5>{}); return;
-      case 6: f(std::integral_constant<int, 6>{}); return;
-      case 7: f(std::integral_constant<int, 7>{}); return;
-      case 8: f(std::integral_constant<int, 8>{}); return;
-      default: break;
-    }
-  }
-  f(std::integral_constant<int, Eigen::Dynamic>{});
-}
-
-/// Length of svec for an N×N block (Dynamic stays Dynamic).
-template <int N>
-constexpr int svec_size() {
-  return N == Eigen::Dynamic ? Eigen::Dynamic : N * (N + 1) / 2;
-}
-
-/// svec: upper triangle by columns, off-diagonals ×√2, so that svec(A)·svec(B) = tr(AB) for
-/// symmetric A, B. The Schur complement is a Gram matrix of svec'd scaled coefficients, which
-/// halves its cost against full vec and keeps it positive semidefinite in floating point.
-template <class M>
-inline void pack_svec(const M& A, double* v) {
-  constexpr double r2 = 1.4142135623730951;
-  const Eigen::Index n = A.rows();
-  Eigen::Index k = 0;
-  for (Eigen::Index j = 0; j < n; ++j) {
-    for (Eigen::Index i = 0; i < j; ++i) v[k++] = r2 * 0.5 * (A(i, j) + A(j, i));
-    v[k++] = A(j, j);
-  }
-}
-
-template <class M>
-inline void unpack_svec(const double* v, M& A) {
-  constexpr double ir2 = 0.7071067811865476;
-  const Eigen::Index n = A.rows();
-  Eigen::Index k = 0;
-  for (Eigen::Index j = 0; j < n; ++j) {
-    for (Eigen::Index i = 0; i < j; ++i) A(i, j) = A(j, i) = ir2 * v[k++];
-    A(j, j) = v[k++];
-  }
-}
-
-/// A ← (A + Aᵀ)/2 in place.
-template <class M>
-inline void symmetrize(M& A) {
-  const Eigen::Index n = A.rows();
-  for (Eigen::Index j = 0; j < n; ++j)
-    for (Eigen::Index i = 0; i < j; ++i) A(i, j) = A(j, i) = 0.5 * (A(i, j) + A(j, i));
-}
-
-/// λ_min of a small symmetric matrix (fixed N ≥ 1), for step lengths only. Householder
-/// tridiagonalisation, then Laguerre's iteration on the characteristic polynomial
-/// p(x) = det(T − xI) of the tridiagonal T (three-term recurrence for p, p′, p″) started left
-/// of the Gershgorin bound. p has only real roots, so Laguerre's iteration started left of
-/// them increases monotonically to the smallest one and converges cubically, also for
-/// clustered eigenvalues (it is exact in one step for an n-fold root). This is 3–5× cheaper
-/// than Eigen's QR-based eigenvalue solver at these sizes; the result agrees with it to about
-/// 1e-10·‖A‖ (tests compare them), far below what the step fraction (0.99) absorbs.
-template <int N, class M>
-inline double lambda_min_small(const M& A) {
-  static_assert(N >= 1, "fixed size only");
-  using Vec = Eigen::Matrix<double, N, 1>;
-  using SubVec = Eigen::Matrix<double, (N > 1 ? N - 1 : 1), 1>;
-  if constexpr (N == 1) {
-    return A(0, 0);
-  } else {
-    Vec d;
-    SubVec e;
-    if constexpr (N == 2) {
-      d << A(0, 0), A(1, 1);
-      e << A(1, 0);
-    } else {
-      const Eigen::Tridiagonalization<Eigen::Matrix<double, N, N>> tri(A);
-      d = tri.diagonal();
-      e = tri.subDiagonal();
-    }
-    if (!d.allFinite() || !e.allFinite()) return std::numeric_limits<double>::quiet_NaN();
-    double s = 0;
-    for (int i = 0; i < N; ++i) {
-      double r = std::abs(d(i));
-      if (i > 0) r += std::abs(e(i - 1));
-      if (i < N - 1) r += std::abs(e(i));
-      s = std::max(s, r);
-    }
-    if (s == 0) return 0.0;
-    // Scale to ‖T‖ ≤ 1 so that p and its derivatives stay far from overflow (N ≤ 8).
-    d /= s;
-    e /= s;
-    double x = 1.0;
-    for (int i = 0; i < N; ++i) {
-      double r = d(i);
-      if (i > 0) r -= std::abs(e(i - 1));
-      if (i < N - 1) r -= std::abs(e(i));
-      x = std::min(x, r);
-    }
-    x -= 1e-3;  // strictly left of the spectrum
-    const SubVec e2 = e.cwiseAbs2();
-    constexpr double n = N;
-    for (int it = 0; it < 60; ++it) {
-      double p0 = 1, p1 = d(0) - x, q0 = 0, q1 = -1, r0 = 0, r1 = 0;
-      for (int i = 1; i < N; ++i) {
-        const double a = d(i) - x, b = e2(i - 1);
-        const double p2 = a * p1 - b * p0;
-        const double q2 = a * q1 - p1 - b * q0;
-        const double r2 = a * r1 - 2.0 * q1 - b * r0;
-        p0 = p1;
-        p1 = p2;
-        q0 = q1;
-        q1 = q2;
-        r0 = r1;
-        r1 = r2;
-      }
-      // p > 0 strictly left of the spectrum; p ≤ 0 means rounding put x on (or just past)
-      // λ_min, where the iteration would head for the next root: stop there.
-      if (!(p1 > 0)) break;
-      // G = p′/p = −Σ 1/(λ_i − x) < 0 left of the spectrum, H = G² − p″/p = Σ 1/(λ_i − x)².
-      const double G = q1 / p1, H = G * G - r1 / p1;
-      const double den = G - std::sqrt(std::max(0.0, (n - 1) * (n * H - G * G)));
-      if (!(den < 0)) break;
-      const double step = -n / den;
-      x += step;
-      if (!(step > 4 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(x)))) break;
-    }
-    return x * s;
-  }
-}
-
-}  // namespace detail
-
 /// Workspace and verified margin of a point, reusable without allocation.
 class MarginChecker {
  public:
@@ -280,7 +125,8 @@ class MarginChecker {
       const LmiBlock& blk = p.block(static_cast<int>(b));
       evaluate(p, blk, x, skip_var, F_[b]);
       if (!F_[b].allFinite()) return -std::numeric_limits<double>::infinity();
-      lam = std::min(lam, lambda_min(b));
+      eig_[b].compute(F_[b], Eigen::EigenvaluesOnly);
+      lam = std::min(lam, eig_[b].eigenvalues()(0));
       scale = std::max(scale, F_[b].cwiseAbs().maxCoeff());
     }
     // Candidates δ = λ_min − 4^k·ε·n·scale: the eigenvalue estimate is only accurate to
@@ -291,7 +137,8 @@ class MarginChecker {
       bool ok = true;
       for (size_t b = 0; b < nb && ok; ++b) {
         F_[b].diagonal().array() -= delta;
-        ok = cholesky_ok(b);
+        llt_[b].compute(F_[b]);
+        ok = llt_[b].info() == Eigen::Success;
         F_[b].diagonal().array() += delta;
       }
       if (ok) return delta;
@@ -300,42 +147,6 @@ class MarginChecker {
   }
 
  private:
-  // Fixed-size eigensolver / Cholesky for small blocks (stack only), the preallocated dynamic
-  // ones otherwise. The certificate is the Cholesky success either way.
-  double lambda_min(size_t b) {
-    double e = 0;
-    const int n = static_cast<int>(F_[b].rows());
-    detail::dispatch_size(n, true, [&](auto NC) {
-      constexpr int N = decltype(NC)::value;
-      if constexpr (N == Eigen::Dynamic) {
-        eig_[b].compute(F_[b], Eigen::EigenvaluesOnly);
-        e = eig_[b].eigenvalues()(0);
-      } else {
-        const Eigen::Map<const Eigen::Matrix<double, N, N>> F(F_[b].data());
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> es;
-        es.compute(F, Eigen::EigenvaluesOnly);
-        e = es.eigenvalues()(0);
-      }
-    });
-    return e;
-  }
-  bool cholesky_ok(size_t b) {
-    bool ok = false;
-    const int n = static_cast<int>(F_[b].rows());
-    detail::dispatch_size(n, true, [&](auto NC) {
-      constexpr int N = decltype(NC)::value;
-      if constexpr (N == Eigen::Dynamic) {
-        llt_[b].compute(F_[b]);
-        ok = llt_[b].info() == Eigen::Success;
-      } else {
-        const Eigen::Map<const Eigen::Matrix<double, N, N>> F(F_[b].data());
-        Eigen::LLT<Eigen::Matrix<double, N, N>> llt(F);
-        ok = llt.info() == Eigen::Success;
-      }
-    });
-    return ok;
-  }
-
   static void evaluate(const LmiProblem& p, const LmiBlock& blk, const Eigen::VectorXd& x, int skip_var,
                        Eigen::MatrixXd& out) {
     out = blk.constant;
@@ -377,13 +188,9 @@ class InteriorPointSolver {
   struct BlockWork {
     int n = 0, k = 0;
     std::vector<int> vars;  // variables touching the block (coefficient order)
-    Eigen::MatrixXd S, Z, dS, dZ, rz, rzt, R, Q, LzLs, tmp, tmp2, Bt, Wds, Wdz, Wds_a, Wdz_a, U, best_Z;
-    Eigen::MatrixXd Fv;     // d×k (d = n(n+1)/2), column j = svec(QᵀF_{vars[j]}Q)
-    Eigen::VectorXd f0v;    // svec(QᵀF0Q)
-    Eigen::VectorXd btv;    // svec(B̃) of the last kkt_solve
-    Eigen::VectorXd wv;     // svec work vector
-    Eigen::VectorXd fvf0;   // k: svec(F̃_j)·svec(F̃0)
-    Eigen::VectorXd dxs;    // k: dx gathered on vars
+    Eigen::MatrixXd S, Z, dS, dZ, rz, R, Q, LzLs, tmp, tmp2, F0t, Bt, Wds, Wdz, Wds_a, Wdz_a, U, best_Z;
+    Eigen::MatrixXd Ft;     // n²×k, column j = vec(QᵀF_{vars[j]}Q)
+    Eigen::MatrixXd gram;   // k×k
     Eigen::VectorXd lambda, isq;
     Eigen::LLT<Eigen::MatrixXd> llt_s, llt_z;
     Eigen::JacobiSVD<Eigen::MatrixXd> svd;
@@ -397,8 +204,7 @@ class InteriorPointSolver {
   void solve_reduced(const Eigen::VectorXd& g, const Eigen::VectorXd& by, Eigen::VectorXd& dx, Eigen::VectorXd& dy);
   void kkt_solve(const Eigen::VectorXd& bx, const Eigen::VectorXd& by, bool use_F0, double eta_rz,
                  bool with_u, Eigen::VectorXd& dx, Eigen::VectorXd& dy);
-  double max_step_scaled(BlockWork& w, const Eigen::MatrixXd& X, double bound);
-  bool fixed() const { return opt_.fixed_size_kernels; }
+  double max_step_scaled(BlockWork& w, const Eigen::MatrixXd& X);
   void direction(double eta, double sigma, double mu, bool corrector);
   double step_length();
   void record_best(double merit);
@@ -452,16 +258,7 @@ class InteriorPointSolver {
 
 // ---------------------------------------------------------------------------------------
 
-// The member functions below are inline for header-only users of setbound. Inside setbound's
-// own build every translation unit except cpp/lmi_solver.cpp defines SETBOUND_LMI_EXTERN_SOLVER
-// and sees the declarations only: the fixed-size kernels (nine instantiations per member
-// function) are then compiled once instead of in every file that solves an LMI.
-#ifndef SETBOUND_LMI_SOLVER_INLINE
-#define SETBOUND_LMI_SOLVER_INLINE inline
-#endif
-#ifndef SETBOUND_LMI_EXTERN_SOLVER
-
-SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::setup() {
+inline void InteriorPointSolver::setup() {
   const LmiProblem& p = *p_;
   p.require_solvable();
   m_ = p.num_vars();
@@ -478,14 +275,11 @@ SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::setup() {
     w.k = static_cast<int>(blk.coefficients.size());
     w.vars.clear();
     for (const auto& co : blk.coefficients) w.vars.push_back(co.var);
-    for (Eigen::MatrixXd* M : {&w.S, &w.Z, &w.dS, &w.dZ, &w.rz, &w.rzt, &w.R, &w.Q, &w.LzLs, &w.tmp, &w.tmp2,
+    for (Eigen::MatrixXd* M : {&w.S, &w.Z, &w.dS, &w.dZ, &w.rz, &w.R, &w.Q, &w.LzLs, &w.tmp, &w.tmp2, &w.F0t,
                                &w.Bt, &w.Wds, &w.Wdz, &w.Wds_a, &w.Wdz_a, &w.U, &w.best_Z})
       M->setZero(n, n);
-    const int d = n * (n + 1) / 2;
-    w.Fv.setZero(d, w.k);
-    for (Eigen::VectorXd* v : {&w.f0v, &w.btv, &w.wv}) v->setZero(d);
-    w.fvf0.setZero(w.k);
-    w.dxs.setZero(w.k);
+    w.Ft.setZero(n * n, w.k);
+    w.gram.setZero(w.k, w.k);
     w.lambda.setZero(n);
     w.isq.setZero(n);
     w.llt_s = Eigen::LLT<Eigen::MatrixXd>(n);
@@ -513,7 +307,7 @@ SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::setup() {
   version_ = p.structure_version();
 }
 
-SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::residuals() {
+inline void InteriorPointSolver::residuals() {
   // rx = Aᵀy + Gᵀz + cτ;  ry = bτ − Ax;  rz = S − (F0 τ + Σ x_i F_i);  rτ = κ + cᵀx + bᵀy + hᵀz
   const LmiProblem& p = *p_;
   rx_ = p.objective() * tau_;
@@ -521,20 +315,12 @@ SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::residuals() {
   for (size_t b = 0; b < w_.size(); ++b) {
     const LmiBlock& blk = p.block(static_cast<int>(b));
     BlockWork& w = w_[b];
-    detail::dispatch_size(w.n, fixed(), [&](auto NC) {
-      constexpr int N = decltype(NC)::value;
-      using Mat = Eigen::Matrix<double, N, N>;
-      const int n = w.n;
-      Eigen::Map<Mat> rz(w.rz.data(), n, n);
-      const Eigen::Map<const Mat> S(w.S.data(), n, n), Z(w.Z.data(), n, n), F0(blk.constant.data(), n, n);
-      rz = S - tau_ * F0;
-      for (const auto& co : blk.coefficients) {
-        const Eigen::Map<const Mat> F(co.dense.data(), n, n);
-        rx_(co.var) -= F.cwiseProduct(Z).sum();
-        rz.noalias() -= x_(co.var) * F;
-      }
-      hz += F0.cwiseProduct(Z).sum();
-    });
+    w.rz = w.S - tau_ * blk.constant;
+    for (const auto& co : blk.coefficients) {
+      rx_(co.var) -= co.dense.cwiseProduct(w.Z).sum();
+      w.rz.noalias() -= x_(co.var) * co.dense;
+    }
+    hz += blk.constant.cwiseProduct(w.Z).sum();
   }
   double by = 0;
   if (pe_ > 0) {
@@ -560,133 +346,62 @@ SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::residuals() {
   relgap_ = dgap / std::max(1.0, std::min(std::abs(pcost_), std::abs(dcost_)));
 }
 
-SETBOUND_LMI_SOLVER_INLINE bool InteriorPointSolver::scaling() {
-  bool ok = true;
+inline bool InteriorPointSolver::scaling() {
   for (auto& w : w_) {
-    detail::dispatch_size(w.n, fixed(), [&](auto NC) {
-      constexpr int N = decltype(NC)::value;
-      if constexpr (N == Eigen::Dynamic) {
-        w.llt_s.compute(w.S);
-        if (w.llt_s.info() != Eigen::Success) { ok = false; return; }
-        w.llt_z.compute(w.Z);
-        if (w.llt_z.info() != Eigen::Success) { ok = false; return; }
-        // L_zᵀ L_s = U Λ Vᵀ;  R = L_s V Λ^{-1/2};  Q = R⁻ᵀ = L_z U Λ^{-1/2}.
-        // (The dynamic SelfAdjointEigenSolver allocates a Householder workspace when
-        // eigenvectors are requested; JacobiSVD with preallocated storage does not.)
-        w.tmp = w.llt_s.matrixL();
-        w.tmp2 = w.llt_z.matrixL();
-        mul(w.LzLs, w.tmp2.transpose(), w.tmp);
-        w.svd.compute(w.LzLs);
-        w.lambda = w.svd.singularValues();
-        if (!(w.lambda.minCoeff() > 0) || !w.lambda.allFinite()) { ok = false; return; }
-        w.isq = w.lambda.cwiseSqrt().cwiseInverse();
-        mul(w.R, w.tmp, w.svd.matrixV());
-        w.R.array().rowwise() *= w.isq.transpose().array();
-        mul(w.Q, w.tmp2, w.svd.matrixU());
-        w.Q.array().rowwise() *= w.isq.transpose().array();
-      } else {
-        using Mat = Eigen::Matrix<double, N, N>;
-        using Vec = Eigen::Matrix<double, N, 1>;
-        const Eigen::Map<const Mat> S(w.S.data()), Z(w.Z.data());
-        Eigen::Map<Mat> Ls(w.tmp.data()), Lz(w.tmp2.data()), G(w.LzLs.data()), H(w.dS.data()), R(w.R.data()),
-            Q(w.Q.data());
-        Eigen::Map<Vec> lam(w.lambda.data()), isq(w.isq.data());
-        const Eigen::LLT<Mat> llt_s(S);
-        if (llt_s.info() != Eigen::Success) { ok = false; return; }
-        const Eigen::LLT<Mat> llt_z(Z);
-        if (llt_z.info() != Eigen::Success) { ok = false; return; }
-        Ls = llt_s.matrixL();
-        Lz = llt_z.matrixL();
-        // Same NT scaling as the dynamic path, with the SVD of G = L_zᵀL_s replaced by the
-        // symmetric eigendecomposition GᵀG = L_sᵀ Z L_s = V Λ² Vᵀ (a fixed-size eigensolver
-        // is several times cheaper than JacobiSVD). G is formed from the Cholesky factors as
-        // before, so its entries carry the same relative accuracy; squaring only involves the
-        // spread of Λ within one block, which stays small near the central path.
-        //   R = L_s V Λ^{-1/2}:  RᵀZR = Λ,  R⁻¹SR⁻ᵀ = Λ;   Q = R⁻ᵀ = L_s⁻ᵀ V Λ^{1/2}
-        // (triangular solve, so QᵀR = I to rounding, which kkt_solve relies on).
-        G.noalias() = Lz.transpose().lazyProduct(Ls);
-        H.noalias() = G.transpose().lazyProduct(G);
-        detail::symmetrize(H);
-        const Eigen::SelfAdjointEigenSolver<Mat> es(H);
-        if (es.info() != Eigen::Success) { ok = false; return; }
-        const Vec& l2 = es.eigenvalues();
-        if (!(l2.minCoeff() > 0) || !l2.allFinite()) { ok = false; return; }
-        lam = l2.cwiseSqrt();
-        isq = lam.cwiseSqrt().cwiseInverse();
-        R.noalias() = Ls.lazyProduct(es.eigenvectors());
-        R.array().rowwise() *= isq.transpose().array();
-        Q = es.eigenvectors();
-        Q.array().rowwise() *= lam.cwiseSqrt().transpose().array();
-        Ls.transpose().template triangularView<Eigen::Upper>().solveInPlace(Q);
-      }
-    });
-    if (!ok) return false;
+    w.llt_s.compute(w.S);
+    if (w.llt_s.info() != Eigen::Success) return false;
+    w.llt_z.compute(w.Z);
+    if (w.llt_z.info() != Eigen::Success) return false;
+    // L_zᵀ L_s = U Λ Vᵀ;  R = L_s V Λ^{-1/2};  Q = R⁻ᵀ = L_z U Λ^{-1/2}.
+    w.tmp = w.llt_s.matrixL();
+    w.tmp2 = w.llt_z.matrixL();
+    mul(w.LzLs, w.tmp2.transpose(), w.tmp);
+    // (A symmetric eigensolver on GᵀG would be cheaper but allocates a Householder
+    // workspace when eigenvectors are requested; JacobiSVD with preallocated storage does not.)
+    w.svd.compute(w.LzLs);
+    w.lambda = w.svd.singularValues();
+    if (!(w.lambda.minCoeff() > 0) || !w.lambda.allFinite()) return false;
+    w.isq = w.lambda.cwiseSqrt().cwiseInverse();
+    mul(w.R, w.tmp, w.svd.matrixV());
+    w.R.array().rowwise() *= w.isq.transpose().array();
+    mul(w.Q, w.tmp2, w.svd.matrixU());
+    w.Q.array().rowwise() *= w.isq.transpose().array();
   }
   return true;
 }
 
-SETBOUND_LMI_SOLVER_INLINE bool InteriorPointSolver::assemble_and_factor() {
+inline bool InteriorPointSolver::assemble_and_factor() {
   const LmiProblem& p = *p_;
   M_.setZero();
   for (size_t b = 0; b < w_.size(); ++b) {
     const LmiBlock& blk = p.block(static_cast<int>(b));
     BlockWork& w = w_[b];
-    detail::dispatch_size(w.n, fixed(), [&](auto NC) {
-      constexpr int N = decltype(NC)::value;
-      constexpr int D = detail::svec_size<N>();
-      using Mat = Eigen::Matrix<double, N, N>;
-      using SVec = Eigen::Matrix<double, D, 1>;
-      const int n = w.n;
-      const int d = n * (n + 1) / 2;
-      const Eigen::Map<const Mat> Q(w.Q.data(), n, n);
-      Eigen::Map<Mat> tmp(w.tmp.data(), n, n), Ft(w.tmp2.data(), n, n), rzt(w.rzt.data(), n, n);
-      // svec(QᵀFQ) from P = FQ and only the upper triangle of QᵀP (dots of columns):
-      // n³ + n²(n+1)/2 multiplications instead of 2n³.
-      auto scaled_svec = [&](const auto& F, double* v) {
-        constexpr double r2 = 1.4142135623730951;
-        mul(tmp, F, Q);
-        int idx = 0;
-        for (int c = 0; c < n; ++c) {
-          for (int r = 0; r < c; ++r) v[idx++] = r2 * Q.col(r).dot(tmp.col(c));
-          v[idx++] = Q.col(c).dot(tmp.col(c));
-        }
-      };
-      for (int j = 0; j < w.k; ++j) {
-        const Coefficient& co = blk.coefficients[static_cast<size_t>(j)];
-        if (co.kind == CoefficientKind::Sparse) {
-          // QᵀFQ = Σ f_rc (q_r q_cᵀ + q_c q_rᵀ) over the upper-triangle entries (q_r = row r
-          // of Q); pack_svec symmetrises, so an off-diagonal entry adds 2 f q_r q_cᵀ.
-          Ft.setZero();
-          for (const auto& e : co.entries) {
-            const double f = e.row == e.col ? e.value : 2.0 * e.value;
-            Ft.noalias() += f * Q.row(e.row).transpose() * Q.row(e.col);
+    const int n = w.n;
+    for (int j = 0; j < w.k; ++j) {
+      const Coefficient& co = blk.coefficients[static_cast<size_t>(j)];
+      Eigen::Map<Eigen::MatrixXd> Fj(w.Ft.col(j).data(), n, n);
+      if (co.kind == CoefficientKind::Sparse) {
+        // QᵀFQ = Σ f_rc (q_r q_cᵀ + q_c q_rᵀ) over the upper-triangle entries (q_r = row r of Q).
+        Fj.setZero();
+        for (const auto& e : co.entries) {
+          if (e.row == e.col) {
+            Fj.noalias() += e.value * w.Q.row(e.row).transpose() * w.Q.row(e.col);
+          } else {
+            Fj.noalias() += e.value * w.Q.row(e.row).transpose() * w.Q.row(e.col);
+            Fj.noalias() += e.value * w.Q.row(e.col).transpose() * w.Q.row(e.row);
           }
-          detail::pack_svec(Ft, w.Fv.col(j).data());
-        } else {
-          scaled_svec(Eigen::Map<const Mat>(co.dense.data(), n, n), w.Fv.col(j).data());
         }
+      } else {
+        mul(w.tmp, co.dense, w.Q);
+        mul(Fj, w.Q.transpose(), w.tmp);
       }
-      const Eigen::Map<const Mat> F0(blk.constant.data(), n, n), rz(w.rz.data(), n, n);
-      scaled_svec(F0, w.f0v.data());
-      // Qᵀ rz Q is shared by the predictor and the corrector right-hand sides.
-      mul(tmp, rz, Q);
-      mul(rzt, Q.transpose(), tmp);
-      detail::symmetrize(rzt);
-      const Eigen::Map<const SVec> f0(w.f0v.data(), d);
-      // Schur complement M_ij += svec(F̃_i)·svec(F̃_j) (upper triangle, mirrored).
-      for (int j = 0; j < w.k; ++j) {
-        const Eigen::Map<const SVec> fj(w.Fv.col(j).data(), d);
-        w.fvf0(j) = fj.dot(f0);
-        const int vj = w.vars[static_cast<size_t>(j)];
-        for (int i = 0; i < j; ++i) {
-          const double v = Eigen::Map<const SVec>(w.Fv.col(i).data(), d).dot(fj);
-          const int vi = w.vars[static_cast<size_t>(i)];
-          M_(vi, vj) += v;
-          M_(vj, vi) += v;
-        }
-        M_(vj, vj) += fj.squaredNorm();
-      }
-    });
+    }
+    mul(w.tmp, blk.constant, w.Q);
+    mul(w.F0t, w.Q.transpose(), w.tmp);
+    if (w.k == 0) continue;
+    w.gram.noalias() = w.Ft.transpose() * w.Ft;
+    for (int j = 0; j < w.k; ++j)
+      for (int i = 0; i < w.k; ++i) M_(w.vars[static_cast<size_t>(i)], w.vars[static_cast<size_t>(j)]) += w.gram(i, j);
   }
   // Equalities: K = M + ρAᵀA keeps K positive definite when M is singular on ker A;
   // the reduced system is equivalent for any ρ > 0 (see solve_reduced).
@@ -713,7 +428,7 @@ SETBOUND_LMI_SOLVER_INLINE bool InteriorPointSolver::assemble_and_factor() {
 }
 
 // Solves M dx + Aᵀdy = g, A dx = by (K = M + ρAᵀA formulation), with one refinement step.
-SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::solve_reduced(const Eigen::VectorXd& g, const Eigen::VectorXd& by,
+inline void InteriorPointSolver::solve_reduced(const Eigen::VectorXd& g, const Eigen::VectorXd& by,
                                                 Eigen::VectorXd& dx, Eigen::VectorXd& dy) {
   const LmiProblem& p = *p_;
   auto base = [&](const Eigen::VectorXd& gg, const Eigen::VectorXd& bb, Eigen::VectorXd& ox, Eigen::VectorXd& oy) {
@@ -747,89 +462,51 @@ SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::solve_reduced(const Eigen::
 
 // Solves the KKT system  Aᵀdy + Gᵀdz = bx,  A dx = by,  G dx − WᵀW dz = bz  where
 //   bz = use_F0 ? F0 : −eta_rz·rz − Wᵀ(U)   (U = λ⁻¹◇ds_rhs held in w.U when with_u).
-// On return w.btv = svec(Qᵀ bz Q) (needed to form W dz = −Σ dx_j F̃_j − B̃).
-SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::kkt_solve(const Eigen::VectorXd& bx, const Eigen::VectorXd& by, bool use_F0,
+// On return w.Bt = Qᵀ bz Q (needed to form W dz = −Σ dx_j F̃_j − B̃).
+inline void InteriorPointSolver::kkt_solve(const Eigen::VectorXd& bx, const Eigen::VectorXd& by, bool use_F0,
                                             double eta_rz, bool with_u, Eigen::VectorXd& dx, Eigen::VectorXd& dy) {
   g_ = bx;
   for (auto& w : w_) {
-    detail::dispatch_size(w.n, fixed(), [&](auto NC) {
-      constexpr int N = decltype(NC)::value;
-      constexpr int D = detail::svec_size<N>();
-      using Mat = Eigen::Matrix<double, N, N>;
-      using SVec = Eigen::Matrix<double, D, 1>;
-      const int n = w.n;
-      const int d = n * (n + 1) / 2;
-      Eigen::Map<SVec> bt(w.btv.data(), d);
-      if (use_F0) {
-        bt = Eigen::Map<const SVec>(w.f0v.data(), d);
-      } else {
-        // B̃ = −η Qᵀ rz Q − U  (QᵀR U RᵀQ = U since QᵀR = I)
-        Eigen::Map<Mat> Bt(w.Bt.data(), n, n);
-        const Eigen::Map<const Mat> rzt(w.rzt.data(), n, n), U(w.U.data(), n, n);
-        Bt = -eta_rz * rzt;
-        if (with_u) Bt -= U;
-        detail::pack_svec(Bt, w.btv.data());
-      }
-      // g_i −= <F̃_i, B̃>
-      for (int j = 0; j < w.k; ++j)
-        g_(w.vars[static_cast<size_t>(j)]) -= Eigen::Map<const SVec>(w.Fv.col(j).data(), d).dot(bt);
-    });
+    if (use_F0) {
+      w.Bt = w.F0t;
+    } else {
+      mul(w.tmp, w.rz, w.Q);
+      mul(w.Bt, w.Q.transpose(), w.tmp);
+      w.Bt *= -eta_rz;
+      if (with_u) w.Bt -= w.U;  // QᵀR U RᵀQ = U since QᵀR = I
+    }
+    // g_i −= <F̃_i, B̃>
+    const Eigen::Map<const Eigen::VectorXd> bvec(w.Bt.data(), w.n * w.n);
+    for (int j = 0; j < w.k; ++j) g_(w.vars[static_cast<size_t>(j)]) -= w.Ft.col(j).dot(bvec);
   }
   solve_reduced(g_, by, dx, dy);
 }
 
-SETBOUND_LMI_SOLVER_INLINE double InteriorPointSolver::max_step_scaled(BlockWork& w, const Eigen::MatrixXd& X, double bound) {
+inline double InteriorPointSolver::max_step_scaled(BlockWork& w, const Eigen::MatrixXd& X) {
   // Largest α with Λ + αX ⪰ 0: α = −1/λ_min(Λ^{-1/2} X Λ^{-1/2}) when that is negative.
-  // Only values below `bound` matter to the caller (step_length): when I + bound·T is
-  // positive definite (one small Cholesky), α ≥ bound and +∞ is returned without an
-  // eigenvalue computation.
-  double e = 0;
-  bool skip = false;
-  detail::dispatch_size(w.n, fixed(), [&](auto NC) {
-    constexpr int N = decltype(NC)::value;
-    using Mat = Eigen::Matrix<double, N, N>;
-    const int n = w.n;
-    Eigen::Map<Mat> T(w.tmp.data(), n, n);
-    const Eigen::Map<const Mat> Xm(X.data(), n, n);
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) T(i, j) = Xm(i, j) * w.isq(i) * w.isq(j);
-    if constexpr (N == Eigen::Dynamic) {
-      w.eig.compute(w.tmp, Eigen::EigenvaluesOnly);
-      e = w.eig.eigenvalues()(0);
-    } else {
-      const Mat B = Mat::Identity() + bound * T;
-      const Eigen::LLT<Mat> llt(B);
-      if (llt.info() == Eigen::Success && std::isfinite(bound)) {
-        skip = true;
-        return;
-      }
-      e = detail::lambda_min_small<N>(T);
-    }
-  });
-  if (skip) return std::numeric_limits<double>::infinity();
+  for (int j = 0; j < w.n; ++j)
+    for (int i = 0; i < w.n; ++i) w.tmp(i, j) = X(i, j) * w.isq(i) * w.isq(j);
+  w.eig.compute(w.tmp, Eigen::EigenvaluesOnly);
+  const double e = w.eig.eigenvalues()(0);
   return e >= 0 ? std::numeric_limits<double>::infinity() : -1.0 / e;
 }
 
 // One Newton direction of the embedding. Predictor: eta = 1, sigma = 0; corrector adds the
 // second-order term (W⁻ᵀds_a)∘(W dz_a) and centring σμ (Mehrotra).
-SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::direction(double eta, double sigma, double mu, bool corrector) {
+inline void InteriorPointSolver::direction(double eta, double sigma, double mu, bool corrector) {
   const LmiProblem& p = *p_;
   // ds_rhs = −λ∘λ + σμe − corr  ⇒  U = λ⁻¹◇ds_rhs: U_ij = 2 ds_rhs_ij / (λ_i + λ_j)
   for (auto& w : w_) {
-    detail::dispatch_size(w.n, fixed(), [&](auto NC) {
-      constexpr int N = decltype(NC)::value;
-      using Mat = Eigen::Matrix<double, N, N>;
-      const int n = w.n;
-      Eigen::Map<Mat> T(w.tmp.data(), n, n), U(w.U.data(), n, n);
-      const Eigen::Map<const Mat> A(w.Wds_a.data(), n, n), B(w.Wdz_a.data(), n, n);
-      if (corrector) mul(T, A, B);
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-          double r = (i == j) ? (-w.lambda(i) * w.lambda(i) + sigma * mu) : 0.0;
-          if (corrector) r -= 0.5 * (T(i, j) + T(j, i));  // (Wds_a)∘(Wdz_a)
-          U(i, j) = 2.0 * r / (w.lambda(i) + w.lambda(j));
-        }
-    });
+    if (corrector) {
+      mul(w.tmp, w.Wds_a, w.Wdz_a);
+      w.tmp2 = 0.5 * (w.tmp + w.tmp.transpose());  // (Wds_a)∘(Wdz_a)
+    }
+    for (int j = 0; j < w.n; ++j)
+      for (int i = 0; i < w.n; ++i) {
+        double r = (i == j) ? (-w.lambda(i) * w.lambda(i) + sigma * mu) : 0.0;
+        if (corrector) r -= w.tmp2(i, j);
+        w.U(i, j) = 2.0 * r / (w.lambda(i) + w.lambda(j));
+      }
   }
   double dk_rhs = -tau_ * kappa_ + sigma * mu;
   if (corrector) dk_rhs -= dtau_a_ * dkappa_a_;
@@ -841,9 +518,11 @@ SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::direction(double eta, doubl
   double cx0 = p.objective().dot(dx_) + (pe_ > 0 ? p.eq_rhs().dot(dy_) : 0.0);
   double cx1 = p.objective().dot(x1_) + (pe_ > 0 ? p.eq_rhs().dot(y1_) : 0.0);
   for (auto& w : w_) {
-    double hz0 = -w.f0v.dot(w.btv), hz1 = -w.f0v.squaredNorm();
+    const Eigen::Map<const Eigen::VectorXd> f0(w.F0t.data(), w.n * w.n);
+    const Eigen::Map<const Eigen::VectorXd> bt(w.Bt.data(), w.n * w.n);
+    double hz0 = -f0.dot(bt), hz1 = -f0.squaredNorm();
     for (int j = 0; j < w.k; ++j) {
-      const double fj = w.fvf0(j);
+      const double fj = w.Ft.col(j).dot(f0);
       hz0 -= dx_(w.vars[static_cast<size_t>(j)]) * fj;
       hz1 -= x1_(w.vars[static_cast<size_t>(j)]) * fj;
     }
@@ -854,43 +533,30 @@ SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::direction(double eta, doubl
   dx_ += dtau_ * x1_;
   if (pe_ > 0) dy_ += dtau_ * y1_;
   dkappa_ = (dk_rhs - kappa_ * dtau_) / tau_;
-  for (auto& w : w_) {
-    detail::dispatch_size(w.n, fixed(), [&](auto NC) {
-      constexpr int N = decltype(NC)::value;
-      constexpr int D = detail::svec_size<N>();
-      using Mat = Eigen::Matrix<double, N, N>;
-      using SVec = Eigen::Matrix<double, D, 1>;
-      const int n = w.n;
-      const int d = n * (n + 1) / 2;
-      // W dz = −Σ dx_j F̃_j − B̃0 − dτ F̃0;  W⁻ᵀds = U − W dz
-      Eigen::Map<SVec> wv(w.wv.data(), d);
-      wv = -Eigen::Map<const SVec>(w.btv.data(), d) - dtau_ * Eigen::Map<const SVec>(w.f0v.data(), d);
-      for (int j = 0; j < w.k; ++j)
-        wv.noalias() -= dx_(w.vars[static_cast<size_t>(j)]) * Eigen::Map<const SVec>(w.Fv.col(j).data(), d);
-      Eigen::Map<Mat> Wdz(w.Wdz.data(), n, n), Wds(w.Wds.data(), n, n);
-      const Eigen::Map<const Mat> U(w.U.data(), n, n);
-      detail::unpack_svec(w.wv.data(), Wdz);
-      Wds = U - Wdz;
-    });
+  for (size_t b = 0; b < w_.size(); ++b) {
+    BlockWork& w = w_[b];
+    // W dz = −Σ dx_j F̃_j − B̃0 − dτ F̃0;  W⁻ᵀds = U − W dz
+    w.Wdz = -w.Bt - dtau_ * w.F0t;
+    for (int j = 0; j < w.k; ++j) {
+      const Eigen::Map<const Eigen::MatrixXd> Fj(w.Ft.col(j).data(), w.n, w.n);
+      w.Wdz.noalias() -= dx_(w.vars[static_cast<size_t>(j)]) * Fj;
+    }
+    w.Wds = w.U - w.Wdz;
   }
 }
 
-SETBOUND_LMI_SOLVER_INLINE double InteriorPointSolver::step_length() {
-  // The callers use min(1, α_max) (predictor) and min(1, step_fraction·α_max) (corrector), so
-  // α_max is only needed exactly below cap = 2/step_fraction; above it the result is
-  // clamped to cap. Blocks are tested against the running minimum, so a block that does not
-  // limit the step costs one small Cholesky instead of an eigenvalue computation.
-  double amax = 2.0 / opt_.step_fraction;
+inline double InteriorPointSolver::step_length() {
+  double amax = std::numeric_limits<double>::infinity();
+  for (auto& w : w_) {
+    amax = std::min(amax, max_step_scaled(w, w.Wds));
+    amax = std::min(amax, max_step_scaled(w, w.Wdz));
+  }
   if (dtau_ < 0) amax = std::min(amax, -tau_ / dtau_);
   if (dkappa_ < 0) amax = std::min(amax, -kappa_ / dkappa_);
-  for (auto& w : w_) {
-    amax = std::min(amax, max_step_scaled(w, w.Wds, amax));
-    amax = std::min(amax, max_step_scaled(w, w.Wdz, amax));
-  }
   return amax;
 }
 
-SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::record_best(double merit) {
+inline void InteriorPointSolver::record_best(double merit) {
   if (!(merit < best_merit_)) return;
   best_merit_ = merit;
   best_x_ = x_ / tau_;
@@ -904,7 +570,7 @@ SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::record_best(double merit) {
   best_dres_ = dres_;
 }
 
-SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::finish(SolveStatus status) {
+inline void InteriorPointSolver::finish(SolveStatus status) {
   // Returns the best iterate for non-converged statuses, the current one otherwise.
   result_.status = status;
   if (status == SolveStatus::Optimal) {
@@ -941,7 +607,7 @@ SETBOUND_LMI_SOLVER_INLINE void InteriorPointSolver::finish(SolveStatus status) 
     result_.margin = -std::numeric_limits<double>::infinity();
 }
 
-SETBOUND_LMI_SOLVER_INLINE const SolveResult& InteriorPointSolver::solve() {
+inline const SolveResult& InteriorPointSolver::solve() {
   const auto t0 = std::chrono::steady_clock::now();
   const LmiProblem& p = *p_;
   if (p.structure_version() != version_) setup();
@@ -1055,23 +721,16 @@ SETBOUND_LMI_SOLVER_INLINE const SolveResult& InteriorPointSolver::solve() {
     x_ += alpha * dx_;
     if (pe_ > 0) y_ += alpha * dy_;
     for (auto& w : w_) {
-      detail::dispatch_size(w.n, fixed(), [&](auto NC) {
-        constexpr int N = decltype(NC)::value;
-        using Mat = Eigen::Matrix<double, N, N>;
-        const int n = w.n;
-        Eigen::Map<Mat> T(w.tmp.data(), n, n), dS(w.dS.data(), n, n), dZ(w.dZ.data(), n, n), S(w.S.data(), n, n),
-            Z(w.Z.data(), n, n);
-        const Eigen::Map<const Mat> R(w.R.data(), n, n), Q(w.Q.data(), n, n), Wds(w.Wds.data(), n, n),
-            Wdz(w.Wdz.data(), n, n);
-        mul(T, R, Wds);
-        mul(dS, T, R.transpose());
-        mul(T, Q, Wdz);
-        mul(dZ, T, Q.transpose());
-        S += alpha * dS;
-        Z += alpha * dZ;
-        detail::symmetrize(S);
-        detail::symmetrize(Z);
-      });
+      mul(w.tmp, w.R, w.Wds);
+      mul(w.dS, w.tmp, w.R.transpose());
+      mul(w.tmp, w.Q, w.Wdz);
+      mul(w.dZ, w.tmp, w.Q.transpose());
+      w.S += alpha * w.dS;
+      w.Z += alpha * w.dZ;
+      w.tmp = 0.5 * (w.S + w.S.transpose());
+      w.S = w.tmp;
+      w.tmp = 0.5 * (w.Z + w.Z.transpose());
+      w.Z = w.tmp;
     }
     tau_ += alpha * dtau_;
     kappa_ += alpha * dkappa_;
@@ -1102,8 +761,6 @@ SETBOUND_LMI_SOLVER_INLINE const SolveResult& InteriorPointSolver::solve() {
 }
 
 /// Convenience: one solve of a linear-objective problem.
-#endif  // SETBOUND_LMI_EXTERN_SOLVER
-
 inline SolveResult solve_linear(const LmiProblem& problem, const SolverOptions& options = {}) {
   InteriorPointSolver s(problem, options);
   return s.solve();
