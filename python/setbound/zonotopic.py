@@ -23,18 +23,24 @@ from .system import LinearSystem
 from .trajectory import Trajectory
 
 
+def _check_system_and_x0(system, x0) -> None:
+    """The system must be a LinearSystem and x0 a Zonotope of its state dimension (the C ABI
+    takes the dimension from the system and cannot check the caller's arrays)."""
+    if not isinstance(system, LinearSystem):
+        raise InvalidArgumentError(f"system: expected a setbound.LinearSystem, got {type(system).__name__}")
+    if not isinstance(x0, Zonotope):
+        raise InvalidArgumentError(f"x0: expected a setbound.sets.Zonotope, got {type(x0).__name__}")
+    if x0.n != system.nx:
+        raise DimensionError(f"x0: expected a zonotope of dimension {system.nx}, got {x0.n}")
+
+
 class _ZonotopicEstimator:
     _gain: int
     _lambdas = None
 
     def __init__(self, system: LinearSystem, x0: Zonotope, *, max_generators: int = 20,
                  use_first_measurement: bool = True, strip_order=None):
-        if not isinstance(system, LinearSystem):
-            raise InvalidArgumentError(f"system: expected a setbound.LinearSystem, got {type(system).__name__}")
-        if not isinstance(x0, Zonotope):
-            raise InvalidArgumentError(f"x0: expected a setbound.sets.Zonotope, got {type(x0).__name__}")
-        if x0.n != system.nx:
-            raise DimensionError(f"x0: expected a zonotope of dimension {system.nx}, got {x0.n}")
+        _check_system_and_x0(system, x0)
         self.system = system
         order_ptr = ffi.NULL
         if strip_order is not None:
@@ -117,12 +123,7 @@ def exact_hull(system: LinearSystem, y, u=None, *, x0: Zonotope, use_first_measu
     """The exact reference (known ``A`` only): for each step, 2 n_x linear programs over the
     initial set and every disturbance give the interval hull of the states consistent with
     ``y_0 … y_k``. Slow by nature; every guaranteed estimator's hull contains it."""
-    if not isinstance(system, LinearSystem):
-        raise InvalidArgumentError(f"system: expected a setbound.LinearSystem, got {type(system).__name__}")
-    if not isinstance(x0, Zonotope):
-        raise InvalidArgumentError(f"x0: expected a setbound.sets.Zonotope, got {type(x0).__name__}")
-    if x0.n != system.nx:
-        raise DimensionError(f"x0: expected a zonotope of dimension {system.nx}, got {x0.n}")
+    _check_system_and_x0(system, x0)
     y = as_f64(y, "y", shape=(None, system.ny))
     N = y.shape[0]
     if system.nu > 0:
