@@ -6,6 +6,7 @@ import itertools
 import numpy as np
 import pytest
 
+from lmi_reference import assert_feasible, solve_with_clarabel
 from setbound import lmi
 from setbound.errors import (
     DimensionError,
@@ -33,32 +34,6 @@ def smat(v, n):
             S[i, j] = S[j, i] = v[k]
             k += 1
     return S
-
-
-def independent(c, blocks, eq=None, logdet=None):
-    cp = pytest.importorskip("cvxpy")
-    pytest.importorskip("clarabel")
-    m = len(c)
-    x = cp.Variable(m)
-    cons = []
-    for F0, Fs in blocks:
-        expr = F0 + sum(x[i] * Fs[i] for i in range(m) if np.any(Fs[i]))
-        cons.append((expr + expr.T) / 2 >> 0)
-    if eq is not None:
-        cons.append(eq[0] @ x == eq[1])
-    obj = c @ x
-    if logdet is not None:
-        G = logdet[0] + sum(x[i] * logdet[1][i] for i in range(m) if np.any(logdet[1][i]))
-        obj = obj - cp.log_det((G + G.T) / 2)
-    prob = cp.Problem(cp.Minimize(obj), cons)
-    prob.solve(solver=cp.CLARABEL)
-    return prob.status, prob.value, x.value
-
-
-def assert_feasible(blocks, x, tol=1e-7):
-    for F0, Fs in blocks:
-        F = F0 + np.einsum("i,ijk->jk", x, Fs)
-        assert np.linalg.eigvalsh(F).min() >= -tol * max(1.0, np.abs(F).max())
 
 
 # ---- contract and API -----------------------------------------------------------------------
@@ -208,7 +183,7 @@ def test_maxdet_matches_independent_solver(seed):
     G0 = np.eye(n) * (1 + np.abs(Gs).sum(axis=0).max())  # G ≻ 0 on the whole box
     c = rng.standard_normal(m)
     r = lmi.solve(c, blocks, logdet=(G0, Gs))
-    status, value, _ = independent(c, blocks, logdet=(G0, Gs))
+    status, value, _ = solve_with_clarabel(c, blocks, logdet=(G0, Gs))
     assert status == "optimal"
     assert r.status == "optimal"
     assert r.objective == pytest.approx(value, rel=1e-6, abs=1e-6)
@@ -244,7 +219,7 @@ def test_ex_bc14_offline_design_vertex_blocks():
     c = np.zeros(m)
     c[12] = 1.0
     r = lmi.solve(c, blocks)
-    status, value, _ = independent(c, blocks)
+    status, value, _ = solve_with_clarabel(c, blocks)
     assert status == "optimal" and r.status == "optimal"
     assert r.objective == pytest.approx(value, rel=1e-6)
     assert r.margin > -1e-7
@@ -277,7 +252,7 @@ def test_pradius_lmi_9_ex_le13():
     c = np.zeros(m)
     c[5] = -1.0  # maximise τ
     r = lmi.solve(c, blocks)
-    status, value, _ = independent(c, blocks)
+    status, value, _ = solve_with_clarabel(c, blocks)
     assert status == "optimal" and r.status == "optimal"
     assert r.objective == pytest.approx(value, rel=1e-6)
     assert -r.objective > 0  # τ > 0: a usable design
@@ -311,7 +286,7 @@ def test_improved_correction_lmi_L_small_case():
     c = np.zeros(m)
     c[13] = 1.0  # min ρ'
     r = lmi.solve(c, blocks)
-    status, value, _ = independent(c, blocks)
+    status, value, _ = solve_with_clarabel(c, blocks)
     assert status == "optimal" and r.status == "optimal"
     assert r.objective == pytest.approx(value, rel=1e-6, abs=1e-8)
     assert_feasible(blocks, r.x)
@@ -341,7 +316,7 @@ def test_hinf_gain_lmi_thesis_4_2():
     c = np.zeros(m)
     c[5] = 1.0
     r = lmi.solve(c, blocks)
-    status, value, _ = independent(c, blocks)
+    status, value, _ = solve_with_clarabel(c, blocks)
     assert status == "optimal" and r.status == "optimal"
     assert r.objective == pytest.approx(value, rel=1e-6)
     P, U, g = parts(r.x)

@@ -4,6 +4,7 @@ verify ourselves), unbounded (status + a verified ray)."""
 import numpy as np
 import pytest
 
+from lmi_reference import assert_feasible, solve_with_clarabel
 from setbound import lmi
 
 cp = pytest.importorskip("cvxpy")
@@ -36,39 +37,15 @@ def feasible_instance(seed):
     return c, blocks
 
 
-def cvxpy_solve(c, blocks, eq=None, logdet=None):
-    m = len(c)
-    x = cp.Variable(m)
-    cons = []
-    for F0, Fs in blocks:
-        expr = F0 + sum(x[i] * Fs[i] for i in range(m))
-        cons.append((expr + expr.T) / 2 >> 0)
-    if eq is not None:
-        cons.append(eq[0] @ x == eq[1])
-    obj = c @ x
-    if logdet is not None:
-        G = logdet[0] + sum(x[i] * logdet[1][i] for i in range(m))
-        obj = obj - cp.log_det((G + G.T) / 2)
-    prob = cp.Problem(cp.Minimize(obj), cons)
-    prob.solve(solver=cp.CLARABEL)
-    return prob.status, prob.value, x.value
-
-
-def check_point(blocks, x, tol=1e-7):
-    for F0, Fs in blocks:
-        F = F0 + np.einsum("i,ijk->jk", x, Fs)
-        assert np.linalg.eigvalsh(F).min() >= -tol * max(1, np.abs(F).max())
-
-
 @pytest.mark.parametrize("seed", range(120))
 def test_feasible_matches_clarabel(seed):
     c, blocks = feasible_instance(seed)
     r = lmi.solve(c, blocks)
-    status, value, _ = cvxpy_solve(c, blocks)
+    status, value, _ = solve_with_clarabel(c, blocks)
     assert status == "optimal"
     assert r.status == "optimal", r
     assert abs(r.objective - value) <= 1e-6 * max(1.0, abs(value)), (r.objective, value)
-    check_point(blocks, r.x)
+    assert_feasible(blocks, r.x)
 
 
 @pytest.mark.parametrize("seed", range(30))
@@ -79,12 +56,12 @@ def test_feasible_with_equalities_matches_clarabel(seed):
     if m < 2:
         pytest.skip("needs two variables")
     # Equalities through a strictly feasible point keep the instance feasible.
-    status, _, xs = cvxpy_solve(np.zeros(m), blocks)
+    status, _, xs = solve_with_clarabel(np.zeros(m), blocks)
     Aeq = rng.standard_normal((1, m))
     x0 = np.linalg.lstsq(np.vstack([b[1].reshape(m, -1).T for b in blocks]), -np.concatenate([b[0].ravel() - np.eye(len(b[0])).ravel() for b in blocks]), rcond=None)[0]
     beq = Aeq @ x0
     r = lmi.solve(c, blocks, eq=(Aeq, beq))
-    st, value, _ = cvxpy_solve(c, blocks, eq=(Aeq, beq))
+    st, value, _ = solve_with_clarabel(c, blocks, eq=(Aeq, beq))
     if st == "optimal":
         assert r.status == "optimal"
         assert abs(r.objective - value) <= 1e-6 * max(1.0, abs(value)), (r.objective, value)
@@ -122,7 +99,7 @@ def test_infeasible_has_certificate(seed):
         R = rng.standard_normal((n, n))
         c += np.einsum("ijk,jk->i", Fs, R @ R.T + 0.1 * np.eye(n))
     r = lmi.solve(c, blocks)
-    status, _, _ = cvxpy_solve(c, blocks)
+    status, _, _ = solve_with_clarabel(c, blocks)
     assert status in ("infeasible", "infeasible_inaccurate")
     assert r.status == "infeasible", r
     # Verify the certificate ourselves.
@@ -154,7 +131,7 @@ def test_unbounded_has_ray(seed):
     c = -d / np.linalg.norm(d)
     r = lmi.solve(c, blocks)
     try:
-        status, _, _ = cvxpy_solve(c, blocks)
+        status, _, _ = solve_with_clarabel(c, blocks)
         assert status in ("unbounded", "unbounded_inaccurate")
     except cp.error.SolverError:
         pass  # Clarabel gave up on this ray; the ray is verified independently below
