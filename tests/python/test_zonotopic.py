@@ -48,20 +48,10 @@ def test_le13_interval_A_contains_truth(vertex, delta, rng):
 
 def test_random_systems_with_inputs_contain_truth(rng):
     steps = 0
-    for trial in range(20):
-        n, ny = 2 + trial % 3, 1 + trial % 2
-        A = rng.normal(size=(n, n)) / np.sqrt(n)
-        if trial % 2:
-            A *= 1.25 / max(abs(np.linalg.eigvals(A)))  # unstable
-        C = rng.normal(size=(ny, n))
-        if not setbound.is_detectable(A, C):
-            continue
-        E = np.hstack([0.05 * np.eye(n), np.zeros((n, ny))])
-        F = np.hstack([np.zeros((ny, n)), 0.1 * np.eye(ny)])
-        sys = LinearSystem(A, C, B=rng.normal(size=(n, 1)), E=E, F=F)
+    for trial, sys in enumerate(_random_detectable_systems(rng, 20)):
         for vertex in (False, True):
-            xs, ys, us = simulate(sys, A, 0.5 * np.ones(n), 60, rng, vertex)
-            traj = SegmentMinEstimator(sys, Zonotope(np.zeros(n), np.eye(n)), max_generators=10).run(ys, us)
+            xs, ys, us = simulate(sys, sys.A, 0.5 * np.ones(sys.nx), 60, rng, vertex)
+            traj = SegmentMinEstimator(sys, Zonotope(np.zeros(sys.nx), np.eye(sys.nx)), max_generators=10).run(ys, us)
             assert all(Z.contains(x) for Z, x in zip(traj.sets, xs)), f"trial {trial}"
             steps += len(xs)
     assert steps >= 2000
