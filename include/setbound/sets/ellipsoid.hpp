@@ -57,7 +57,7 @@ class Ellipsoid {
     if (P_.rows() == 0) throw DimensionError("P: the ellipsoid must have dimension >= 1");
     require_square(P_, "P");
     require_positive_definite(P_, "P");
-    P_ = 0.5 * (P_ + P_.transpose());  // exact symmetry from here on
+    P_ = (0.5 * (P_ + P_.transpose())).eval();  // exact symmetry from here on (eval: no aliasing)
     detail::require_length(c_.size(), P_.rows(), "c");
     require_finite(c_, "c");
     require_nonnegative(rho_, "rho");
@@ -155,7 +155,7 @@ class Ellipsoid {
     // M^-T P M^-1 = (L^T M^-1)^T (L^T M^-1): a Gram matrix, symmetric PSD by construction.
     const Eigen::MatrixXd W = Eigen::MatrixXd(llt_.matrixU()) * lu.inverse();  // L^T M^-1
     Eigen::MatrixXd Pn = W.transpose() * W;
-    Pn = 0.5 * (Pn + Pn.transpose());
+    Pn = (0.5 * (Pn + Pn.transpose())).eval();
     Eigen::LLT<Eigen::MatrixXd> check(Pn);
     if (check.info() != Eigen::Success)
       throw NumericalError("M: the image ellipsoid's shape matrix lost positive definiteness "
@@ -179,7 +179,7 @@ class Ellipsoid {
     const auto L = llt_.matrixL();
     Eigen::MatrixXd C = L.solve(Pn);                           // L^-1 P_new
     C = L.solve(Eigen::MatrixXd(C.transpose())).transpose();  // L^-1 P_new L^-T
-    C = 0.5 * (C + C.transpose());
+    C = (0.5 * (C + C.transpose())).eval();
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(C, Eigen::EigenvaluesOnly);
     if (eig.info() != Eigen::Success)
       throw NumericalError("P_new: generalised eigenvalue computation did not converge");

@@ -170,7 +170,7 @@ class Zonotope {
                                  " is above the limit of " + std::to_string(kPRadiusMaxGenerators));
     if (m == 0) return {0.0, Eigen::VectorXd()};
     Eigen::MatrixXd G = H_.transpose() * (0.5 * (P + P.transpose())) * H_;
-    G = 0.5 * (G + G.transpose());
+    G = (0.5 * (G + G.transpose())).eval();
     Eigen::VectorXd s = Eigen::VectorXd::Ones(m);
     Eigen::VectorXd g = G * s;
     double v = s.dot(g);
