@@ -18,6 +18,8 @@ extern "C" {
 #include "setbound/sets/strip.hpp"
 #include "setbound/sets/zonotope.hpp"
 #include "setbound/estimators/exact_hull.hpp"
+#include "setbound/estimators/improved_correction.hpp"
+#include "setbound/estimators/kalman.hpp"
 #include "setbound/estimators/pradius.hpp"
 #include "setbound/estimators/volume_min.hpp"
 #include "setbound/estimators/zonotopic.hpp"
