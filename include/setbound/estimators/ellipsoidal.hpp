@@ -22,8 +22,12 @@
 //    σ = 0 with P → 0 (degenerate; P ends at the size of the LMI margin). β is searched on the
 //    real criterion (§0.4): the steady-state volume for LogDet, ρ∞ = σ/(1−β) otherwise.
 //  * EllipsoidalPredictor: Offline (ρ⁺ = βρ + σ), OnlineVertex (§1.2: per step min ρ⁺ over
-//    (β, Y_k) with P fixed, the same vertex LMI with σ_k = ρ⁺ − βρ_k), OnlineScaled (§1.3 in
-//    the simplified S = diag(s) form: one LMI of size 2n_x + n_ω and Σ s_i ≤ ρ⁺ − βρ_k).
+//    (β, Y_k) with P fixed, the same vertex LMI with σ_k = ρ⁺ − βρ_k, written with σ_k as the
+//    variable: min βρ_k + σ_k, σ_k ≤ σ; solved by an exact active set over the vertex blocks,
+//    see EllOnlineProblem), OnlineScaled (§1.3 in the simplified S = diag(s) form: one LMI of
+//    size 2n_x + n_ω and Σ s_i ≤ ρ⁺ − βρ_k). With an optimal design (σ = least σ at β_d for its
+//    P) the bound σ_k ≤ σ forces β ≥ β_d: the online step then gains over the design only when
+//    ρ_k is below the steady state, or when the design is not optimal (e.g. PaperTrace).
 //
 // Vertex lists: only the non-zero columns of [E; F] enter, and the ± symmetry of §0.2 halves
 // the ω list (congruence with diag(I, −1, I) maps M(ω) to M(−ω), exactly, also in floating
