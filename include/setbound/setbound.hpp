@@ -17,6 +17,8 @@ extern "C" {
 #include "setbound/sets/interval_matrix.hpp"
 #include "setbound/sets/strip.hpp"
 #include "setbound/sets/zonotope.hpp"
+#include "setbound/estimators/descriptor.hpp"
+#include "setbound/estimators/ellipsoidal.hpp"
 #include "setbound/estimators/exact_hull.hpp"
 #include "setbound/estimators/improved_correction.hpp"
 #include "setbound/estimators/kalman.hpp"

@@ -1,0 +1,279 @@
+// setbound — ellipsoidal estimation for descriptor systems ([Merhy2019], papers.md §4).
+//
+//   E x_{k+1} = A x_k + B u_k + D w_k,     y_k = C x_k + F w_k,     w_k ∈ B^{n_w},
+//
+// with E possibly singular (here E is the descriptor matrix and D the disturbance matrix).
+// When rank [E; C] = n_x there are T, N with T E + N C = I; [T N] = pinv([E; C]) (§4.0). Then
+//
+//   x_{k+1} = T A x_k + T B u_k + N y_{k+1} + T D w_k − N F w_{k+1},
+//
+// an explicit system driven by ω_k = [w_k; w_{k+1}] ∈ B^{2 n_w}: w_k and w_{k+1} are the
+// disturbance at two different times and must be *independent* vertices (§4.1 warning). The
+// LMI of §4.1 is the §1.1 LMI of the equivalent system (T A, C, [T D, −N F], [F, 0], T B),
+// so the design is design_ellipsoidal_offline on it (± halving and zero-column dropping
+// included). The estimator
+//
+//   x̄_{k+1} = T A x̄_k + T B u_k + N y_{k+1} + L (y_k − C x̄_k),   ρ_{k+1} = β ρ_k + σ
+//
+// is a filter (x̄_{k+1} uses y_{k+1}), so step(y_k, u_k) returns the set for x_k.
+//
+// Floating point: besides the centre rounding (which includes the N y_{k+1} term), the
+// stored T, N and the stored products T A, T B, T D, N F are not exact, so the true error
+// obeys z⁺ = (Ã − L C) z + Ẽ ω + e with e = R x⁺ + ΔA x + ΔB u + ΔD w − ΔNF w⁺, R = I − T E − N C
+// (all of order eps). Each step bounds e (‖R‖ from a rounding bound of T E + N C − I, x from the
+// current set's box, x⁺ through the new level itself, see step()) and enlarges the level.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <complex>
+#include <sstream>
+#include <string>
+#include <utility>
+
+#include "setbound/core/error.hpp"
+#include "setbound/core/linear_system.hpp"
+#include "setbound/core/validate.hpp"
+#include "setbound/estimators/ellipsoidal.hpp"
+#include "setbound/estimators/ellipsoidal_common.hpp"
+#include "setbound/sets/ellipsoid.hpp"
+
+namespace setbound {
+
+class DescriptorSystem {  // E x⁺ = A x + B u + D w,  y = C x + F w,  w ∈ B^{n_w}
+ public:
+  /// Validates shapes and finiteness (messages name the argument) and the two rank
+  /// conditions of §4.0 (NotDetectableError naming the condition):
+  ///  * infinite observability  rank [E; C] = n_x;
+  ///  * finite observability    rank [λE − A; C] = n_x for every complex λ. If [λE − A; C] v = 0
+  ///    with v ≠ 0 then C v = 0 and T A v = T (λ E v) = λ (I − N C) v = λ v: λ is an eigenvalue of
+  ///    T A. So checking the rank at the n_x eigenvalues of T A is complete (also for a singular
+  ///    pencil, where every λ is a generalised eigenvalue), and each check is one SVD.
+  DescriptorSystem(Eigen::MatrixXd E, Eigen::MatrixXd A, Eigen::MatrixXd C, Eigen::MatrixXd D, Eigen::MatrixXd F,
+                   Eigen::MatrixXd B = Eigen::MatrixXd())
+      : E_(std::move(E)), A_(std::move(A)), B_(std::move(B)), C_(std::move(C)), D_(std::move(D)), F_(std::move(F)) {
+    if (A_.rows() == 0) throw DimensionError("A: the state dimension must be >= 1");
+    require_square(A_, "A");
+    require_finite(A_, "A");
+    const Eigen::Index n = A_.rows();
+    require_shape(E_, n, n, "E");
+    require_finite(E_, "E");
+    if (C_.cols() != n || C_.rows() == 0)
+      throw DimensionError("C: expected shape (n_y, " + std::to_string(n) + ") with n_y >= 1, got " +
+                           detail::shape_string(C_.rows(), C_.cols()));
+    require_finite(C_, "C");
+    const Eigen::Index ny = C_.rows();
+    if (D_.rows() != n)
+      throw DimensionError("D: expected " + std::to_string(n) + " rows (the state dimension), got " +
+                           std::to_string(D_.rows()));
+    require_finite(D_, "D");
+    require_shape(F_, ny, D_.cols(), "F");
+    require_finite(F_, "F");
+    if (B_.size() == 0) B_ = Eigen::MatrixXd::Zero(n, 0);
+    if (B_.rows() != n)
+      throw DimensionError("B: expected " + std::to_string(n) + " rows (the state dimension), got " +
+                           std::to_string(B_.rows()));
+    require_finite(B_, "B");
+
+    // Infinite observability and [T N] = pinv([E; C]).
+    Eigen::MatrixXd M(n + ny, n);
+    M << E_, C_;
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    const Eigen::VectorXd& sv = svd.singularValues();
+    const double tol = 1e-10 * std::max(1.0, sv(0));
+    Eigen::Index rank = 0;
+    while (rank < sv.size() && sv(rank) > tol) ++rank;
+    if (rank < n)
+      throw NotDetectableError("E, C: the infinite observability condition rank [E; C] = n_x fails (rank " +
+                               std::to_string(rank) + " < n_x = " + std::to_string(n) +
+                               "): no T, N with T E + N C = I exist (papers.md §4.0)");
+    Eigen::MatrixXd pinv = svd.matrixV() * sv.cwiseInverse().asDiagonal() * svd.matrixU().transpose();
+    // pinv(M) = (MᵀM)⁻¹Mᵀ: the column of a zero row of M is exactly zero (the SVD leaves
+    // rounding noise there, which would keep a disturbance column that does not exist).
+    for (Eigen::Index r = 0; r < n + ny; ++r)
+      if (!(M.row(r).array() != 0.0).any()) pinv.col(r).setZero();
+    T_ = pinv.leftCols(n);
+    N_ = pinv.rightCols(ny);
+    TA_ = T_ * A_;
+
+    // Finite observability at the eigenvalues of T A (see above).
+    Eigen::EigenSolver<Eigen::MatrixXd> eig(TA_, false);
+    if (eig.info() != Eigen::Success) throw NumericalError("A: eigenvalues of T A did not converge");
+    const double scale_EA = std::max({1.0, E_.norm(), A_.norm(), C_.norm()});
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const std::complex<double> lambda = eig.eigenvalues()(i);
+      Eigen::MatrixXcd Ml(n + ny, n);
+      Ml.topRows(n) = lambda * E_.cast<std::complex<double>>() - A_.cast<std::complex<double>>();
+      Ml.bottomRows(ny) = C_.cast<std::complex<double>>();
+      const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXcd>(Ml).singularValues();
+      if (s(n - 1) <= 1e-9 * scale_EA * std::max(1.0, std::abs(lambda))) {
+        std::ostringstream msg;
+        msg << "E, A, C: the finite observability condition rank [lambda E - A; C] = n_x fails at lambda = "
+            << lambda.real();
+        if (lambda.imag() != 0) msg << (lambda.imag() > 0 ? " + " : " - ") << std::abs(lambda.imag()) << "i";
+        msg << " (a finite mode that C does not see; papers.md §4.0)";
+        throw NotDetectableError(msg.str());
+      }
+    }
+  }
+
+  const Eigen::MatrixXd& E() const { return E_; }
+  const Eigen::MatrixXd& A() const { return A_; }
+  const Eigen::MatrixXd& B() const { return B_; }
+  const Eigen::MatrixXd& C() const { return C_; }
+  const Eigen::MatrixXd& D() const { return D_; }
+  const Eigen::MatrixXd& F() const { return F_; }
+  Eigen::Index nx() const { return A_.rows(); }
+  Eigen::Index ny() const { return C_.rows(); }
+  Eigen::Index nu() const { return B_.cols(); }
+  Eigen::Index nw() const { return D_.cols(); }
+
+  /// [T N] = pinv([E; C]), so that T E + N C = I.
+  const Eigen::MatrixXd& T() const { return T_; }
+  const Eigen::MatrixXd& N() const { return N_; }
+
+  /// x⁺ = (T A) x + (T B) u + [T D, −N F] [w_k; w_{k+1}] (+ N y_{k+1}, known data),
+  /// y = C x + [F, 0] [w_k; w_{k+1}]: the §4.1 LMI is the §1.1 LMI of this system.
+  LinearSystem equivalent() const {
+    const Eigen::Index n = nx(), ny_ = ny(), nw_ = nw();
+    Eigen::MatrixXd Eeq(n, 2 * nw_), Feq(ny_, 2 * nw_);
+    Eeq << T_ * D_, -(N_ * F_);
+    Feq << F_, Eigen::MatrixXd::Zero(ny_, nw_);
+    return LinearSystem(TA_, C_, Eeq, Feq, T_ * B_);
+  }
+
+ private:
+  Eigen::MatrixXd E_, A_, B_, C_, D_, F_, T_, N_, TA_;
+};
+
+/// The offline design of §4.1: design_ellipsoidal_offline on the equivalent system. The
+/// detectability needed is that of (C, T A) (the error dynamics is T A − L C).
+inline EllDesign design_descriptor_offline(const DescriptorSystem& sys, const EllDesignOptions& opt = {}) {
+  return detail::ell_design_impl(sys.equivalent(), opt, "design_descriptor_offline", "(C, TA)");
+}
+
+class DescriptorEstimator {
+ public:
+  DescriptorEstimator(EllDesign design, DescriptorSystem sys, const Ellipsoid& x0)
+      : d_(std::move(design)), sys_(std::move(sys)), eq_(sys_.equivalent()), cur_(check(d_, sys_, x0)) {
+    const Eigen::Index n = sys_.nx(), ny = sys_.ny();
+    d_.P = 0.5 * (d_.P + d_.P.transpose());
+    require_shape(d_.L, n, ny, "design.L");
+    require_finite(d_.L, "design.L");
+    if (!(d_.beta > 0 && d_.beta < 1)) {
+      std::ostringstream s;
+      s << "design.beta: must be in (0, 1), got " << d_.beta;
+      throw InvalidArgumentError(s.str());
+    }
+    require_nonnegative(d_.sigma, "design.sigma");
+    // The design must hold for *this* system's equivalent (whatever system it was made for).
+    const detail::EllLmiData data(eq_);
+    const std::vector<Eigen::VectorXd> omegas = detail::ell_box_vertices(data.m(), true);
+    if (data.m() > 24 || omegas.size() > detail::kMaxEllVertexBlocks)
+      throw InvalidArgumentError("sys: too many disturbance columns for the vertex LMIs");
+    const detail::EllGainTerms terms(d_.P, d_.L, data, data.Et, data.Ft);
+    if (!detail::ell_certify_design(d_.P, terms, data, omegas, d_.beta, d_.sigma))
+      throw InvalidArgumentError("design: the LMI of papers.md §4.1 does not hold (certified) at the design's "
+                                 "(P, L, beta, sigma) for this descriptor system");
+    lmax_up_ = ell_rounding::lambda_max_upper(d_.P);
+    lmin_low_ = detail::ell_lambda_min_lower(d_.P);
+    if (!(lmin_low_ > 0)) throw NumericalError("design.P: its smallest eigenvalue could not be bounded away from 0");
+    // Rounding of the stored T, N and of the products T A, T B, T D, N F (module comment).
+    using ell_rounding::gamma;
+    const Eigen::MatrixXd aT = sys_.T().cwiseAbs(), aN = sys_.N().cwiseAbs();
+    dA_ = gamma(n + 1) * aT * sys_.A().cwiseAbs();
+    dB_ = gamma(n + 1) * aT * sys_.B().cwiseAbs();
+    dw_ = (gamma(n + 1) * aT * sys_.D().cwiseAbs()).rowwise().sum() +
+          (gamma(ny + 1) * aN * sys_.F().cwiseAbs()).rowwise().sum();
+    const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
+    const Eigen::MatrixXd Rb = (sys_.T() * sys_.E() + sys_.N() * sys_.C() - I).cwiseAbs() +
+                               2.0 * gamma(n + ny + 2) * (aT * sys_.E().cwiseAbs() + aN * sys_.C().cwiseAbs() + I);
+    r_ = ell_rounding::round_up(Rb.norm() * (1.0 + 1e-10));
+    den_ = 1.0 - r_ * std::sqrt(lmax_up_ / lmin_low_) * (1.0 + 1e-10);
+    if (!(den_ > 0.5))
+      throw NumericalError("sys: T E + N C = I holds too inaccurately for the conditioning of design.P");
+  }
+
+  const EllDesign& design() const { return d_; }
+  const DescriptorSystem& system() const { return sys_; }
+  /// The set for x_k, k = steps_taken(); before the first step, x0 converted to shape P.
+  const Ellipsoid& current() const { return cur_; }
+  Eigen::Index steps_taken() const { return k_; }
+
+  /// step(y_k, u_k) returns the set for x_k using y_0..y_k: the first call returns x0
+  /// converted to shape P (and remembers y_0, u_0); later calls apply the recursion of §4.1
+  /// with the remembered y_{k−1}, u_{k−1}. Unchanged on error.
+  Ellipsoid step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u) {
+    using ell_rounding::gamma;
+    using ell_rounding::round_up;
+    detail::require_length(y.size(), sys_.ny(), "y");
+    require_finite(y, "y");
+    if (!(u.size() == sys_.nu() || (u.size() == 0 && sys_.nu() == 0)))
+      detail::require_length(u.size(), sys_.nu(), "u");
+    require_finite(u, "u");
+    if (!started_) {
+      y_prev_ = y;
+      u_prev_ = u;
+      started_ = true;
+      return cur_;
+    }
+    const Eigen::MatrixXd& TA = eq_.A();
+    const Eigen::MatrixXd& TB = eq_.B();
+    const Eigen::MatrixXd& N = sys_.N();
+    const Eigen::MatrixXd& C = sys_.C();
+    const Eigen::VectorXd& c = cur_.center();
+    const Eigen::VectorXd yv = y;
+    const Eigen::VectorXd cn = TA * c + TB * u_prev_ + N * yv + d_.L * (y_prev_ - C * c);
+    // Centre rounding, with the N y_{k+1} term.
+    Eigen::VectorXd mag = TA.cwiseAbs() * c.cwiseAbs() + N.cwiseAbs() * yv.cwiseAbs() +
+                          d_.L.cwiseAbs() * (y_prev_.cwiseAbs() + C.cwiseAbs() * c.cwiseAbs());
+    if (TB.cols() > 0) mag += TB.cwiseAbs() * u_prev_.cwiseAbs();
+    const Eigen::Index k = TA.cols() + TB.cols() + N.cols() + d_.L.cols() + 6;
+    const Eigen::VectorXd dc = round_up(2.0 * gamma(k)) * mag;
+    // ‖w‖_P ≤ √(βρ + σ) for the nominal error; model error e as in the module comment:
+    // ‖z⁺‖_P ≤ [√ρ_nom + √λmax (a + r ‖x̄⁺‖)] / (1 − r √(λmax/λmin)).
+    const double rho_nom = round_up(round_up(d_.beta * cur_.level()) + d_.sigma);
+    const BoundingBox box = cur_.bounding_box();
+    const Eigen::VectorXd xabs = box.lo.cwiseAbs().cwiseMax(box.hi.cwiseAbs());
+    Eigen::VectorXd ev = dA_ * xabs + dw_;
+    if (dB_.cols() > 0) ev += dB_ * u_prev_.cwiseAbs();
+    const double a = round_up(ev.norm() * (1.0 + 1e-10));
+    const double xn = round_up(cn.norm() + round_up(dc.norm()));
+    const double sl = std::sqrt(lmax_up_) * (1.0 + 1e-15);
+    const double num = round_up(std::sqrt(rho_nom) * (1.0 + 1e-15) + sl * round_up(a + r_ * xn));
+    const double root = round_up(num / den_);
+    const double rho_mid = round_up(root * root);
+    const double rn = level_with_center_error(rho_mid, lmax_up_, dc);
+    Ellipsoid next(d_.P, cn, rn);
+    cur_ = next;
+    y_prev_ = yv;
+    u_prev_ = u;
+    ++k_;
+    return next;
+  }
+
+ private:
+  static Ellipsoid check(const EllDesign& d, const DescriptorSystem& sys, const Ellipsoid& x0) {
+    const Eigen::Index n = sys.nx();
+    require_shape(d.P, n, n, "design.P");
+    require_positive_definite(d.P, "design.P");
+    if (x0.dimension() != n)
+      throw DimensionError("x0: expected an ellipsoid of dimension " + std::to_string(n) + ", got " +
+                           std::to_string(x0.dimension()));
+    return x0.with_shape(0.5 * (d.P + d.P.transpose()));
+  }
+
+  EllDesign d_;
+  DescriptorSystem sys_;
+  LinearSystem eq_;
+  Ellipsoid cur_;
+  Eigen::Index k_ = 0;
+  bool started_ = false;
+  Eigen::VectorXd y_prev_, u_prev_;
+  double lmax_up_ = 0, lmin_low_ = 0, r_ = 0, den_ = 1;
+  Eigen::MatrixXd dA_, dB_;
+  Eigen::VectorXd dw_;
+};
+
+}  // namespace setbound
