@@ -21,6 +21,7 @@ extern "C" {
 #include "setbound/estimators/ellipsoidal.hpp"
 #include "setbound/estimators/exact_hull.hpp"
 #include "setbound/estimators/improved_correction.hpp"
+#include "setbound/estimators/improved_estimator.hpp"
 #include "setbound/estimators/kalman.hpp"
 #include "setbound/estimators/pradius.hpp"
 #include "setbound/estimators/volume_min.hpp"

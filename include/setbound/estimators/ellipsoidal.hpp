@@ -48,6 +48,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/SVD>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -349,6 +350,27 @@ inline void ell_check_detectable(const LinearSystem& sys, const std::string& pai
   }
 }
 
+/// When every disturbance column reaching the state is also seen, unmixed, in the outputs
+/// (the rows of E lie in the row space of F, so E = L F has a solution), a gain can cancel the
+/// disturbance exactly: the estimation set can shrink towards a point, the minimum-volume design
+/// has no minimiser and P degenerates. Returns a sentence explaining that, or "".
+inline std::string ell_cancellable_hint(const Eigen::MatrixXd& E, const Eigen::MatrixXd& F) {
+  if (E.cols() == 0 || E.isZero(0.0)) return "";
+  Eigen::MatrixXd FE(F.rows() + E.rows(), F.cols());
+  FE << F, E;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> sf(F), sfe(FE);
+  auto rank = [](const Eigen::JacobiSVD<Eigen::MatrixXd>& sv) {
+    const Eigen::VectorXd& v = sv.singularValues();
+    if (v.size() == 0 || v(0) == 0.0) return Eigen::Index{0};
+    return static_cast<Eigen::Index>((v.array() > 1e-10 * v(0)).count());
+  };
+  if (rank(sfe) > rank(sf)) return "";
+  return "; note E, F: the disturbance can be cancelled exactly by a gain (E = L F is solvable: the outputs "
+         "see every disturbance that drives the state, with no noise of their own), so the estimation set can "
+         "shrink towards a point and the design degenerates — add output noise to the model or use a fixed beta "
+         "with the Ball normalisation";
+}
+
 inline const char* ell_normalization_name(EllNormalization n) {
   switch (n) {
     case EllNormalization::LogDet: return "LogDet";
@@ -481,7 +503,8 @@ inline EllDesign ell_design_impl(const LinearSystem& sys, const EllDesignOptions
     msg << name << ": the prediction LMI (papers.md §1.1) is infeasible ";
     if (fixed_beta) msg << "at beta = " << opt.beta;
     else msg << "for every beta in (" << opt.beta_lo << ", " << opt.beta_hi << ")";
-    msg << " with the " << ell_normalization_name(opt.normalization) << " normalisation";
+    msg << " with the " << ell_normalization_name(opt.normalization) << " normalisation"
+        << ell_cancellable_hint(d.Et, d.Ft);
     throw InfeasibleError(msg.str());
   }
 
@@ -513,7 +536,8 @@ inline EllDesign ell_design_impl(const LinearSystem& sys, const EllDesignOptions
   }
   if (!ok)
     throw NumericalError(name + ": the designed (P, L, beta, sigma) could not be certified in floating point "
-                                "(the LMI is too close to infeasibility at the chosen beta)");
+                                "(the LMI is too close to infeasibility at the chosen beta)" +
+                         ell_cancellable_hint(d.Et, d.Ft));
   out.sigma = sig_c;
   out.rho_inf = ell_rounding::round_up(sig_c / (1.0 - best_beta));
   out.volume_inf = out.rho_inf > 0 ? Ellipsoid(Pv, Eigen::VectorXd::Zero(n), out.rho_inf).volume() : 0.0;
