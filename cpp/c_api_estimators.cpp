@@ -3,7 +3,7 @@
 #include <optional>
 #include <vector>
 
-#include "c_api_common.hpp"
+#include "c_api_handles.hpp"
 #include "setbound/core/linear_system.hpp"
 #include "setbound/estimators/exact_hull.hpp"
 #include "setbound/estimators/pradius.hpp"
@@ -12,10 +12,6 @@
 
 using namespace setbound;
 using namespace setbound::capi;
-
-struct sb_linear_system {
-  LinearSystem system;
-};
 
 struct sb_zonotopic {
   ZonotopicEstimator estimator;
@@ -27,11 +23,6 @@ namespace {
 Eigen::MatrixXd optional_matrix(const double* data, int rows, int cols, const char* name) {
   if (data == nullptr) return Eigen::MatrixXd();
   return matrix_arg(data, rows, cols, name);
-}
-
-const LinearSystem& system_arg(const sb_linear_system* s) {
-  require_pointer(s, "system");
-  return s->system;
 }
 
 }  // namespace

@@ -310,3 +310,95 @@ int sb_exact_hull(const sb_linear_system* system, int m0, const double* p0, cons
                   int N, const double* Y, const double* U, int use_first_measurement,
                   double* lower, double* upper);
 /* ==== end zonotopic estimators ==== */
+
+/* ==== ellipsoidal estimators (estimators/ellipsoidal.hpp, improved_correction.hpp,
+ *      descriptor.hpp, kalman.hpp) ==== */
+/* Sets are E(P, c, rho) = {x : (x - c)^T P (x - c) <= rho} (papers.md §0.1). */
+typedef struct sb_ell_design sb_ell_design;
+typedef struct sb_descriptor_system sb_descriptor_system;
+typedef struct sb_ellipsoidal sb_ellipsoidal;
+typedef struct sb_kalman sb_kalman;
+/* Normalisation of the offline LMI (papers.md §1.1): log det P >= 0 (minimum steady-state
+ * volume, the default), P >= I, or the printed tr P <= 1 (degenerate; reproduction only). */
+#define SB_ELL_NORM_LOGDET 0
+#define SB_ELL_NORM_BALL 1
+#define SB_ELL_NORM_PAPER_TRACE 2
+/* Offline design (papers.md §1.1, robust over vert[A] when A is uncertain). beta: a fixed
+ * value in (0, 1), or NaN to choose it by a scalar search on the criterion. Undetectable
+ * (C, A) gives SB_ERR_NOT_DETECTABLE, an infeasible design SB_ERR_INFEASIBLE. */
+int sb_ell_design_offline(const sb_linear_system* system, int normalization, double beta,
+                          sb_ell_design** out);
+/* E x+ = A x + B u + D w,  y = C x + F w,  w in [-1, 1]^nw  (papers.md §4). E, A: nx x nx,
+ * C: ny x nx, D: nx x nw, F: ny x nw, B: nx x nu (NULL when nu = 0). The rank conditions
+ * are checked; a failure names the condition. */
+int sb_descriptor_system_create(int nx, int ny, int nu, int nw, const double* E, const double* A,
+                                const double* B, const double* C, const double* D, const double* F,
+                                sb_descriptor_system** out);
+int sb_descriptor_system_free(sb_descriptor_system* system);
+/* T (nx x nx) and N (nx x ny) with T E + N C = I, [T N] = pinv([E; C]). */
+int sb_descriptor_system_tn(const sb_descriptor_system* system, double* T, double* N);
+/* Offline design for a descriptor system (papers.md §4.1): w_k and w_{k+1} independent. */
+int sb_ell_design_descriptor(const sb_descriptor_system* system, int normalization, double beta,
+                             sb_ell_design** out);
+int sb_ell_design_free(sb_ell_design* design);
+int sb_ell_design_dims(const sb_ell_design* design, int* nx, int* ny);
+/* P (nx x nx), L (nx x ny), scalars[4] = {beta, sigma, rho_inf, volume_inf}, *vertex_blocks
+ * and *normalization; any output pointer may be NULL. */
+int sb_ell_design_get(const sb_ell_design* design, double* P, double* L, double* scalars,
+                      int* vertex_blocks, int* normalization);
+
+/* Estimators. Predictors (OFFLINE, ONLINE_VERTEX, ONLINE_SCALED) are one-step predictors:
+ * step k takes y_k, u_k and returns the set for x_{k+1}. Filters (IMPROVED, DESCRIPTOR)
+ * return the set for x_k after using y_k. sb_ellipsoidal_info tells which. */
+#define SB_ELL_OFFLINE 0
+#define SB_ELL_ONLINE_VERTEX 1
+#define SB_ELL_ONLINE_SCALED 2
+#define SB_ELL_IMPROVED 3
+#define SB_ELL_DESCRIPTOR 4
+/* Improved correction: normalisation of the corrected set (papers.md §6.5). */
+#define SB_ELL_CORR_FIXED_SHAPE 0
+#define SB_ELL_CORR_DET_NORMALIZED 1
+#define SB_ELL_CORR_BALL_NORMALIZED 2
+/* What the improved estimator feeds back to the prediction (papers.md §6.6): (i) nothing (the
+ * corrected set is only reported, intersected with the prediction), (ii) the P-shaped outer
+ * bound of the corrected set when its level is below the prediction's, (iii) the fixed-shape
+ * correction (option A) solved in addition, or (ii) when smaller (recommended). */
+#define SB_ELL_FEEDBACK_NONE 0
+#define SB_ELL_FEEDBACK_OUTER_BOUND 1
+#define SB_ELL_FEEDBACK_FIXED_SHAPE 2
+/* Initial set x0 = E(P0, c0, rho0) (converted to the design's shape). For IMPROVED, `option`
+ * is an SB_ELL_CORR_*, `feedback` an SB_ELL_FEEDBACK_* and `predictor` the prediction method
+ * (SB_ELL_ONLINE_VERTEX, SB_ELL_ONLINE_SCALED or SB_ELL_OFFLINE); they are ignored otherwise.
+ * DESCRIPTOR needs the descriptor system (NULL otherwise) and a design made by
+ * sb_ell_design_descriptor. */
+int sb_ellipsoidal_create(const sb_ell_design* design, int method, int option, int feedback, int predictor,
+                          const sb_descriptor_system* descriptor, const double* P0, const double* c0,
+                          double rho0, sb_ellipsoidal** out);
+int sb_ellipsoidal_free(sb_ellipsoidal* estimator);
+/* *is_filter = 1 for IMPROVED and DESCRIPTOR; *steps = steps taken; *nx, *ny, *nu. */
+int sb_ellipsoidal_info(const sb_ellipsoidal* estimator, int* is_filter, int* steps, int* nx, int* ny,
+                        int* nu);
+/* The estimator's current set (predictors: the set for x_k before y_k is used, k = steps
+ * taken; filters: the set returned by the last step). P (nx x nx), c (nx), rho; lower and
+ * upper (nx) are the guaranteed interval bounds reported for it (for IMPROVED the
+ * intersection of the hulls of the corrected and the predicted sets). NULL outputs are
+ * skipped. */
+int sb_ellipsoidal_current(const sb_ellipsoidal* estimator, double* P, double* c, double* rho,
+                           double* lower, double* upper);
+/* One step with y (ny) and u (nu; NULL when nu = 0); writes the new current set as above.
+ * On error (wrong data, NaN) the estimator is unchanged. */
+int sb_ellipsoidal_step(sb_ellipsoidal* estimator, const double* y, const double* u, double* P,
+                        double* c, double* rho, double* lower, double* upper);
+/* Per-step diagnostics of the last step: beta and gain L (nx x ny) of the prediction (the
+ * design's for OFFLINE and DESCRIPTOR), and *fallback = 1 when the online LMI could not be
+ * solved and certified and the design's certified values were used instead. */
+int sb_ellipsoidal_last_step(const sb_ellipsoidal* estimator, double* beta, double* L, int* fallback);
+
+/* Kalman filter baseline (papers.md §2.3, Joseph form), NOT guaranteed: omega ~ N(0, W)
+ * (W nw x nw, NULL = identity), x0 ~ N(mean0, cov0). Step k uses y_k and returns the mean
+ * and covariance of x_k given y_0..y_k. */
+int sb_kalman_create(const sb_linear_system* system, const double* mean0, const double* cov0,
+                     const double* W, sb_kalman** out);
+int sb_kalman_free(sb_kalman* filter);
+int sb_kalman_step(sb_kalman* filter, const double* y, const double* u, double* mean, double* cov);
+/* ==== end ellipsoidal estimators ==== */
