@@ -12,16 +12,18 @@ from ._native import ABI_VERSION, version
 from .errors import *  # noqa: F401,F403  (the exception classes are part of the API)
 from .interval import Box, Interval, IntervalMatrix
 from .sets import Ellipsoid, Strip, Zonotope
-from .system import LinearSystem, is_detectable
+from .system import DescriptorSystem, LinearSystem, is_detectable
 from .trajectory import Trajectory
 from . import zonotopic  # noqa: E402  (needs the classes above)
 from .zonotopic import exact_hull  # noqa: E402
+from . import ellipsoidal  # noqa: E402
 
 __version__ = version()
 
 __all__ = [
     "ABI_VERSION",
     "Box",
+    "DescriptorSystem",
     "Ellipsoid",
     "Interval",
     "IntervalMatrix",
@@ -31,6 +33,7 @@ __all__ = [
     "Zonotope",
     "is_detectable",
     "__version__",
+    "ellipsoidal",
     "errors",
     "exact_hull",
     "lmi",

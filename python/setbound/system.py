@@ -97,3 +97,49 @@ def is_detectable(A, C) -> bool:
     out = ffi.new("int*")
     check(lib.sb_check_detectability(A.shape[0], C.shape[0], dptr(A), dptr(C), out, ffi.NULL, ffi.NULL))
     return bool(out[0])
+
+
+class DescriptorSystem:
+    """A descriptor model (papers.md §4): ``E x⁺ = A x + B u + D w``, ``y = C x + F w``,
+    ``w`` in the unit box. ``E`` may be singular; the rank conditions (infinite and finite
+    observability) are checked at construction and a failure names the condition.
+    ``T`` and ``N`` (``T E + N C = I``, ``[T N] = pinv([E; C])``) are exposed.
+
+    Note the letters: here ``E`` is the descriptor matrix and ``D`` the disturbance matrix,
+    as in [Merhy2019], unlike :class:`LinearSystem`.
+    """
+
+    def __init__(self, E, A, C, *, B=None, D, F):
+        A = as_f64(A, "A", ndim=2)
+        nx = A.shape[0]
+        if A.shape != (nx, nx):
+            raise DimensionError(f"A: must be square, got shape {A.shape}")
+        E = as_f64(E, "E", shape=(nx, nx))
+        C = as_f64(C, "C", shape=(None, nx))
+        ny = C.shape[0]
+        D = as_f64(D, "D", shape=(nx, None))
+        nw = D.shape[1]
+        F = as_f64(F, "F", shape=(ny, nw))
+        if B is None:
+            B = np.zeros((nx, 0))
+        else:
+            B = as_f64(B, "B", shape=(nx, None))
+        nu = B.shape[1]
+        handle = ffi.new("sb_descriptor_system**")
+        check(lib.sb_descriptor_system_create(nx, ny, nu, nw, dptr(E), dptr(A),
+                                              dptr(B) if nu > 0 else ffi.NULL, dptr(C), dptr(D), dptr(F), handle))
+        self._handle = ffi.gc(handle[0], lib.sb_descriptor_system_free)
+        self.E, self.A, self.B, self.C, self.D, self.F = E, A, B, C, D, F
+        T, N = np.empty((nx, nx)), np.empty((nx, ny))
+        check(lib.sb_descriptor_system_tn(self._handle, dptr(T), dptr(N)))
+        self.T, self.N = T, N
+        for a in (self.E, self.A, self.B, self.C, self.D, self.F, self.T, self.N):
+            a.flags.writeable = False
+
+    nx = property(lambda self: self.A.shape[0])
+    ny = property(lambda self: self.C.shape[0])
+    nu = property(lambda self: self.B.shape[1])
+    nw = property(lambda self: self.D.shape[1])
+
+    def __repr__(self) -> str:
+        return f"DescriptorSystem(nx={self.nx}, ny={self.ny}, nu={self.nu}, nw={self.nw})"

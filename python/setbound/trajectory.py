@@ -5,6 +5,10 @@ rows ``k = 0 … N-1``; row ``k`` of ``center``, ``lower`` and ``upper`` and ``s
 describe the state ``x_k``. Filters (the zonotopic family, the improved ellipsoidal
 correction) have used ``y_0 … y_k`` for row ``k``; one-step predictors (the ellipsoidal
 family of [BenChabane2014]) have used ``y_0 … y_{k-1}``.
+
+``radius[k]`` is the level ``ρ_k`` of an ellipsoidal set ``E(P, c_k, ρ_k)`` (papers.md §0.1:
+a level, not a squared radius) and NaN for other set types. ``guaranteed`` is False only for
+the Kalman filter baseline, whose box is ``mean ± 3σ``.
 """
 from __future__ import annotations
 
@@ -23,6 +27,8 @@ class Trajectory:
     upper: np.ndarray  # (N, n_x)
     sets: list[Any] = field(default_factory=list)
     _volume: np.ndarray | None = field(default=None, repr=False)
+    _radius: np.ndarray | None = field(default=None, repr=False)
+    guaranteed: bool = True
 
     def __len__(self) -> int:
         return self.center.shape[0]
@@ -31,6 +37,14 @@ class Trajectory:
     def width(self) -> np.ndarray:
         """Interval-hull widths, (N, n_x)."""
         return self.upper - self.lower
+
+    @property
+    def radius(self) -> np.ndarray:
+        """Level ρ_k of each ellipsoidal set (NaN for other set types), (N,)."""
+        if self._radius is None:
+            self._radius = np.array([float(getattr(s, "rho", np.nan)) for s in self.sets]) if self.sets \
+                else np.full(len(self), np.nan)
+        return self._radius
 
     @property
     def volume(self) -> np.ndarray:

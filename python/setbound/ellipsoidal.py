@@ -1,0 +1,335 @@
+"""Ellipsoidal estimators (papers.md §1, §2, §4, §6) and the Kalman filter baseline.
+
+Sets are ``E(P, c, ρ) = {x : (x − c)ᵀ P (x − c) ≤ ρ}`` (:class:`setbound.Ellipsoid`).
+
+* :func:`design_offline` — the offline LMI design of §1.1 (shape ``P``, gain ``L``, ``β``,
+  ``σ``), for a :class:`~setbound.LinearSystem` (robust over ``vert[A]`` when ``A`` is an
+  interval matrix) or a :class:`~setbound.DescriptorSystem` (§4.1).
+* :class:`OfflineEstimator` (§1.1), :class:`OnlineEstimator` (§1.2, ``scaling=True``: §1.3) —
+  one-step predictors: ``step(y_k, u_k)`` returns the set for ``x_{k+1}``.
+* :class:`ImprovedEstimator` (§2.2, §6) and :class:`DescriptorEstimator` (§4.1) — filters:
+  ``step(y_k, u_k)`` returns the set for ``x_k`` after using ``y_k``.
+* :class:`KalmanFilter` (§2.3) — the contrast, not guaranteed.
+
+``run(y, u=None)`` returns a :class:`~setbound.Trajectory` whose row ``k`` is about ``x_k``
+for every estimator (predictors: row 0 is the initial set and row ``k`` used ``y_0 … y_{k-1}``;
+filters: row ``k`` used ``y_0 … y_k``). After ``run`` a predictor holds the prediction for
+``x_N`` in :attr:`current`.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ._native import as_f64, check, dptr, ffi, lib
+from .errors import DimensionError, InvalidArgumentError
+from .sets import Ellipsoid
+from .system import DescriptorSystem, LinearSystem
+from .trajectory import Trajectory
+
+_NORMALIZATIONS = {
+    "logdet": lib.SB_ELL_NORM_LOGDET,
+    "ball": lib.SB_ELL_NORM_BALL,
+    "paper_trace": lib.SB_ELL_NORM_PAPER_TRACE,
+}
+_NORM_NAMES = {v: k for k, v in _NORMALIZATIONS.items()}
+_OPTIONS = {
+    "fixed_shape": lib.SB_ELL_CORR_FIXED_SHAPE,
+    "det_normalized": lib.SB_ELL_CORR_DET_NORMALIZED,
+    "ball_normalized": lib.SB_ELL_CORR_BALL_NORMALIZED,
+}
+_FEEDBACK = {
+    "none": lib.SB_ELL_FEEDBACK_NONE,
+    "outer_bound": lib.SB_ELL_FEEDBACK_OUTER_BOUND,
+    "fixed_shape": lib.SB_ELL_FEEDBACK_FIXED_SHAPE,
+}
+_PREDICTORS = {
+    "offline": lib.SB_ELL_OFFLINE,
+    "online": lib.SB_ELL_ONLINE_VERTEX,
+    "scaled": lib.SB_ELL_ONLINE_SCALED,
+}
+
+
+class DegenerateDesignWarning(UserWarning):
+    """The printed ``tr P ≤ 1`` normalisation (papers.md §1.1) was asked for: it bounds P from
+    above, so the LMI's infimum is at P → 0 and the shape is whatever the solver stops at."""
+
+
+def _choice(value: str, table: dict, name: str) -> int:
+    if value not in table:
+        raise InvalidArgumentError(f"{name}: expected one of {', '.join(map(repr, table))}, got {value!r}")
+    return table[value]
+
+
+@dataclass(frozen=True)
+class EllDesign:
+    """An offline ellipsoidal design: every estimator of this module starts from one.
+
+    ``P`` shape, ``L`` gain (n_x × n_y), ``beta`` and ``sigma`` of ``ρ⁺ ≤ βρ + σ``,
+    ``rho_inf = σ/(1−β)``, ``volume_inf`` the volume of the steady-state ellipsoid
+    ``E(P, ·, rho_inf)``, ``vertex_blocks`` the number of LMI blocks imposed."""
+
+    P: np.ndarray
+    L: np.ndarray
+    beta: float
+    sigma: float
+    rho_inf: float
+    volume_inf: float
+    normalization: str
+    vertex_blocks: int
+    system: Any = field(repr=False)
+    _handle: Any = field(repr=False, compare=False)
+
+    @property
+    def nx(self) -> int:
+        return self.P.shape[0]
+
+
+def design_offline(system, normalization: str = "logdet", beta: float | None = None) -> EllDesign:
+    """The offline design of papers.md §1.1 (§4.1 for a :class:`DescriptorSystem`).
+
+    ``normalization``: ``"logdet"`` (``log det P ≥ 0``: the minimum steady-state volume; the
+    default), ``"ball"`` (``P ⪰ I``), or ``"paper_trace"`` (``tr P ≤ 1`` as printed; degenerate,
+    warns). ``beta``: a fixed value in (0, 1), or ``None`` to choose it by a scalar search on the
+    steady-state volume (logdet) or on ``ρ∞`` (ball). Raises ``NotDetectableError`` when
+    ``(C, A)`` is not detectable and ``InfeasibleError`` when no design exists.
+    """
+    norm = _choice(normalization, _NORMALIZATIONS, "normalization")
+    if norm == lib.SB_ELL_NORM_PAPER_TRACE:
+        warnings.warn("normalization='paper_trace' (tr P <= 1, papers.md §1.1) is degenerate: the LMI is "
+                      "homogeneous, so an upper bound on P drives P towards 0; use 'logdet' or 'ball'",
+                      DegenerateDesignWarning, stacklevel=2)
+    if beta is None:
+        b = math.nan
+    else:
+        b = float(beta)
+        if not (0.0 < b < 1.0):
+            raise InvalidArgumentError(f"beta: must be in (0, 1), got {beta!r}")
+    handle = ffi.new("sb_ell_design**")
+    if isinstance(system, DescriptorSystem):
+        check(lib.sb_ell_design_descriptor(system._handle, norm, b, handle))
+    elif isinstance(system, LinearSystem):
+        check(lib.sb_ell_design_offline(system._handle, norm, b, handle))
+    else:
+        raise InvalidArgumentError(f"system: expected a LinearSystem or DescriptorSystem, got {type(system).__name__}")
+    h = ffi.gc(handle[0], lib.sb_ell_design_free)
+    nx, ny = ffi.new("int*"), ffi.new("int*")
+    check(lib.sb_ell_design_dims(h, nx, ny))
+    P, L, sc = np.empty((nx[0], nx[0])), np.empty((nx[0], ny[0])), np.empty(4)
+    blocks, nm = ffi.new("int*"), ffi.new("int*")
+    check(lib.sb_ell_design_get(h, dptr(P), dptr(L), dptr(sc), blocks, nm))
+    for a in (P, L):
+        a.flags.writeable = False
+    return EllDesign(P, L, float(sc[0]), float(sc[1]), float(sc[2]), float(sc[3]), _NORM_NAMES[nm[0]],
+                     int(blocks[0]), system, h)
+
+
+class _EllipsoidalEstimator:
+    _method: int
+    is_filter: bool = False
+
+    def _create(self, design: EllDesign, x0: Ellipsoid, *, option=0, feedback=0, predictor=0, descriptor=None):
+        if not isinstance(design, EllDesign):
+            raise InvalidArgumentError(f"design: expected an EllDesign (from design_offline), got {type(design).__name__}")
+        if not isinstance(x0, Ellipsoid):
+            raise InvalidArgumentError(f"x0: expected a setbound.Ellipsoid, got {type(x0).__name__}")
+        if x0.n != design.nx:
+            raise DimensionError(f"x0: expected an ellipsoid of dimension {design.nx}, got {x0.n}")
+        self.design = design
+        self.system = design.system
+        handle = ffi.new("sb_ellipsoidal**")
+        check(lib.sb_ellipsoidal_create(design._handle, self._method, option, feedback, predictor,
+                                        descriptor._handle if descriptor is not None else ffi.NULL,
+                                        dptr(x0.P), dptr(x0.center), x0.rho, handle))
+        self._handle = ffi.gc(handle[0], lib.sb_ellipsoidal_free)
+        n = design.nx
+        self._P, self._c, self._rho = np.empty((n, n)), np.empty(n), ffi.new("double*")
+        self._lo, self._hi = np.empty(n), np.empty(n)
+
+    def _inputs(self, y, u):
+        s = self.system
+        y = as_f64(y, "y", shape=(s.ny,))
+        if s.nu > 0:
+            if u is None:
+                raise InvalidArgumentError(f"u: the system has {s.nu} inputs; an input is required")
+            u = as_f64(u, "u", shape=(s.nu,))
+        elif u is not None and np.size(u) != 0:
+            raise DimensionError("u: the system has no input")
+        return y, (dptr(u) if s.nu > 0 else ffi.NULL)
+
+    def _snapshot(self):
+        return (Ellipsoid(self._P.copy(), self._c.copy(), self._rho[0]), self._lo.copy(), self._hi.copy())
+
+    @property
+    def current(self) -> Ellipsoid:
+        """Predictors: the set for the next state ``x_k`` (before ``y_k`` is used); filters: the
+        set returned by the last step."""
+        check(lib.sb_ellipsoidal_current(self._handle, dptr(self._P), dptr(self._c), self._rho,
+                                         dptr(self._lo), dptr(self._hi)))
+        return self._snapshot()[0]
+
+    @property
+    def steps(self) -> int:
+        s = ffi.new("int*")
+        check(lib.sb_ellipsoidal_info(self._handle, ffi.NULL, s, ffi.NULL, ffi.NULL, ffi.NULL))
+        return int(s[0])
+
+    def _step(self, y, u):
+        y, up = self._inputs(y, u)
+        check(lib.sb_ellipsoidal_step(self._handle, dptr(y), up, dptr(self._P), dptr(self._c), self._rho,
+                                      dptr(self._lo), dptr(self._hi)))
+
+    def step(self, y, u=None) -> Ellipsoid:
+        """Uses ``y_k`` (and ``u_k``). Predictors return the set for ``x_{k+1}``, filters the set
+        for ``x_k``. On error (wrong shape, NaN) the estimator is unchanged."""
+        self._step(y, u)
+        return self._snapshot()[0]
+
+    def last_step(self) -> dict:
+        """``beta`` and gain ``L`` of the last prediction, and ``fallback`` (True when the online
+        LMI could not be solved and certified and the design's values were used)."""
+        b, fb = ffi.new("double*"), ffi.new("int*")
+        L = np.empty((self.design.nx, self.system.ny))
+        check(lib.sb_ellipsoidal_last_step(self._handle, b, dptr(L), fb))
+        return {"beta": float(b[0]), "L": L, "fallback": bool(fb[0])}
+
+    def run(self, y, u=None) -> Trajectory:
+        """Processes the rows of ``y`` (N × n_y) and ``u`` (N × n_u); row k of the result is
+        about ``x_k`` (see the module docstring for what each row has used)."""
+        s = self.system
+        y = as_f64(y, "y", shape=(None, s.ny))
+        N = y.shape[0]
+        if s.nu > 0:
+            u = as_f64(u, "u", shape=(N, s.nu))
+        n = self.design.nx
+        centers, lows, highs, sets = np.empty((N, n)), np.empty((N, n)), np.empty((N, n)), []
+        if not self.is_filter and N > 0:
+            check(lib.sb_ellipsoidal_current(self._handle, dptr(self._P), dptr(self._c), self._rho,
+                                             dptr(self._lo), dptr(self._hi)))
+        for k in range(N):
+            if self.is_filter:
+                self._step(y[k], u[k] if s.nu > 0 else None)
+            E, lo, hi = self._snapshot()
+            centers[k], lows[k], highs[k] = E.center, lo, hi
+            sets.append(E)
+            if not self.is_filter:
+                self._step(y[k], u[k] if s.nu > 0 else None)
+        return Trajectory(centers, lows, highs, sets)
+
+
+class OfflineEstimator(_EllipsoidalEstimator):
+    """papers.md §1.1: fixed gain ``L``, ``x̄⁺ = A x̄ + B u + L (y − C x̄ − D u)``, ``ρ⁺ = βρ + σ``.
+    A one-step predictor. ``x0`` is converted to the design's shape (§0.1)."""
+
+    _method = lib.SB_ELL_OFFLINE
+
+    def __init__(self, design: EllDesign, x0: Ellipsoid):
+        self._create(design, x0)
+
+
+class OnlineEstimator(_EllipsoidalEstimator):
+    """papers.md §1.2: per step, the LMI in ``(β_k, L_k, ρ_{k+1})`` with the design's shape ``P``
+    (vertex enumeration); ``scaling=True``: the scaling technique of §1.3 (one LMI, no vertex
+    enumeration; never smaller than the vertex version). With an interval ``A`` the centre term
+    of §6.7 is included. A one-step predictor."""
+
+    def __init__(self, design: EllDesign, x0: Ellipsoid, scaling: bool = False):
+        self._method = lib.SB_ELL_ONLINE_SCALED if scaling else lib.SB_ELL_ONLINE_VERTEX
+        self.scaling = bool(scaling)
+        self._create(design, x0)
+
+
+class ImprovedEstimator(_EllipsoidalEstimator):
+    """papers.md §2.2 / §6: a prediction with the design's shape followed by the
+    measurement-based correction with the new measurement (a filter).
+
+    ``option`` (§6.5): ``"det_normalized"`` (min ρ' with ``det P' ≥ det P``: the minimum-volume
+    corrected set; default), ``"fixed_shape"`` (``P' = P``), ``"ball_normalized"``.
+    ``feedback`` (§6.6): ``"fixed_shape"`` (default: solve the fixed-shape correction too and feed
+    back the better P-shaped bound), ``"outer_bound"`` (feed back the P-shaped bound of the
+    corrected set when smaller: cheaper, rarely helps), ``"none"`` (report only). ``predictor``: ``"online"`` (§1.2, default, as [Merhy2017]),
+    ``"scaled"`` or ``"offline"``. The reported bounds intersect the corrected and predicted hulls.
+    """
+
+    _method = lib.SB_ELL_IMPROVED
+    is_filter = True
+
+    def __init__(self, design: EllDesign, x0: Ellipsoid, option: str = "det_normalized", *,
+                 feedback: str = "fixed_shape", predictor: str = "online"):
+        self.option, self.feedback, self.predictor = option, feedback, predictor
+        self._create(design, x0, option=_choice(option, _OPTIONS, "option"),
+                     feedback=_choice(feedback, _FEEDBACK, "feedback"),
+                     predictor=_choice(predictor, _PREDICTORS, "predictor"))
+
+
+class DescriptorEstimator(_EllipsoidalEstimator):
+    """papers.md §4.1: ``x̄_{k+1} = T A x̄_k + T B u_k + N y_{k+1} + L (y_k − C x̄_k)``,
+    ``ρ⁺ = βρ + σ``, with a design from ``design_offline(DescriptorSystem(...))``. A filter:
+    row ``k`` uses ``y_0 … y_k`` (row 0 is ``x0`` in the design's shape)."""
+
+    _method = lib.SB_ELL_DESCRIPTOR
+    is_filter = True
+
+    def __init__(self, design: EllDesign, x0: Ellipsoid):
+        if not isinstance(getattr(design, "system", None), DescriptorSystem):
+            raise InvalidArgumentError("design: DescriptorEstimator needs a design made for a DescriptorSystem")
+        self._create(design, x0, descriptor=design.system)
+
+
+class KalmanFilter:
+    """The Kalman filter of papers.md §2.3 in Joseph form — the contrast, **not guaranteed**.
+
+    ``ω ~ N(0, omega_cov)`` (identity by default) drives ``x⁺ = Ax + Bu + Eω`` and
+    ``y = Cx + Du + Fω`` (correlated state/output noise handled); ``x_0 ~ N(mean0, cov0)``.
+    ``run`` returns a Trajectory with ``guaranteed = False``, ``center`` the mean, ``lower`` /
+    ``upper`` the ``mean ∓ nsigma·σ`` box, and ``covariance`` (N × n × n); row k uses y_0 … y_k.
+    """
+
+    def __init__(self, system: LinearSystem, mean0, cov0, omega_cov=None, *, nsigma: float = 3.0):
+        if not isinstance(system, LinearSystem):
+            raise InvalidArgumentError(f"system: expected a setbound.LinearSystem, got {type(system).__name__}")
+        n = system.nx
+        mean0 = as_f64(mean0, "mean0", shape=(n,))
+        cov0 = as_f64(cov0, "cov0", shape=(n, n))
+        W = None if omega_cov is None else as_f64(omega_cov, "omega_cov", shape=(system.nw, system.nw))
+        if not (np.isfinite(nsigma) and nsigma > 0):
+            raise InvalidArgumentError(f"nsigma: must be a positive number, got {nsigma!r}")
+        handle = ffi.new("sb_kalman**")
+        check(lib.sb_kalman_create(system._handle, dptr(mean0), dptr(cov0), dptr(W) if W is not None else ffi.NULL,
+                                   handle))
+        self._handle = ffi.gc(handle[0], lib.sb_kalman_free)
+        self.system, self.nsigma = system, float(nsigma)
+        self.mean, self.covariance = mean0.copy(), cov0.copy()
+
+    def step(self, y, u=None):
+        """Correction with ``y_k``, then prediction; returns ``(mean, covariance)`` of ``x_k``."""
+        s = self.system
+        y = as_f64(y, "y", shape=(s.ny,))
+        if s.nu > 0:
+            if u is None:
+                raise InvalidArgumentError(f"u: the system has {s.nu} inputs; an input is required")
+            u = as_f64(u, "u", shape=(s.nu,))
+        elif u is not None and np.size(u) != 0:
+            raise DimensionError("u: the system has no input")
+        m, G = np.empty(s.nx), np.empty((s.nx, s.nx))
+        check(lib.sb_kalman_step(self._handle, dptr(y), dptr(u) if s.nu > 0 else ffi.NULL, dptr(m), dptr(G)))
+        self.mean, self.covariance = m, G
+        return m.copy(), G.copy()
+
+    def run(self, y, u=None) -> Trajectory:
+        s = self.system
+        y = as_f64(y, "y", shape=(None, s.ny))
+        N = y.shape[0]
+        if s.nu > 0:
+            u = as_f64(u, "u", shape=(N, s.nu))
+        means, covs = np.empty((N, s.nx)), np.empty((N, s.nx, s.nx))
+        for k in range(N):
+            means[k], covs[k] = self.step(y[k], u[k] if s.nu > 0 else None)
+        sd = self.nsigma * np.sqrt(np.maximum(np.diagonal(covs, axis1=1, axis2=2), 0.0))
+        t = Trajectory(means, means - sd, means + sd, [], guaranteed=False)
+        t.covariance = covs
+        return t
