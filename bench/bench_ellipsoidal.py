@@ -1,0 +1,118 @@
+"""Ellipsoidal estimators: per-step time of every method, design time and the Kalman step,
+on the 3-state example of papers.md §1.4 (EX-BC14) and on random 6-state systems, from Python.
+
+Medians over >= 200 steps (each step timed on its own, after a short warm-up). Prints a
+Markdown table and, with --write, replaces the "Ellipsoidal estimators" section of
+docs/benchmarks.md. The C++-side figures come from bench/bench_ellipsoidal_cpp (built with
+-DSETBOUND_BUILD_BENCH=ON); pass its output file with --cpp to merge them into the table.
+
+    python bench/bench_ellipsoidal.py [--steps 300] [--write] [--cpp FILE]
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import re
+import statistics
+import time
+from pathlib import Path
+
+import numpy as np
+
+import setbound as sb
+from setbound import ellipsoidal as ell
+from setbound.simulation import simulate
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def bc14():
+    return sb.LinearSystem([[1, 0, 0.2], [0, 0.8, 1], [0, 0, 1]], [[1, 0, 2], [0, -1, 1]],
+                           E=[[0.1, 0, 0, 0, 0], [0, 0.05, 0, 0, 0], [0, 0, 0.05, 0, 0]],
+                           F=[[0, 0, 0, 0.15, 0], [0, 0, 0, 0, 0.15]])
+
+
+def random6(seed):
+    """A random detectable 6-state system, 2 outputs, 6 disturbances (4 state, 2 output)."""
+    rng = np.random.default_rng(seed)
+    while True:
+        A = rng.standard_normal((6, 6))
+        A *= 0.9 / max(abs(np.linalg.eigvals(A)))
+        C = rng.standard_normal((2, 6))
+        E = np.hstack([0.1 * rng.standard_normal((6, 4)), np.zeros((6, 2))])
+        F = np.hstack([np.zeros((2, 4)), 0.1 * np.eye(2)])
+        s = sb.LinearSystem(A, C, E=E, F=F)
+        if s.is_detectable():
+            return s
+
+
+def per_step_ms(make, y, warmup=5):
+    est = make()
+    times = []
+    for k in range(y.shape[0]):
+        t0 = time.perf_counter()
+        est.step(y[k])
+        times.append(time.perf_counter() - t0)
+    return 1e3 * statistics.median(times[warmup:])
+
+
+def bench_system(label, s, steps):
+    x0 = sb.Ellipsoid(np.eye(s.nx), np.zeros(s.nx), 1.0)
+    t0 = time.perf_counter()
+    d = ell.design_offline(s)
+    design_s = time.perf_counter() - t0
+    y = simulate(s, x0, steps, rng=1).y
+    rows = [(label, "offline design (logdet, β search)", 1e3 * design_s, "once")]
+    for name, make in [
+        ("offline step (§1.1)", lambda: ell.OfflineEstimator(d, x0)),
+        ("online vertex step (§1.2)", lambda: ell.OnlineEstimator(d, x0)),
+        ("online scaled step (§1.3)", lambda: ell.OnlineEstimator(d, x0, scaling=True)),
+        ("improved step (online + correction, §6)", lambda: ell.ImprovedEstimator(d, x0)),
+        ("Kalman step (§2.3)", lambda: ell.KalmanFilter(s, np.zeros(s.nx), np.eye(s.nx))),
+    ]:
+        rows.append((label, name, per_step_ms(make, y), f"median of {steps - 5}"))
+    return rows
+
+
+def table(rows, cpp):
+    out = ["| system | what | Python ms | C++ ms | |", "|---|---|---:|---:|---|"]
+    for sysname, what, ms, note in rows:
+        c = cpp.get((sysname, what.split(" (")[0]))
+        out.append(f"| {sysname} | {what} | {ms:.3f} | {'' if c is None else f'{c:.3f}'} | {note} |")
+    return "\n".join(out)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--steps", type=int, default=300)
+    ap.add_argument("--write", action="store_true")
+    ap.add_argument("--cpp", help="output of bench_ellipsoidal_cpp (lines: system<TAB>what<TAB>ms)")
+    a = ap.parse_args()
+    rows = bench_system("EX-BC14 (n=3, n_y=2, n_ω=5)", bc14(), a.steps)
+    rows += bench_system("random 6-state (n_y=2, n_ω=6)", random6(6), a.steps)
+    cpp = {}
+    if a.cpp:
+        for line in Path(a.cpp).read_text().splitlines():
+            parts = line.split("\t")
+            if len(parts) == 3:
+                cpp[(parts[0], parts[1])] = float(parts[2])
+    md = table(rows, cpp)
+    head = (f"Measured {time.strftime('%Y-%m-%d')} on {platform.machine()} ({os.cpu_count()} cores, "
+            f"{platform.python_implementation()} {platform.python_version()}), setbound {sb.__version__}; "
+            f"per-step medians, each step timed alone.")
+    print(head)
+    print(md)
+    if a.write:
+        doc = ROOT / "docs" / "benchmarks.md"
+        text = doc.read_text() if doc.exists() else "# Benchmarks\n"
+        section = f"## Ellipsoidal estimators\n\n{head}\n\n{md}\n"
+        if "## Ellipsoidal estimators" in text:
+            text = re.sub(r"## Ellipsoidal estimators\n.*?(?=\n## |\Z)", section, text, flags=re.S)
+        else:
+            text = text.rstrip() + "\n\n" + section
+        doc.write_text(text)
+
+
+if __name__ == "__main__":
+    main()
