@@ -187,6 +187,68 @@ def test_pradius_design_agrees_with_cvxpy_at_its_beta():
         assert tau.value == pytest.approx(d.tau[i], rel=1e-4)
 
 
+def _coupled_tau_with_cvxpy(sys, d, Fw, t):
+    """The approach-2 LMI of papers §3.3 for the strip at position t of d.strip_order, with
+    the earlier gains of the design fixed, solved by CVXPY + Clarabel at the design's β.
+    Written from the spec, independently of the library's model builder."""
+    cp = pytest.importorskip("cvxpy")
+    pytest.importorskip("clarabel")
+    n, r = sys.nx, Fw.shape[1]
+    order = list(d.strip_order)
+    o, prev = order[t], order[:t]
+    c, phi, beta = sys.C[o], np.abs(sys.F[o]).sum(), d.beta[o]
+    phis = {i: np.abs(sys.F[i]).sum() for i in range(sys.ny)}
+    kappa = {i: np.eye(n) - np.outer(d.lambdas[i], sys.C[i]) for i in range(sys.ny)}
+    K = np.eye(n)
+    for i in prev:  # K = κ_{t-1} ⋯ κ_0
+        K = kappa[i] @ K
+    # v_l = κ_{t-1} ⋯ κ_{l+1} φ_l λ_l: the earlier strips' generators as seen by strip t.
+    vs = []
+    for a, i in enumerate(prev):
+        v = phis[i] * d.lambdas[i]
+        for j in prev[a + 1:]:
+            v = kappa[j] @ v
+        vs.append(v[:, None])
+    q = len(prev)
+    P = cp.Variable((n, n), symmetric=True)
+    Y = cp.Variable((n, 1))
+    tau = cp.Variable()
+    norm = d.psi + phi**2 + sum(phis[i] ** 2 for i in prev)
+    cons = [tau >= 0, (1 - beta) * P / norm - tau * np.eye(n) >> 0]
+    for G in sys.A_interval.vertices():
+        Mt = P - Y @ c[None, :]  # (P − c Yᵀ)ᵀ
+        last = [Mt @ (K @ G), Mt @ (K @ Fw)] + [Mt @ v for v in vs] + [phi * Y, P]
+        # Diagonal blocks βP, F_wᵀF_w, φ_l² (earlier strips), φ_t²; the last block row couples them.
+        diag = [beta * P, Fw.T @ Fw] + [np.array([[phis[i] ** 2]]) for i in prev] + [np.array([[phi**2]])]
+        sizes = [n, r] + [1] * (q + 1)
+        rows = []
+        for a, Da in enumerate(diag):
+            row = [Da if b == a else np.zeros((sizes[a], sizes[b])) for b in range(len(diag))]
+            rows.append(row + [last[a].T])
+        rows.append(last)
+        blk = cp.bmat(rows)
+        cons.append((blk + blk.T) / 2 >> 0)
+    cp.Problem(cp.Maximize(tau), cons).solve(solver="CLARABEL")
+    return tau.value
+
+
+@pytest.mark.parametrize("order", [None, [1, 0]])
+def test_pradius_coupled_design_agrees_with_cvxpy_at_its_beta(order):
+    """Approach 2 (papers §3.3): every strip's LMI, with the earlier strips' gains fixed at the
+    design's values, re-solved by CVXPY + Clarabel at the design's β gives the design's τ."""
+    sys = le13()
+    d = setbound.zonotopic.design_pradius(sys, approach=2, order=order)
+    assert list(d.strip_order) == (order or [0, 1])
+    Fw = np.array([[-0.12], [0.02]])  # the one non-zero column of E
+    for t, o in enumerate(d.strip_order):
+        tau = _coupled_tau_with_cvxpy(sys, d, Fw, t)
+        assert tau == pytest.approx(d.tau[o], rel=1e-4), f"strip {o} at position {t}"
+    # The second strip's LMI really is the coupled one: with the first strip's block left out
+    # (approach 1 at the same β) the optimum differs.
+    d1 = setbound.zonotopic.design_pradius(sys, approach=1, order=order)
+    assert not np.isclose(d.tau[d.strip_order[1]], d1.tau[d1.strip_order[1]], rtol=1e-3)
+
+
 def test_pradius_best_order_is_at_least_the_natural_one():
     sys = le13()
     d_nat = setbound.zonotopic.design_pradius(sys, approach=2)
