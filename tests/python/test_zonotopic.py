@@ -57,6 +57,22 @@ def test_random_systems_with_inputs_contain_truth(rng):
     assert steps >= 2000
 
 
+@pytest.mark.parametrize("reduction", ["combastel", "girard", "pca"])
+def test_every_reduction_contains_truth(reduction, rng):
+    """Random and vertex disturbances, known and interval A, a small limit so that the
+    reduction runs at every step."""
+    for interval in (False, True):
+        sys = le13(interval)
+        for vertex in (False, True):
+            A_true = sys.A + ([[0, 0], [0, 0.3 * rng.choice([-1.0, 1.0])]] if interval else 0)
+            xs, ys, _ = simulate(sys, A_true, rng.uniform(-3, 3, 2), 60, rng, vertex)
+            est = SegmentMinEstimator(sys, Zonotope([0, 0], 3 * np.eye(2)), max_generators=5, reduction=reduction)
+            assert est.reduction == reduction
+            traj = est.run(ys)
+            assert all(Z.contains(x) for Z, x in zip(traj.sets, xs))
+            assert max(Z.m for Z in traj.sets[2:]) <= 5
+
+
 def test_one_step_matches_an_independent_derivation():
     """Segment-min step re-derived in numpy: λ = HHᵀc/(cᵀHHᵀc + φ²), strip by strip."""
     sys = le13(interval=False)
@@ -107,11 +123,20 @@ def test_options_are_honoured():
     (lambda: SegmentMinEstimator(le13(), Zonotope([0, 0, 0], np.eye(3))), setbound.DimensionError, "x0:"),
     (lambda: SegmentMinEstimator(le13(), Zonotope([0, 0], np.eye(2)), max_generators=1), setbound.InvalidArgumentError, "max_generators"),
     (lambda: SegmentMinEstimator(le13(), Zonotope([0, 0], np.eye(2)), strip_order=[0, 0]), setbound.InvalidArgumentError, "strip_order"),
+    (lambda: SegmentMinEstimator(le13(), Zonotope([0, 0], np.eye(2)), reduction="svd"), setbound.InvalidArgumentError, "reduction"),
     (lambda: SegmentMinEstimator("sys", Zonotope([0, 0], np.eye(2))), setbound.InvalidArgumentError, "system:"),
 ])
 def test_bad_input_names_the_problem(make, exc, needle):
     with pytest.raises(exc, match=needle):
         make()
+
+
+def test_c_abi_rejects_an_unknown_reduction():
+    from setbound._native import ffi, lib
+    est = SegmentMinEstimator(le13(), Zonotope([0, 0], np.eye(2)))
+    assert lib.sb_zonotopic_set_reduction(est._handle, 9) == lib.SB_ERR_INVALID_ARGUMENT
+    assert ffi.string(lib.sb_last_error()).decode().startswith("sb_zonotopic_set_reduction: method:")
+    assert lib.sb_zonotopic_set_reduction(ffi.NULL, 1) == lib.SB_ERR_INVALID_ARGUMENT
 
 
 def test_bad_measurement_leaves_the_estimator_unchanged():
