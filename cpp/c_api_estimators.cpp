@@ -15,7 +15,6 @@ using namespace setbound::capi;
 
 struct sb_zonotopic {
   ZonotopicEstimator estimator;
-  std::optional<Zonotope> last;
 };
 
 namespace {
@@ -92,16 +91,14 @@ int sb_zonotopic_create(const sb_linear_system* system, int gain, const double* 
     require_pointer(out, "out");
     *out = nullptr;
     const LinearSystem& sys = system_arg(system);
-    ZonotopeGainRule rule;
+    std::optional<ZonotopeGain> rule;
     switch (gain) {
-      case SB_ZONO_GAIN_SEGMENT_MIN: rule = segment_min_gain; break;
-      case SB_ZONO_GAIN_VOLUME_MIN: rule = volume_min_gain; break;
+      case SB_ZONO_GAIN_SEGMENT_MIN: rule.emplace(segment_min_gain); break;
+      case SB_ZONO_GAIN_VOLUME_MIN: rule.emplace(volume_min_gain); break;
       case SB_ZONO_GAIN_FIXED: {
         require_pointer(lambdas, "lambdas");
-        PRadiusDesign fixed;
-        fixed.lambdas = matrix_arg(lambdas, static_cast<int>(sys.ny()), static_cast<int>(sys.nx()), "lambdas");
-        require_finite(fixed.lambdas, "lambdas");
-        rule = pradius_gain(fixed);
+        rule.emplace(ZonotopeGain::fixed(
+            matrix_arg(lambdas, static_cast<int>(sys.ny()), static_cast<int>(sys.nx()), "lambdas")));
         break;
       }
       default: throw InvalidArgumentError("gain: unknown gain rule " + std::to_string(gain));
@@ -115,8 +112,7 @@ int sb_zonotopic_create(const sb_linear_system* system, int gain, const double* 
     opt.use_first_measurement = use_first_measurement != 0;
     if (strip_order != nullptr)
       opt.strip_order.assign(strip_order, strip_order + sys.ny());
-    auto est = std::make_unique<sb_zonotopic>(
-        sb_zonotopic{ZonotopicEstimator(sys, std::move(x0), std::move(rule), std::move(opt)), std::nullopt});
+    auto est = std::make_unique<sb_zonotopic>(sb_zonotopic{ZonotopicEstimator(sys, x0, std::move(*rule), std::move(opt))});
     *out = est.release();
   });
 }
@@ -126,11 +122,26 @@ int sb_zonotopic_free(sb_zonotopic* estimator) {
   return SB_OK;
 }
 
+int sb_zonotopic_set_reduction(sb_zonotopic* estimator, int method) {
+  return guard("sb_zonotopic_set_reduction", [&] {
+    require_pointer(estimator, "estimator");
+    switch (method) {
+      case SB_ZONO_REDUCE_COMBASTEL: estimator->estimator.set_reduction(ZonotopeReduction::Combastel); break;
+      case SB_ZONO_REDUCE_GIRARD: estimator->estimator.set_reduction(ZonotopeReduction::Girard); break;
+      case SB_ZONO_REDUCE_PCA: estimator->estimator.set_reduction(ZonotopeReduction::Pca); break;
+      default:
+        throw InvalidArgumentError("method: unknown reduction method " + std::to_string(method) +
+                                   " (SB_ZONO_REDUCE_COMBASTEL = 1, SB_ZONO_REDUCE_GIRARD = 2, SB_ZONO_REDUCE_PCA = 3)");
+    }
+  });
+}
+
 int sb_zonotopic_step(sb_zonotopic* estimator, const double* y, const double* u, double* center,
                       double* lower, double* upper, int* m) {
   return guard("sb_zonotopic_step", [&] {
     require_pointer(estimator, "estimator");
-    const LinearSystem& sys = estimator->estimator.system();
+    ZonotopicEstimator& est = estimator->estimator;
+    const LinearSystem& sys = est.system();
     const int nx = static_cast<int>(sys.nx());
     const int nu = static_cast<int>(sys.nu());
     require_pointer(center, "center");
@@ -138,14 +149,12 @@ int sb_zonotopic_step(sb_zonotopic* estimator, const double* y, const double* u,
     require_pointer(upper, "upper");
     require_pointer(m, "m");
     if (nu > 0) require_pointer(u, "u");
-    const Eigen::VectorXd uv = nu > 0 ? Eigen::VectorXd(vector_arg(u, nu, "u")) : Eigen::VectorXd(0);
-    Zonotope X = estimator->estimator.step(vector_arg(y, static_cast<int>(sys.ny()), "y"), uv);
-    const BoundingBox box = X.interval_hull();
-    VecMap(center, nx) = X.center();
-    VecMap(lower, nx) = box.lo;
-    VecMap(upper, nx) = box.hi;
-    *m = static_cast<int>(X.num_generators());
-    estimator->last = std::move(X);
+    if (nu > 0) est.update(vector_arg(y, static_cast<int>(sys.ny()), "y"), vector_arg(u, nu, "u"));
+    else est.update(vector_arg(y, static_cast<int>(sys.ny()), "y"), Eigen::VectorXd(0));
+    VecMap(center, nx) = est.current_center();
+    VecMap(lower, nx) = est.current_lower();
+    VecMap(upper, nx) = est.current_upper();
+    *m = static_cast<int>(est.current_num_generators());
   });
 }
 
@@ -153,9 +162,9 @@ int sb_zonotopic_last_set(const sb_zonotopic* estimator, int* m, double* p, doub
   return guard("sb_zonotopic_last_set", [&] {
     require_pointer(estimator, "estimator");
     require_pointer(m, "m");
-    if (!estimator->last) throw InvalidArgumentError("estimator: no step has been taken yet");
-    const Zonotope& X = *estimator->last;
-    const int need = static_cast<int>(X.num_generators());
+    const ZonotopicEstimator& est = estimator->estimator;
+    if (!est.has_current()) throw InvalidArgumentError("estimator: no step has been taken yet");
+    const int need = static_cast<int>(est.current_num_generators());
     if (*m < need) {
       const int capacity = *m;
       *m = need;
@@ -163,12 +172,21 @@ int sb_zonotopic_last_set(const sb_zonotopic* estimator, int* m, double* p, doub
                                 " generators");
     }
     *m = need;
-    const int nx = static_cast<int>(X.dimension());
+    const int nx = static_cast<int>(est.system().nx());
     require_pointer(p, "p");
-    VecMap(p, nx) = X.center();
+    VecMap(p, nx) = est.current_center();
     if (need > 0) {
       require_pointer(H, "H");
-      RowMap(H, nx, need) = X.generators();
+      // The generators, then the pending rounding box as axis-aligned columns.
+      auto out = RowMap(H, nx, need);
+      const auto G = est.current_generators();
+      out.leftCols(G.cols()) = G;
+      Eigen::Index j = G.cols();
+      for (Eigen::Index i = 0; i < nx; ++i)
+        if (est.current_box()(i) > 0) {
+          out.col(j).setZero();
+          out(i, j++) = est.current_box()(i);
+        }
     }
   });
 }

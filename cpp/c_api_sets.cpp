@@ -182,9 +182,9 @@ int sb_zonotope_reduce(int n, int m, const double* p, const double* H, int metho
   return guard("sb_zonotope_reduce", [&] {
     const Zonotope Z = zonotope_arg(n, m, p, H);
     require_output(m_out, "m_out");
-    if (method != SB_REDUCE_COMBASTEL && method != SB_REDUCE_GIRARD)
+    if (method != SB_REDUCE_COMBASTEL && method != SB_REDUCE_GIRARD && method != SB_REDUCE_PCA)
       throw InvalidArgumentError("method: unknown reduction method " + std::to_string(method) +
-                                 " (SB_REDUCE_COMBASTEL = 1, SB_REDUCE_GIRARD = 2)");
+                                 " (SB_REDUCE_COMBASTEL = 1, SB_REDUCE_GIRARD = 2, SB_REDUCE_PCA = 3)");
     if (limit < n)
       throw InvalidArgumentError("limit: the generator limit must be >= n = " + std::to_string(n) +
                                  ", got " + std::to_string(limit));
@@ -195,7 +195,9 @@ int sb_zonotope_reduce(int n, int m, const double* p, const double* H, int metho
       throw BufferTooSmallError("m_out: H_out has room for " + std::to_string(capacity) +
                                 " generators, the result has " + std::to_string(needed));
     }
-    const Zonotope R = method == SB_REDUCE_COMBASTEL ? Z.reduce_combastel(limit) : Z.reduce_girard_to(limit);
+    const Zonotope R = method == SB_REDUCE_COMBASTEL ? Z.reduce_combastel(limit)
+                       : method == SB_REDUCE_GIRARD  ? Z.reduce_girard_to(limit)
+                                                     : Z.reduce_pca(limit);
     if (R.num_generators() > capacity) throw InternalError("sb_zonotope_reduce: result larger than predicted");
     if (R.num_generators() > 0) require_output(H_out, "H_out");
     write_matrix(R.generators(), H_out);

@@ -110,6 +110,7 @@ int sb_imatrix_norm(int rows, int cols, const double* lo, const double* hi, doub
 /* Zonotope reduction methods for sb_zonotope_reduce. */
 #define SB_REDUCE_COMBASTEL 1
 #define SB_REDUCE_GIRARD 2
+#define SB_REDUCE_PCA 3
 
 /* Validates an ellipsoid (P SPD, c finite, rho >= 0 finite); SB_OK if valid. */
 int sb_ellipsoid_validate(int n, const double* P, const double* c, double rho);
@@ -152,9 +153,10 @@ int sb_zonotope_support(int n, int m, const double* p, const double* H, int ndir
 int sb_zonotope_contains(int n, int m, const double* p, const double* H, int npoints,
                          const double* points, double rel_tol, int* inside);
 /* Order reduction to at most `limit` (>= n) generators; method SB_REDUCE_COMBASTEL (keep
- * the limit-n longest columns, box the rest) or SB_REDUCE_GIRARD (keep the limit-n largest
- * ||g||_1 - ||g||_inf, box the rest). The centre is unchanged. The result has
- * min(m, limit) generators. *m_out: in = capacity of H_out in columns (H_out holds
+ * the limit-n longest columns, box the rest), SB_REDUCE_GIRARD (keep the limit-n largest
+ * ||g||_1 - ||g||_inf, box the rest) or SB_REDUCE_PCA (CORA's 'pca': Girard's choice, the rest
+ * boxed in the eigenbasis of its Gram matrix). The centre is unchanged; zero columns are
+ * dropped. The result has at most min(m, limit) generators. *m_out: in = capacity of H_out in columns (H_out holds
  * n * capacity doubles), out = the number of generators written; H_out then starts with
  * the compact n x (*m_out) row-major generator matrix. SB_ERR_BUFFER_TOO_SMALL sets
  * *m_out to the count needed. */
@@ -302,6 +304,15 @@ int sb_zonotopic_step(sb_zonotopic* estimator, const double* y, const double* u,
 /* The set returned by the last step: p (nx) and H (nx x m, row-major); *m in: capacity in
  * columns, out: the number of generators. */
 int sb_zonotopic_last_set(const sb_zonotopic* estimator, int* m, double* p, double* H);
+/* Order reduction of the estimator (from its next step on): SB_ZONO_REDUCE_COMBASTEL (the
+ * default, papers.md §0.1), SB_ZONO_REDUCE_GIRARD (CORA's default) or SB_ZONO_REDUCE_PCA
+ * (CORA's 'pca', used by its observer examples). At most max_generators generators are kept;
+ * the pending rounding box (~1e-15 relative) is not counted and is absorbed by the reduction,
+ * so before the first reduction a set may carry up to nx extra axis-aligned generators. */
+#define SB_ZONO_REDUCE_COMBASTEL 1
+#define SB_ZONO_REDUCE_GIRARD 2
+#define SB_ZONO_REDUCE_PCA 3
+int sb_zonotopic_set_reduction(sb_zonotopic* estimator, int method);
 /* The exact reference: interval hull of the exact consistent state set at each step (2 nx
  * LPs per step over x0 = p0 + H0 xi and all disturbances; known A only). Y: N x ny, U: N x nu
  * (NULL when nu = 0); lower, upper: N x nx. Row k uses y_0..y_k (y_1..y_k when

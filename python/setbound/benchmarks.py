@@ -6,7 +6,9 @@ zonotopes (centre + generators). In setbound's form the disturbance is stacked,
 ``ω = [w; v]`` with ``E = [G_W, 0]`` and ``F = [0, G_V]``, and the constant terms ``c + c_W``
 and ``c_V`` enter as one extra input column whose input is always 1. Columns of CORA's
 ``u``/``y`` are time steps; here rows are (the library's time indexing: row k is step k).
-CORA's loop intersects R0 with y(:,1) first, which is ``use_first_measurement=True``.
+CORA's loop intersects R0 with y(:,1) first, which is ``use_first_measurement=True``, and
+reduces after the strips of every step with its zonotope order and reduction technique
+(:meth:`CoraBenchmark.estimator_options`).
 """
 from __future__ import annotations
 
@@ -37,6 +39,16 @@ class CoraBenchmark:
     def max_generators(self) -> int:
         """CORA's zonotope order as a generator count."""
         return max(int(self.zonotope_order * self.system.nx), self.system.nx)
+
+    @property
+    def reduction_method(self) -> str:
+        """CORA's reduction technique as the estimators' ``reduction`` keyword (``"pca"`` or
+        ``"girard"``, CORA's default)."""
+        return "pca" if self.reduction.startswith("pca") else "girard"
+
+    def estimator_options(self) -> dict:
+        """Keyword arguments that run setbound's zonotopic estimators with CORA's settings."""
+        return {"max_generators": self.max_generators, "reduction": self.reduction_method}
 
 
 def _golden(d) -> dict[str, tuple[np.ndarray, np.ndarray]]:

@@ -23,7 +23,8 @@ from .errors import DimensionError, InvalidArgumentError
 __all__ = ["Ellipsoid", "Zonotope", "Strip", "interval_linear_map"]
 
 #: Reduction methods accepted by :meth:`Zonotope.reduce`.
-REDUCTION_METHODS = {"combastel": lib.SB_REDUCE_COMBASTEL, "girard": lib.SB_REDUCE_GIRARD}
+REDUCTION_METHODS = {"combastel": lib.SB_REDUCE_COMBASTEL, "girard": lib.SB_REDUCE_GIRARD,
+                     "pca": lib.SB_REDUCE_PCA}
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
@@ -275,7 +276,9 @@ class Zonotope:
 
         ``"combastel"``: keep the ``limit - n`` longest generators, box the rest ([Le2013]
         Property 3). ``"girard"``: keep the ``limit - n`` largest ``||g||_1 - ||g||_inf``,
-        box the rest (Girard 2005).
+        box the rest (Girard 2005). ``"pca"``: Girard's choice, the rest boxed in the
+        eigenbasis of its Gram matrix (CORA's ``reduce(Z,'pca',order)``). Zero columns are
+        dropped; the result always contains the zonotope (rounding included).
         """
         if method not in REDUCTION_METHODS:
             raise InvalidArgumentError(

@@ -34,13 +34,26 @@ def _check_system_and_x0(system, x0) -> None:
         raise DimensionError(f"x0: expected a zonotope of dimension {system.nx}, got {x0.n}")
 
 
+#: Order reductions of the zonotopic estimators (keyword ``reduction``).
+REDUCTIONS = {"combastel": lib.SB_ZONO_REDUCE_COMBASTEL, "girard": lib.SB_ZONO_REDUCE_GIRARD,
+              "pca": lib.SB_ZONO_REDUCE_PCA}
+
+
 class _ZonotopicEstimator:
+    """Common options: ``max_generators`` (the reduction limit; the pending rounding box of
+    relative size ~1e-15 is not counted, so before the first reduction a set may carry up to
+    n_x more axis-aligned generators), ``use_first_measurement``, ``strip_order`` and
+    ``reduction``: ``"combastel"`` (default, papers.md §0.1), ``"girard"`` (CORA's default) or
+    ``"pca"`` (CORA's ``reduce(Z,'pca',order)``, used by its observer examples)."""
+
     _gain: int
     _lambdas = None
 
     def __init__(self, system: LinearSystem, x0: Zonotope, *, max_generators: int = 20,
-                 use_first_measurement: bool = True, strip_order=None):
+                 use_first_measurement: bool = True, strip_order=None, reduction: str = "combastel"):
         _check_system_and_x0(system, x0)
+        if reduction not in REDUCTIONS:
+            raise InvalidArgumentError(f"reduction: expected one of {sorted(REDUCTIONS)}, got {reduction!r}")
         self.system = system
         order_ptr = ffi.NULL
         if strip_order is not None:
@@ -55,6 +68,8 @@ class _ZonotopicEstimator:
                                       1 if use_first_measurement else 0, order_ptr, x0.m,
                                       dptr(x0.center), dptr(x0.generators), handle))
         self._handle = ffi.gc(handle[0], lib.sb_zonotopic_free)
+        check(lib.sb_zonotopic_set_reduction(self._handle, REDUCTIONS[reduction]))
+        self.reduction = reduction
         self._m = ffi.new("int*")
 
     def _step(self, y, u):
@@ -190,10 +205,11 @@ class PRadiusEstimator(_ZonotopicEstimator):
     _gain = lib.SB_ZONO_GAIN_FIXED
 
     def __init__(self, design: PRadiusDesign, x0: Zonotope, *, max_generators: int = 20,
-                 use_first_measurement: bool = True):
+                 use_first_measurement: bool = True, reduction: str = "combastel"):
         if not isinstance(design, PRadiusDesign):
             raise InvalidArgumentError(f"design: expected a PRadiusDesign, got {type(design).__name__}")
         self.design = design
         self._lambdas = np.ascontiguousarray(design.lambdas, dtype=float)
         super().__init__(design.system, x0, max_generators=max_generators,
-                         use_first_measurement=use_first_measurement, strip_order=design.strip_order)
+                         use_first_measurement=use_first_measurement, strip_order=design.strip_order,
+                         reduction=reduction)

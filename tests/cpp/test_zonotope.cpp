@@ -296,11 +296,13 @@ TEST(Zonotope, CombastelReductionContainsTheOriginal) {
       EXPECT_EIGEN_NEAR(R.center(), Z.center(), 0.0);
       expect_support_dominates(R, Z, rng, 200);
       for (int k = 0; k < 100; ++k) EXPECT_TRUE(R.contains(sample_in(Z, rng, k % 2 == 0))) << n << " " << s;
-      // The kept columns are the s - n longest ones (papers §0.1).
-      std::vector<double> norms;
+      // The kept columns (first, in their original order) are the s - n longest ones (papers §0.1).
+      std::vector<double> norms, kept;
       for (int j = 0; j < m; ++j) norms.push_back(Z.generators().col(j).norm());
+      for (int j = 0; j < s - n; ++j) kept.push_back(R.generators().col(j).norm());
       std::sort(norms.rbegin(), norms.rend());
-      for (int j = 0; j < s - n; ++j) EXPECT_NEAR(R.generators().col(j).norm(), norms[j], 1e-14);
+      std::sort(kept.rbegin(), kept.rend());
+      for (int j = 0; j < s - n; ++j) EXPECT_NEAR(kept[j], norms[j], 1e-14);
     }
   }
 }
@@ -342,6 +344,181 @@ TEST(Zonotope, GirardReductionContainsTheOriginal) {
   EXPECT_NEAR(R.generators()(1, 2), 1.0, 1e-14);
   expect_error_naming<setbound::InvalidArgumentError>([&] { Z.reduce_girard(0.5); }, "order");
   expect_error_naming<setbound::InvalidArgumentError>([&] { Z.reduce_girard_to(1); }, "limit");
+}
+
+/// Σ_j |g_jᵀ d| of the generators, in long double (64-bit significand): its own rounding is
+/// ~2000 times below the double-precision margins of the reductions, so comparing two such
+/// sums without tolerance checks the containment of the generator parts exactly enough.
+long double generator_support(const MatrixXd& H, const VectorXd& d) {
+  long double s = 0.0L;
+  for (Eigen::Index j = 0; j < H.cols(); ++j) {
+    long double t = 0.0L;
+    for (Eigen::Index i = 0; i < H.rows(); ++i) t += static_cast<long double>(H(i, j)) * d(i);
+    s += t < 0 ? -t : t;
+  }
+  return s;
+}
+
+/// outer ⊇ inner ⊕ box(r), same centre: h_outer(d) >= h_inner(d) + |d|ᵀ r for random
+/// directions, the coordinate axes and the directions of outer's last `extra` columns (the
+/// replacement box, where a PCA box is tight), compared without tolerance. Columns the two
+/// share bit for bit (the kept generators) add the same term to both supports and are left
+/// out first, so a huge kept generator cannot hide the comparison of the boxed part.
+void expect_strict_support_dominates(const Zonotope& outer, const Zonotope& inner, std::mt19937& rng,
+                                     const VectorXd& r = VectorXd(), int extra = 0) {
+  const int n = static_cast<int>(inner.dimension());
+  ASSERT_EQ(outer.center(), inner.center());
+  std::vector<bool> used(static_cast<std::size_t>(inner.num_generators()), false);
+  std::vector<Eigen::Index> outer_rest;
+  for (Eigen::Index j = 0; j < outer.num_generators(); ++j) {
+    bool shared = false;
+    for (Eigen::Index i = 0; i < inner.num_generators() && !shared; ++i)
+      if (!used[static_cast<std::size_t>(i)] && inner.generators().col(i) == outer.generators().col(j))
+        used[static_cast<std::size_t>(i)] = shared = true;
+    if (!shared) outer_rest.push_back(j);
+  }
+  MatrixXd Ho(n, static_cast<Eigen::Index>(outer_rest.size())), Hi(n, 0);
+  for (std::size_t j = 0; j < outer_rest.size(); ++j) Ho.col(static_cast<Eigen::Index>(j)) = outer.generators().col(outer_rest[j]);
+  for (Eigen::Index i = 0; i < inner.num_generators(); ++i)
+    if (!used[static_cast<std::size_t>(i)]) {
+      Hi.conservativeResize(n, Hi.cols() + 1);
+      Hi.col(Hi.cols() - 1) = inner.generators().col(i);
+    }
+  std::vector<VectorXd> dirs;
+  for (int k = 0; k < 300; ++k) dirs.push_back(random_vector(n, rng));
+  for (int i = 0; i < n; ++i) dirs.push_back(VectorXd::Unit(n, i));
+  const Eigen::Index m = outer.num_generators();
+  for (int j = 0; j < extra && j < m; ++j) {
+    const VectorXd w = outer.generators().col(m - 1 - j);
+    if (w.norm() > 0) dirs.push_back(w / w.norm());
+  }
+  for (const VectorXd& d : dirs) {
+    long double hi = generator_support(Hi, d);
+    for (Eigen::Index i = 0; r.size() > 0 && i < n; ++i) hi += std::abs(static_cast<long double>(d(i))) * r(i);
+    const long double ho = generator_support(Ho, d);
+    EXPECT_LE(hi, ho) << "direction " << d.transpose();
+  }
+}
+
+/// Sampled points of `inner` are in `outer` (exact membership; skipped when the facet
+/// enumeration of `outer` would be long).
+void expect_samples_inside(const Zonotope& outer, const Zonotope& inner, std::mt19937& rng, int count) {
+  if (setbound::detail::binomial(outer.num_generators(), outer.dimension() - 1) > 3000) return;
+  for (int k = 0; k < count; ++k) EXPECT_TRUE(outer.contains(sample_in(inner, rng, k % 2 == 0)));
+}
+
+TEST(Zonotope, PcaReductionContainsTheOriginal) {
+  std::mt19937 rng(21);
+  for (int trial = 0; trial < 16; ++trial) {
+    const int n = std::vector<int>{2, 3, 4, 6}[trial % 4], m = 3 * n + 2 * trial;
+    // Mixed scales: some generators 1e4 times longer than others.
+    MatrixXd H = random_matrix(n, m, rng);
+    for (int j = 0; j < m; j += 3) H.col(j) *= 1e4;
+    const Zonotope Z(random_vector(n, rng, 2.0), H);
+    for (int s = n; s < m; s += 1 + m / 6) {
+      const Zonotope R = Z.reduce_pca(s);
+      ASSERT_LE(R.num_generators(), s);
+      expect_strict_support_dominates(R, Z, rng, VectorXd(), n);
+      expect_samples_inside(R, Z, rng, 60);
+      // The kept columns are Z's columns with the largest ||g||_1 - ||g||_inf, in order.
+      std::vector<std::pair<double, int>> key;
+      for (int j = 0; j < m; ++j)
+        key.push_back({H.col(j).cwiseAbs().sum() - H.col(j).cwiseAbs().maxCoeff(), j});
+      std::sort(key.begin(), key.end(), [](auto a, auto b) { return a.first > b.first || (a.first == b.first && a.second > b.second); });
+      std::vector<int> kept;
+      for (int j = 0; j < s - n; ++j) kept.push_back(key[static_cast<std::size_t>(j)].second);
+      std::sort(kept.begin(), kept.end());
+      for (int j = 0; j < s - n; ++j) EXPECT_EQ(R.generators().col(j), H.col(kept[static_cast<std::size_t>(j)]));
+    }
+  }
+}
+
+TEST(Zonotope, PcaBoxIsThePrincipalComponentBox) {
+  // CORA's priv_reducePCA: U from svd(cov([G, -G]')), box diag(sum|U' G|), generators U*box.
+  // An independent SVD of the reduced columns gives the same box up to the order and sign of
+  // the columns and the certified inflation (~1e-15 relative).
+  std::mt19937 rng(22);
+  for (int n : {2, 3, 5}) {
+    const VectorXd scale = random_vector(n, rng).cwiseAbs() + VectorXd::Constant(n, 0.1);
+    const MatrixXd Gred = scale.asDiagonal() * random_matrix(n, 4 * n, rng);  // distinct axis lengths
+    const Zonotope Z(VectorXd::Zero(n), Gred);
+    const Zonotope R = Z.reduce_pca(n);  // everything is reduced
+    ASSERT_EQ(R.num_generators(), n);
+    Eigen::JacobiSVD<MatrixXd> svd(Gred * Gred.transpose(), Eigen::ComputeFullU);
+    const MatrixXd U = svd.matrixU();
+    const VectorXd box = (U.transpose() * Gred).cwiseAbs().rowwise().sum();
+    for (int i = 0; i < n; ++i) {  // column i of R is ±U_i box_i (descending, as CORA's svd)
+      const VectorXd ref = U.col(i) * box(i);
+      const VectorXd got = R.generators().col(i);
+      const double err = std::min((got - ref).norm(), (got + ref).norm());
+      EXPECT_LT(err, 1e-12 * box.maxCoeff()) << "n " << n << " column " << i;
+      EXPECT_GE(got.norm(), ref.norm());  // never smaller than the exact box
+    }
+  }
+}
+
+TEST(Zonotope, PcaReductionOnDegenerateInputs) {
+  std::mt19937 rng(23);
+  // Repeated eigenvalues (any rotation is an eigenbasis), parallel generators (a rank-one Gram
+  // matrix: the other box sides are only the certified slack) and a single huge generator.
+  std::vector<MatrixXd> cases;
+  cases.push_back(0.001 * MatrixXd::Identity(4, 4).replicate(1, 3));
+  MatrixXd par(3, 9);
+  for (int j = 0; j < 9; ++j) par.col(j) = (1.0 + j) * Eigen::Vector3d(1, -2, 0.5);
+  cases.push_back(par);
+  MatrixXd huge = random_matrix(3, 8, rng, 1e-3);
+  huge.col(0) *= 1e9;
+  cases.push_back(huge);
+  for (const MatrixXd& H : cases) {
+    const int n = static_cast<int>(H.rows());
+    const Zonotope Z(random_vector(n, rng), H);
+    for (int s = n; s < H.cols(); ++s) {
+      const Zonotope R = Z.reduce_pca(s);
+      ASSERT_LE(R.num_generators(), s);
+      ASSERT_TRUE(R.generators().allFinite());
+      expect_strict_support_dominates(R, Z, rng, VectorXd(), n);
+      expect_samples_inside(R, Z, rng, 40);
+    }
+  }
+}
+
+TEST(Zonotope, ReductionAbsorbsAPendingBox) {
+  // The estimators' rounding box B_r is absorbed by the replacement generators, uncounted.
+  std::mt19937 rng(24);
+  for (auto method : {setbound::ZonotopeReduction::Combastel, setbound::ZonotopeReduction::Girard,
+                      setbound::ZonotopeReduction::Pca}) {
+    for (int trial = 0; trial < 6; ++trial) {
+      const int n = 2 + trial % 3, m = 5 * n;
+      const Zonotope Z(random_vector(n, rng), random_matrix(n, m, rng));
+      const VectorXd r = random_vector(n, rng).cwiseAbs() * (trial % 2 ? 1e-15 : 0.3);
+      MatrixXd H = Z.generators();
+      setbound::detail::ReductionWorkspace ws;
+      const Eigen::Index k = setbound::detail::reduce_in_place(method, H, m, 2 * n, &r, ws);
+      ASSERT_LE(k, 2 * n);
+      ASSERT_EQ(ws.reduced_count, m - n);
+      const Zonotope R(Z.center(), H.leftCols(k));
+      expect_strict_support_dominates(R, Z, rng, r, n);
+      // Nothing to reduce: H untouched and the box is not absorbed.
+      MatrixXd H2 = Z.generators();
+      EXPECT_EQ(setbound::detail::reduce_in_place(method, H2, m, m, &r, ws), m);
+      EXPECT_EQ(ws.reduced_count, 0);
+      EXPECT_EQ(H2, Z.generators());
+    }
+  }
+}
+
+TEST(Zonotope, GirardAndPcaReduceTiesLowerIndexFirst) {
+  // MATLAB's mink (CORA's pickedGenerators): among equal keys the lower index is reduced.
+  MatrixXd H(2, 5);
+  H << 1, 0, 1, 0, 2,
+       0, 1, 0, 1, 2;  // keys 0, 0, 0, 0, 2: two of the four axis columns must go
+  const Zonotope Z(VectorXd::Zero(2), H);
+  const Zonotope R = Z.reduce_girard_to(4);  // keep 2: columns 3 and 4 (ties: highest kept)
+  ASSERT_EQ(R.num_generators(), 4);
+  EXPECT_EQ(R.generators().col(0), H.col(3));
+  EXPECT_EQ(R.generators().col(1), H.col(4));
+  EXPECT_NEAR(R.generators()(0, 2), 2.0, 1e-14);  // box of columns 0, 1, 2: rs = (2, 1)
+  EXPECT_NEAR(R.generators()(1, 3), 1.0, 1e-14);
 }
 
 // ---- zonotope / strip family (Property 6) -------------------------------------------------
@@ -505,9 +682,14 @@ TEST(ZonotopeCApi, MatchesCxx) {
   EXPECT_EQ(inside[0], 1);
   EXPECT_EQ(inside[1], 0);
 
-  // Reduction to 2 generators (= n): both methods give the interval hull.
+  // Reduction to 2 generators (= n): Combastel and Girard give the interval hull, PCA the box
+  // in the principal axes, which is what Zonotope::reduce_pca computes.
   int mout = 2;
   double Hout[6];
+  mout = 3;
+  ASSERT_EQ(sb_zonotope_reduce(2, 3, p, H, SB_REDUCE_PCA, 2, &mout, Hout), SB_OK) << sb_last_error();
+  ASSERT_EQ(mout, 2);
+  EXPECT_EIGEN_NEAR(setbound::capi::ConstRowMap(Hout, 2, 2), Z.reduce_pca(2).generators(), 0.0);
   for (int method : {SB_REDUCE_COMBASTEL, SB_REDUCE_GIRARD}) {
     mout = 3;
     ASSERT_EQ(sb_zonotope_reduce(2, 3, p, H, method, 2, &mout, Hout), SB_OK) << sb_last_error();

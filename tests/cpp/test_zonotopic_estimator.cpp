@@ -10,6 +10,7 @@
 #include "test_helpers.hpp"
 
 using namespace setbound;
+using setbound::testing::expect_error_naming;
 
 namespace {
 
@@ -56,29 +57,42 @@ RunStats simulate(const LinearSystem& sys, const Eigen::MatrixXd& A_true, const 
 
 }  // namespace
 
+const ZonotopeReduction kReductions[] = {ZonotopeReduction::Combastel, ZonotopeReduction::Girard,
+                                         ZonotopeReduction::Pca};
+
+ZonotopicOptions with_reduction(ZonotopeReduction r, Eigen::Index limit = 20) {
+  ZonotopicOptions o;
+  o.max_generators = limit;
+  o.reduction = r;
+  return o;
+}
+
 TEST(ZonotopicEstimator, ContainsTruthOnLe13KnownA) {
   const LinearSystem sys = le13(false);
   const Zonotope X0(Eigen::Vector2d::Zero(), 3.0 * Eigen::Matrix2d::Identity());
-  for (bool vertex : {false, true})
-    for (unsigned seed = 1; seed <= 5; ++seed) {
-      std::mt19937 g(seed);
-      std::uniform_real_distribution<double> u(-3, 3);
-      const Eigen::Vector2d x0(vertex ? 3.0 : u(g), vertex ? -3.0 : u(g));
-      const RunStats r = simulate(sys, sys.A(), x0, X0, vertex, seed, 100);
-      EXPECT_EQ(r.violations, 0) << "seed " << seed << (vertex ? " vertex" : " random");
-    }
+  for (ZonotopeReduction red : kReductions)
+    for (bool vertex : {false, true})
+      for (unsigned seed = 1; seed <= 5; ++seed) {
+        std::mt19937 g(seed);
+        std::uniform_real_distribution<double> u(-3, 3);
+        const Eigen::Vector2d x0(vertex ? 3.0 : u(g), vertex ? -3.0 : u(g));
+        const RunStats r = simulate(sys, sys.A(), x0, X0, vertex, seed, 100, with_reduction(red, 6 + seed));
+        EXPECT_EQ(r.violations, 0) << "seed " << seed << (vertex ? " vertex" : " random") << " reduction "
+                                   << static_cast<int>(red);
+      }
 }
 
 TEST(ZonotopicEstimator, ContainsTruthOnLe13IntervalA) {
   const LinearSystem sys = le13(true);
   const Zonotope X0(Eigen::Vector2d::Zero(), 3.0 * Eigen::Matrix2d::Identity());
-  for (double delta : {-1.0, -0.3, 0.5, 1.0})
-    for (bool vertex : {false, true}) {
-      Eigen::MatrixXd A_true = sys.A();
-      A_true(1, 1) += 0.3 * delta;
-      const RunStats r = simulate(sys, A_true, Eigen::Vector2d(3.0, 3.0), X0, vertex, 7, 100);
-      EXPECT_EQ(r.violations, 0) << "delta " << delta;
-    }
+  for (ZonotopeReduction red : kReductions)
+    for (double delta : {-1.0, -0.3, 0.5, 1.0})
+      for (bool vertex : {false, true}) {
+        Eigen::MatrixXd A_true = sys.A();
+        A_true(1, 1) += 0.3 * delta;
+        const RunStats r = simulate(sys, A_true, Eigen::Vector2d(3.0, 3.0), X0, vertex, 7, 100, with_reduction(red));
+        EXPECT_EQ(r.violations, 0) << "delta " << delta;
+      }
 }
 
 TEST(ZonotopicEstimator, ContainsTruthOnRandomSystemsWithInputs) {
@@ -101,7 +115,7 @@ TEST(ZonotopicEstimator, ContainsTruthOnRandomSystemsWithInputs) {
     const Zonotope X0(Eigen::VectorXd::Zero(n), Eigen::MatrixXd::Identity(n, n));
     for (bool vertex : {false, true}) {
       const RunStats r = simulate(sys, A, Eigen::VectorXd::Constant(n, vertex ? 1.0 : 0.3), X0, vertex,
-                             100 + trial, 60, ZonotopicOptions{8, true, {}});
+                                  100 + trial, 60, with_reduction(kReductions[trial % 3], 8));
       EXPECT_EQ(r.violations, 0) << "trial " << trial;
       total += r.steps;
     }
@@ -112,12 +126,120 @@ TEST(ZonotopicEstimator, ContainsTruthOnRandomSystemsWithInputs) {
 TEST(ZonotopicEstimator, ReductionLimitAndStripOrderAreHonoured) {
   const LinearSystem sys = le13(false);
   const Zonotope X0(Eigen::Vector2d::Zero(), 3.0 * Eigen::Matrix2d::Identity());
-  ZonotopicEstimator est(sys, X0, segment_min_gain, ZonotopicOptions{5, true, {1, 0}});
-  Eigen::Vector2d y(0.1, -0.2);
-  for (int k = 0; k < 10; ++k) EXPECT_LE(est.step(y, Eigen::VectorXd(0)).num_generators(), 5);
+  for (ZonotopeReduction red : kReductions) {
+    ZonotopicEstimator est(sys, X0, segment_min_gain, ZonotopicOptions{5, true, {1, 0}, red});
+    Eigen::Vector2d y(0.1, -0.2);
+    for (int k = 0; k < 10; ++k) {
+      const Zonotope X = est.step(y, Eigen::VectorXd(0));
+      // At most 5 generators; the pending rounding box (not counted) until the first reduction.
+      EXPECT_LE(est.current_generators().cols(), 5);
+      EXPECT_LE(X.num_generators(), est.reduced_last_step() ? 5 : 5 + 2);
+      if (est.reduced_last_step()) EXPECT_EQ(est.current_box().maxCoeff(), 0.0);
+      EXPECT_LE(est.current_box().maxCoeff(), 1e-13 * (est.current_upper() - est.current_lower()).maxCoeff());
+    }
+    EXPECT_TRUE(est.reduced_last_step());
+  }
   EXPECT_THROW(ZonotopicEstimator(sys, X0, segment_min_gain, ZonotopicOptions{1, true, {}}), InvalidArgumentError);
   EXPECT_THROW(ZonotopicEstimator(sys, X0, segment_min_gain, ZonotopicOptions{20, true, {0, 0}}),
                InvalidArgumentError);
+}
+
+TEST(ZonotopicEstimator, FastPathAgreesWithTheGenericPath) {
+  // Segment minimisation runs on the n×n Gram matrix with one product per step; the same rule
+  // as an opaque callable goes strip by strip through the generator matrix. Same sets up to
+  // rounding, for known and interval A, with inputs, for every reduction.
+  std::mt19937 gen(5);
+  std::normal_distribution<double> nrm;
+  const auto opaque = [](const Zonotope& Z, const StripMeasurement& m) { return segment_min_gain(Z, m); };
+  for (bool interval : {false, true})
+    for (ZonotopeReduction red : kReductions) {
+      const int n = 3, ny = 2;
+      Eigen::MatrixXd A(n, n), C(ny, n), B(n, 1), E = Eigen::MatrixXd::Zero(n, n + ny),
+                      F = Eigen::MatrixXd::Zero(ny, n + ny), D(ny, 1), Arad = Eigen::MatrixXd::Zero(n, n);
+      for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) A(i, j) = 0.5 * nrm(gen);
+        B(i, 0) = nrm(gen);
+        E(i, i) = 0.05;
+      }
+      for (int i = 0; i < ny; ++i) {
+        for (int j = 0; j < n; ++j) C(i, j) = nrm(gen);
+        F(i, n + i) = 0.1;
+        D(i, 0) = 0.3 * nrm(gen);
+      }
+      if (interval) Arad(0, 1) = 0.02;
+      const LinearSystem sys(A, C, E, F, B, D, Arad);
+      const Zonotope X0(Eigen::VectorXd::Zero(n), Eigen::MatrixXd::Identity(n, n));
+      ZonotopicEstimator fast(sys, X0, segment_min_gain, with_reduction(red, 9));
+      ZonotopicEstimator slow(sys, X0, opaque, with_reduction(red, 9));
+      for (int k = 0; k < 40; ++k) {
+        Eigen::VectorXd y(ny), u(1);
+        for (int i = 0; i < ny; ++i) y(i) = 0.2 * nrm(gen);
+        u(0) = nrm(gen);
+        fast.update(y, u);
+        slow.update(y, u);
+        const double scale = (slow.current_upper() - slow.current_lower()).maxCoeff();
+        ASSERT_EQ(fast.current_generators().cols(), slow.current_generators().cols()) << "k " << k;
+        EXPECT_LT((fast.current_lower() - slow.current_lower()).cwiseAbs().maxCoeff(), 1e-9 * scale) << "k " << k;
+        EXPECT_LT((fast.current_upper() - slow.current_upper()).cwiseAbs().maxCoeff(), 1e-9 * scale) << "k " << k;
+      }
+    }
+}
+
+TEST(ZonotopicEstimator, AThrowingRuleLeavesTheStateUnchanged) {
+  const LinearSystem sys = le13(false);
+  const Zonotope X0(Eigen::Vector2d::Zero(), 3.0 * Eigen::Matrix2d::Identity());
+  int calls = 0;
+  bool fail = false;
+  const auto rule = [&](const Zonotope& Z, const StripMeasurement& m) -> Eigen::VectorXd {
+    ++calls;
+    if (fail && m.output == 1) throw NumericalError("rule: failed on purpose");
+    return segment_min_gain(Z, m);
+  };
+  ZonotopicEstimator est(sys, X0, rule, with_reduction(ZonotopeReduction::Pca, 6));
+  ZonotopicEstimator ref(sys, X0, segment_min_gain, with_reduction(ZonotopeReduction::Pca, 6));
+  const Eigen::Vector2d y(0.1, -0.2);
+  for (int k = 0; k < 5; ++k) est.update(y, Eigen::VectorXd(0)), ref.update(y, Eigen::VectorXd(0));
+  const Eigen::VectorXd lo = est.current_lower();
+  fail = true;
+  EXPECT_THROW(est.update(y, Eigen::VectorXd(0)), NumericalError);  // after the first strip
+  EXPECT_EQ(est.steps_taken(), 5);
+  EXPECT_EQ(est.current_lower(), lo);
+  fail = false;
+  est.update(y, Eigen::VectorXd(0));
+  ref.update(y, Eigen::VectorXd(0));
+  EXPECT_LT((est.current_lower() - ref.current_lower()).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((est.current_upper() - ref.current_upper()).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_GT(calls, 10);
+}
+
+TEST(ZonotopicEstimator, TheRoundingBoxStaysNegligibleWithoutReduction) {
+  // No reduction for 150 steps (a generous limit): the pending box is carried through the
+  // whole step transform and stays at rounding level relative to the set.
+  const LinearSystem sys = le13(false);
+  const Zonotope X0(Eigen::Vector2d::Zero(), 3.0 * Eigen::Matrix2d::Identity());
+  ZonotopicEstimator est(sys, X0, segment_min_gain, with_reduction(ZonotopeReduction::Girard, 500));
+  std::mt19937 gen(9);
+  std::uniform_real_distribution<double> U(-1, 1);
+  Eigen::Vector2d x(1.0, -2.0);
+  for (int k = 0; k < 150; ++k) {
+    const Eigen::VectorXd w = (Eigen::VectorXd(3) << U(gen), U(gen), U(gen)).finished();
+    est.update(sys.C() * x + sys.F() * w, Eigen::VectorXd(0));
+    ASSERT_FALSE(est.reduced_last_step());
+    const double radius = ((est.current_upper() - est.current_lower()) / 2).minCoeff();
+    EXPECT_LE(est.current_box().maxCoeff(), 1e-12 * radius) << "k " << k;
+    x = sys.A() * x + sys.E() * w;
+  }
+  EXPECT_EQ(est.current_generators().cols(), 4 + 149 * 3);  // X0, 2 strips, then E and 2 strips
+}
+
+TEST(ZonotopicEstimator, FixedGainsAreChecked) {
+  const LinearSystem sys = le13(false);
+  const Zonotope X0(Eigen::Vector2d::Zero(), Eigen::Matrix2d::Identity());
+  expect_error_naming<DimensionError>(
+      [&] { ZonotopicEstimator(sys, X0, ZonotopeGain::fixed(Eigen::MatrixXd::Zero(3, 2))); }, "lambdas");
+  Eigen::MatrixXd bad = Eigen::MatrixXd::Zero(2, 2);
+  bad(0, 0) = std::nan("");
+  expect_error_naming<NotFiniteError>([&] { ZonotopeGain::fixed(bad); }, "lambdas");
 }
 
 TEST(ZonotopicEstimator, WithoutFirstMeasurementTheFirstSetIsX0) {

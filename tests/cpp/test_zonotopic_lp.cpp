@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <vector>
 
 #include "setbound/estimators/exact_hull.hpp"
 #include "setbound/estimators/pradius.hpp"
@@ -103,8 +104,7 @@ TEST(ExactHull, ContainsTruthAndIsInsideEveryEstimator) {
         EXPECT_GE(hull.upper(k, i), X(k, i) - tol);
         EXPECT_LE(hull.lower(k, i), hull.upper(k, i) + tol);
       }
-    for (const ZonotopeGainRule& rule : {ZonotopeGainRule(segment_min_gain), ZonotopeGainRule(volume_min_gain),
-                                         pradius_gain(d)}) {
+    for (const ZonotopeGain& rule : std::vector<ZonotopeGain>{segment_min_gain, volume_min_gain, pradius_gain(d)}) {
       ZonotopicEstimator est(sys, X0, rule);
       const ZonotopeTrajectory t = est.run(Y);
       for (int k = 0; k < N; ++k)

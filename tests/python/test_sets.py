@@ -186,7 +186,7 @@ def test_pradius_simple_cases_and_vertex(rng):
     assert np.all(np.einsum("ki,ij,kj->k", X, P, X) <= r * (1 + 1e-12))
 
 
-@pytest.mark.parametrize("method", ["combastel", "girard"])
+@pytest.mark.parametrize("method", ["combastel", "girard", "pca"])
 def test_reduction_contains_the_original(rng, method):
     for n in (2, 3):
         Z = random_zonotope(rng, n, 5 * n)
@@ -289,7 +289,7 @@ BAD_INPUTS = [
     ("s < n", lambda: Zonotope([0, 0, 0], np.ones((3, 5))).reduce(2), errors.InvalidArgumentError, "limit:"),
     ("girard s < n", lambda: Zonotope([0, 0, 0], np.ones((3, 5))).reduce(1, "girard"),
      errors.InvalidArgumentError, "limit:"),
-    ("unknown method", lambda: Zonotope([0, 0], np.eye(2)).reduce(2, "pca"), errors.InvalidArgumentError, "method:"),
+    ("unknown method", lambda: Zonotope([0, 0], np.eye(2)).reduce(2, "svd"), errors.InvalidArgumentError, "method:"),
     ("non-PD P-radius P", lambda: Zonotope([0, 0], np.eye(2)).pradius([[1, 2], [2, 1]]),
      errors.NotPositiveDefiniteError, "P:"),
     ("negative phi", lambda: Strip([1, 0], 0, -0.1), errors.InvalidArgumentError, "phi:"),
@@ -333,7 +333,7 @@ def test_property_reduction_and_strip_family_keep_samples(H, p, lam, seed):
     rng = np.random.default_rng(seed)
     Z = Zonotope(p, H)
     X = np.vstack([zonotope_samples(Z, rng, 60), zonotope_samples(Z, rng, 60, vertices=True)])
-    for method in ("combastel", "girard"):
+    for method in ("combastel", "girard", "pca"):
         for limit in (2, 3, 4):
             assert Z.reduce(limit, method).contains(X).all()
     c = rng.standard_normal(2)

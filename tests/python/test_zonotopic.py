@@ -57,6 +57,22 @@ def test_random_systems_with_inputs_contain_truth(rng):
     assert steps >= 2000
 
 
+@pytest.mark.parametrize("reduction", ["combastel", "girard", "pca"])
+def test_every_reduction_contains_truth(reduction, rng):
+    """Random and vertex disturbances, known and interval A, a small limit so that the
+    reduction runs at every step."""
+    for interval in (False, True):
+        sys = le13(interval)
+        for vertex in (False, True):
+            A_true = sys.A + ([[0, 0], [0, 0.3 * rng.choice([-1.0, 1.0])]] if interval else 0)
+            xs, ys, _ = simulate(sys, A_true, rng.uniform(-3, 3, 2), 60, rng, vertex)
+            est = SegmentMinEstimator(sys, Zonotope([0, 0], 3 * np.eye(2)), max_generators=5, reduction=reduction)
+            assert est.reduction == reduction
+            traj = est.run(ys)
+            assert all(Z.contains(x) for Z, x in zip(traj.sets, xs))
+            assert max(Z.m for Z in traj.sets[2:]) <= 5
+
+
 def test_one_step_matches_an_independent_derivation():
     """Segment-min step re-derived in numpy: λ = HHᵀc/(cᵀHHᵀc + φ²), strip by strip."""
     sys = le13(interval=False)
@@ -107,11 +123,20 @@ def test_options_are_honoured():
     (lambda: SegmentMinEstimator(le13(), Zonotope([0, 0, 0], np.eye(3))), setbound.DimensionError, "x0:"),
     (lambda: SegmentMinEstimator(le13(), Zonotope([0, 0], np.eye(2)), max_generators=1), setbound.InvalidArgumentError, "max_generators"),
     (lambda: SegmentMinEstimator(le13(), Zonotope([0, 0], np.eye(2)), strip_order=[0, 0]), setbound.InvalidArgumentError, "strip_order"),
+    (lambda: SegmentMinEstimator(le13(), Zonotope([0, 0], np.eye(2)), reduction="svd"), setbound.InvalidArgumentError, "reduction"),
     (lambda: SegmentMinEstimator("sys", Zonotope([0, 0], np.eye(2))), setbound.InvalidArgumentError, "system:"),
 ])
 def test_bad_input_names_the_problem(make, exc, needle):
     with pytest.raises(exc, match=needle):
         make()
+
+
+def test_c_abi_rejects_an_unknown_reduction():
+    from setbound._native import ffi, lib
+    est = SegmentMinEstimator(le13(), Zonotope([0, 0], np.eye(2)))
+    assert lib.sb_zonotopic_set_reduction(est._handle, 9) == lib.SB_ERR_INVALID_ARGUMENT
+    assert ffi.string(lib.sb_last_error()).decode().startswith("sb_zonotopic_set_reduction: method:")
+    assert lib.sb_zonotopic_set_reduction(ffi.NULL, 1) == lib.SB_ERR_INVALID_ARGUMENT
 
 
 def test_bad_measurement_leaves_the_estimator_unchanged():
@@ -185,6 +210,68 @@ def test_pradius_design_agrees_with_cvxpy_at_its_beta():
             cons.append((blk + blk.T) / 2 >> 0)
         cp.Problem(cp.Maximize(tau), cons).solve(solver="CLARABEL")
         assert tau.value == pytest.approx(d.tau[i], rel=1e-4)
+
+
+def _coupled_tau_with_cvxpy(sys, d, Fw, t):
+    """The approach-2 LMI of papers §3.3 for the strip at position t of d.strip_order, with
+    the earlier gains of the design fixed, solved by CVXPY + Clarabel at the design's β.
+    Written from the spec, independently of the library's model builder."""
+    cp = pytest.importorskip("cvxpy")
+    pytest.importorskip("clarabel")
+    n, r = sys.nx, Fw.shape[1]
+    order = list(d.strip_order)
+    o, prev = order[t], order[:t]
+    c, phi, beta = sys.C[o], np.abs(sys.F[o]).sum(), d.beta[o]
+    phis = {i: np.abs(sys.F[i]).sum() for i in range(sys.ny)}
+    kappa = {i: np.eye(n) - np.outer(d.lambdas[i], sys.C[i]) for i in range(sys.ny)}
+    K = np.eye(n)
+    for i in prev:  # K = κ_{t-1} ⋯ κ_0
+        K = kappa[i] @ K
+    # v_l = κ_{t-1} ⋯ κ_{l+1} φ_l λ_l: the earlier strips' generators as seen by strip t.
+    vs = []
+    for a, i in enumerate(prev):
+        v = phis[i] * d.lambdas[i]
+        for j in prev[a + 1:]:
+            v = kappa[j] @ v
+        vs.append(v[:, None])
+    q = len(prev)
+    P = cp.Variable((n, n), symmetric=True)
+    Y = cp.Variable((n, 1))
+    tau = cp.Variable()
+    norm = d.psi + phi**2 + sum(phis[i] ** 2 for i in prev)
+    cons = [tau >= 0, (1 - beta) * P / norm - tau * np.eye(n) >> 0]
+    for G in sys.A_interval.vertices():
+        Mt = P - Y @ c[None, :]  # (P − c Yᵀ)ᵀ
+        last = [Mt @ (K @ G), Mt @ (K @ Fw)] + [Mt @ v for v in vs] + [phi * Y, P]
+        # Diagonal blocks βP, F_wᵀF_w, φ_l² (earlier strips), φ_t²; the last block row couples them.
+        diag = [beta * P, Fw.T @ Fw] + [np.array([[phis[i] ** 2]]) for i in prev] + [np.array([[phi**2]])]
+        sizes = [n, r] + [1] * (q + 1)
+        rows = []
+        for a, Da in enumerate(diag):
+            row = [Da if b == a else np.zeros((sizes[a], sizes[b])) for b in range(len(diag))]
+            rows.append(row + [last[a].T])
+        rows.append(last)
+        blk = cp.bmat(rows)
+        cons.append((blk + blk.T) / 2 >> 0)
+    cp.Problem(cp.Maximize(tau), cons).solve(solver="CLARABEL")
+    return tau.value
+
+
+@pytest.mark.parametrize("order", [None, [1, 0]])
+def test_pradius_coupled_design_agrees_with_cvxpy_at_its_beta(order):
+    """Approach 2 (papers §3.3): every strip's LMI, with the earlier strips' gains fixed at the
+    design's values, re-solved by CVXPY + Clarabel at the design's β gives the design's τ."""
+    sys = le13()
+    d = setbound.zonotopic.design_pradius(sys, approach=2, order=order)
+    assert list(d.strip_order) == (order or [0, 1])
+    Fw = np.array([[-0.12], [0.02]])  # the one non-zero column of E
+    for t, o in enumerate(d.strip_order):
+        tau = _coupled_tau_with_cvxpy(sys, d, Fw, t)
+        assert tau == pytest.approx(d.tau[o], rel=1e-4), f"strip {o} at position {t}"
+    # The second strip's LMI really is the coupled one: with the first strip's block left out
+    # (approach 1 at the same β) the optimum differs.
+    d1 = setbound.zonotopic.design_pradius(sys, approach=1, order=order)
+    assert not np.isclose(d.tau[d.strip_order[1]], d1.tau[d1.strip_order[1]], rtol=1e-3)
 
 
 def test_pradius_best_order_is_at_least_the_natural_one():

@@ -267,11 +267,6 @@ inline PRadiusDesign design_pradius(const LinearSystem& sys, const PRadiusOption
 }
 
 /// The estimator's gain rule for a design: λ_i of the strip's output, fixed offline.
-inline ZonotopeGainRule pradius_gain(const PRadiusDesign& design) {
-  const Eigen::MatrixXd lambdas = design.lambdas;
-  return [lambdas](const Zonotope&, const StripMeasurement& m) -> Eigen::VectorXd {
-    return lambdas.row(m.output).transpose();
-  };
-}
+inline ZonotopeGain pradius_gain(const PRadiusDesign& design) { return ZonotopeGain::fixed(design.lambdas); }
 
 }  // namespace setbound

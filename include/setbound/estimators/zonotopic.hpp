@@ -4,15 +4,28 @@
 //   prediction ([A]):      p⁺ = mid[A] p + B u,  H⁺ = [mid[A] H, rs(rad[A]|H|), diag(rad[A]|p|), E]
 //   correction, strip by strip (|c_iᵀx + D_i u − y_i| ≤ φ_i, φ_i = Σ_j |F_ij|):
 //                          p̂ = p + λ_i (y_i − D_i u − c_iᵀ p),  Ĥ = [(I − λ_i c_iᵀ) H, φ_i λ_i]
-//   reduction to at most s generators (Combastel, papers §0.1).
+//   reduction to at most s generators (options.reduction: Combastel, papers §0.1; Girard; or
+//   CORA's PCA), when more than s non-zero generators are left after the correction.
 //
 // Guarantee: x_k ∈ X̂_k for ANY choice of λ_i ([Le2013] Property 6), because prediction,
 // correction and reduction are all outer approximations. The gain rule only changes the size.
-// Floating point: the products A p, A H, λ(y − cᵀp) and (I − λcᵀ)H are rounded. Their errors
-// are bounded (rounding_radius_*) and collected in one pending box radius r per step, which is
-// carried exactly through later corrections ((Z ⊕ B_r) ∩ S ⊆ family(Z) ⊕ κB_r ⊆ family(Z) ⊕
-// box(|κ|r), κ = I − λcᵀ) and appended as n generators once per step, before the reduction.
-// So the guarantee holds for the sets actually computed; the box is ~1e-15 relative.
+//
+// Floating point. The products A p, A H, λ(y − cᵀp) and (I − λcᵀ)H are rounded. Their errors
+// are bounded (Higham's γ_k) and collected in one pending box B_r, carried exactly through
+// later corrections ((Z ⊕ B_r) ∩ S ⊆ family(Z) ⊕ κB_r ⊆ family(Z) ⊕ box(|κ|r), κ = I − λcᵀ) and
+// predictions (A B_r ⊆ box(|A| r)). The reduction absorbs the box into its replacement
+// generators, so the box never counts toward max_generators and never changes which generators
+// are kept (CORA's choices are reproduced); between reductions a set is Z ⊕ B_r, reported with
+// up to n_x extra axis-aligned generators. Should the box grow above 1e-6 of the set's largest
+// radius before a reduction (a long run with no reduction), it is appended as generators. It
+// is ~1e-15 of the radius on small systems, up to ~1e-11 of the largest radius on tank30.
+//
+// Speed. Segment minimisation and fixed gains need only the n×n Gram matrix S = H Hᵀ and the
+// strip data, so the generator matrix is not touched strip by strip: the corrections and the
+// next prediction accumulate into an n×n transform T (H_k = T H_{k−1} ⊕ new columns), applied
+// once per step with one matrix product; S is updated alongside (rank-two updates, the
+// reduction's removed and added columns). Other gain rules (volume minimisation, user rules)
+// receive the set before each strip as a Zonotope. All buffers are allocated at construction.
 //
 // Time indexing (identical for every estimator of the library): measurements y_0 … y_{N−1},
 // inputs u_0 … u_{N−1}; row k of a trajectory is a set for x_k. step(y_k, u_k) returns the set
@@ -21,10 +34,13 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <functional>
 #include <limits>
 #include <numeric>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "setbound/core/error.hpp"
@@ -34,15 +50,6 @@
 #include "setbound/sets/zonotope.hpp"
 
 namespace setbound {
-
-namespace rounding_bounds {
-inline constexpr double kUnitRoundoff = std::numeric_limits<double>::epsilon() / 2;
-/// γ_k = k u / (1 − k u) (Higham), doubled as a safety factor for the additions around it.
-inline double gamma(Eigen::Index k) {
-  const double ku = static_cast<double>(k + 2) * kUnitRoundoff;
-  return 2.0 * ku / (1.0 - ku);
-}
-}  // namespace rounding_bounds
 
 /// Componentwise bound on the rounding error of computing K p and K H (each column), summed
 /// over the generators: the set {fl(Kp) + fl(KH) s + r t} ⊇ {K p + K H s} for this r.
@@ -73,10 +80,62 @@ inline Eigen::VectorXd segment_min_gain(const Zonotope& Z, const StripMeasuremen
   return g / denom;
 }
 
+/// The estimator's gain rule. Segment minimisation (segment_min_gain, also inside a
+/// ZonotopeGainRule) and fixed gains (ZonotopeGain::fixed, pradius_gain) are recognised and
+/// run on the estimator's fast path; any other callable gets the set before each strip.
+class ZonotopeGain {
+ public:
+  enum class Kind { SegmentMin, Fixed, Custom };
+  using Function = Eigen::VectorXd (*)(const Zonotope&, const StripMeasurement&);
+
+  ZonotopeGain(Function f) : rule_(f) {  // NOLINT: implicit, as a function is a rule
+    if (f == &segment_min_gain) kind_ = Kind::SegmentMin;
+  }
+  ZonotopeGain(ZonotopeGainRule rule) : rule_(std::move(rule)) {  // NOLINT
+    if (const Function* f = rule_.target<Function>(); f && *f == &segment_min_gain) kind_ = Kind::SegmentMin;
+    if (const ZonotopeGain* g = rule_.target<ZonotopeGain>()) *this = ZonotopeGain(*g);
+  }
+  template <class F, class = std::enable_if_t<!std::is_same_v<std::decay_t<F>, Function> &&
+                                              !std::is_same_v<std::decay_t<F>, ZonotopeGain> &&
+                                              !std::is_same_v<std::decay_t<F>, ZonotopeGainRule> &&
+                                              std::is_invocable_r_v<Eigen::VectorXd, F&, const Zonotope&,
+                                                                    const StripMeasurement&>>>
+  ZonotopeGain(F f) : ZonotopeGain(ZonotopeGainRule(std::move(f))) {}  // NOLINT
+
+  /// Fixed gains: row i is λ_i of output i (e.g. an offline P-radius design).
+  static ZonotopeGain fixed(Eigen::MatrixXd lambdas) {
+    require_finite(lambdas, "lambdas");
+    ZonotopeGain g;
+    g.kind_ = Kind::Fixed;
+    g.lambdas_ = std::move(lambdas);
+    return g;
+  }
+
+  Kind kind() const { return kind_; }
+  const Eigen::MatrixXd& lambdas() const { return lambdas_; }
+  explicit operator bool() const { return kind_ != Kind::Custom || static_cast<bool>(rule_); }
+
+  Eigen::VectorXd operator()(const Zonotope& Z, const StripMeasurement& m) const {
+    switch (kind_) {
+      case Kind::SegmentMin: return segment_min_gain(Z, m);
+      case Kind::Fixed: return lambdas_.row(m.output).transpose();
+      default: return rule_(Z, m);
+    }
+  }
+
+ private:
+  ZonotopeGain() = default;
+  Kind kind_ = Kind::Custom;
+  ZonotopeGainRule rule_;
+  Eigen::MatrixXd lambdas_;
+};
+
 struct ZonotopicOptions {
-  Eigen::Index max_generators = 20;   ///< reduction limit s (>= n_x)
+  Eigen::Index max_generators = 20;   ///< reduction limit s (>= n_x), rounding box not counted
   bool use_first_measurement = true;  ///< intersect X_0 with the strips of y_0 (CORA's loop)
   std::vector<Eigen::Index> strip_order;  ///< order of the outputs; empty = 0, 1, …, n_y − 1
+  /// Combastel (papers §0.1), Girard (CORA's default) or Pca (CORA's observer examples).
+  ZonotopeReduction reduction = ZonotopeReduction::Combastel;
 };
 
 /// Sets of one run: row k of center/lower/upper and element k of the lists describe x_k.
@@ -87,52 +146,94 @@ struct ZonotopeTrajectory {
 
 class ZonotopicEstimator {
  public:
-  ZonotopicEstimator(LinearSystem system, Zonotope x0, ZonotopeGainRule rule, ZonotopicOptions options = {})
-      : sys_(std::move(system)), next_(std::move(x0)), rule_(std::move(rule)), opt_(std::move(options)) {
-    if (next_.dimension() != sys_.nx())
-      throw DimensionError("x0: expected a zonotope of dimension " + std::to_string(sys_.nx()) + ", got " +
-                           std::to_string(next_.dimension()));
-    if (!rule_) throw InvalidArgumentError("rule: a gain rule is required");
-    if (opt_.max_generators < sys_.nx())
-      throw InvalidArgumentError("max_generators: must be >= n_x = " + std::to_string(sys_.nx()) + ", got " +
+  ZonotopicEstimator(LinearSystem system, const Zonotope& x0, ZonotopeGain gain, ZonotopicOptions options = {})
+      : sys_(std::move(system)), gain_(std::move(gain)), opt_(std::move(options)) {
+    const Eigen::Index n = sys_.nx(), ny = sys_.ny();
+    if (x0.dimension() != n)
+      throw DimensionError("x0: expected a zonotope of dimension " + std::to_string(n) + ", got " +
+                           std::to_string(x0.dimension()));
+    if (!gain_) throw InvalidArgumentError("rule: a gain rule is required");
+    if (gain_.kind() == ZonotopeGain::Kind::Fixed &&
+        (gain_.lambdas().rows() != ny || gain_.lambdas().cols() != n))
+      throw DimensionError("lambdas: expected shape " + detail::shape_string(ny, n) + ", got " +
+                           detail::shape_string(gain_.lambdas().rows(), gain_.lambdas().cols()));
+    if (opt_.max_generators < n)
+      throw InvalidArgumentError("max_generators: must be >= n_x = " + std::to_string(n) + ", got " +
                                  std::to_string(opt_.max_generators));
     if (opt_.strip_order.empty()) {
-      opt_.strip_order.resize(static_cast<std::size_t>(sys_.ny()));
+      opt_.strip_order.resize(static_cast<std::size_t>(ny));
       std::iota(opt_.strip_order.begin(), opt_.strip_order.end(), Eigen::Index{0});
     } else {
-      std::vector<bool> seen(static_cast<std::size_t>(sys_.ny()), false);
-      if (static_cast<Eigen::Index>(opt_.strip_order.size()) != sys_.ny())
+      std::vector<bool> seen(static_cast<std::size_t>(ny), false);
+      if (static_cast<Eigen::Index>(opt_.strip_order.size()) != ny)
         throw InvalidArgumentError("strip_order: must be a permutation of 0..n_y-1");
       for (Eigen::Index i : opt_.strip_order) {
-        if (i < 0 || i >= sys_.ny() || seen[static_cast<std::size_t>(i)])
+        if (i < 0 || i >= ny || seen[static_cast<std::size_t>(i)])
           throw InvalidArgumentError("strip_order: must be a permutation of 0..n_y-1");
         seen[static_cast<std::size_t>(i)] = true;
       }
     }
+    setup_model();
+    allocate(x0.remove_zero_generators().num_generators());
+    load_prior(x0);
   }
 
   const LinearSystem& system() const { return sys_; }
-  /// Set for the next state x_{k+1} (before its measurement is used).
-  Zonotope prediction() const { return with_rounding_box(next_, pending_); }
+  const ZonotopicOptions& options() const { return opt_; }
+  /// Changes the reduction method from the next step on (every method is guaranteed).
+  void set_reduction(ZonotopeReduction method) { opt_.reduction = method; }
   Eigen::Index steps_taken() const { return k_; }
 
-  /// Uses y_k (and u_k for D u_k), returns the set for x_k, then predicts x_{k+1} with u_k.
-  /// On any error the estimator is left unchanged.
-  Zonotope step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u) {
+  /// Set for the next state x_{k+1} (before its measurement is used), the pending rounding
+  /// box included as generators.
+  Zonotope prediction() const {
+    Eigen::MatrixXd H(n_, mG() + mN_);
+    Eigen::VectorXd r = rP_;
+    materialize_prior(H, r);
+    return with_box(p_, H, r);
+  }
+
+  /// Uses y_k (and u_k for D u_k), then predicts x_{k+1} with u_k; the set for x_k is then
+  /// available from the current_*() accessors. On any error the estimator is unchanged.
+  void update(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u) {
     if (y.size() != sys_.ny())
       throw DimensionError("y: expected length " + std::to_string(sys_.ny()) + ", got " + std::to_string(y.size()));
     if (u.size() != sys_.nu())
       throw DimensionError("u: expected length " + std::to_string(sys_.nu()) + ", got " + std::to_string(u.size()));
     require_finite(y, "y");
     require_finite(u, "u");
-    Zonotope current = (k_ == 0 && !opt_.use_first_measurement) ? with_rounding_box(next_, pending_)
-                                                                 : correct_impl(next_, pending_, y, u);
-    Eigen::VectorXd pending(sys_.nx());
-    Zonotope predicted = predict_impl(current, u, pending);
-    next_ = std::move(predicted);
-    pending_ = std::move(pending);
+    correct_and_reduce(y, u, !(k_ == 0 && !opt_.use_first_measurement));  // may throw; commits last
+    predict_prior(u);
     ++k_;
-    return current;
+  }
+
+  /// update(), returning the set for x_k.
+  Zonotope step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u) {
+    update(y, u);
+    return current_set();
+  }
+
+  // ---- the set for x_k of the last update: centre ⊕ generators B ⊕ box(current_box) ----
+  bool has_current() const { return has_current_; }
+  const Eigen::VectorXd& current_center() const { return cur_p_; }
+  /// n × m generators of the last set (the rounding box excluded, see current_box()).
+  Eigen::Block<const Eigen::MatrixXd, Eigen::Dynamic, Eigen::Dynamic, true> current_generators() const {
+    return H_[cur_].leftCols(m_);
+  }
+  /// Radius of the pending rounding box (zero after a step that reduced).
+  const Eigen::VectorXd& current_box() const { return cur_r_; }
+  const Eigen::VectorXd& current_lower() const { return cur_lo_; }
+  const Eigen::VectorXd& current_upper() const { return cur_hi_; }
+  /// Whether the last update ran the order reduction.
+  bool reduced_last_step() const { return reduced_; }
+  /// Generator count of current_set(): the generators plus the non-zero box entries.
+  Eigen::Index current_num_generators() const {
+    return m_ + static_cast<Eigen::Index>((cur_r_.array() > 0).count());
+  }
+  /// The last set as one zonotope (the rounding box as axis-aligned generators).
+  Zonotope current_set() const {
+    if (!has_current_) throw InvalidArgumentError("estimator: no step has been taken yet");
+    return with_box(cur_p_, H_[cur_].leftCols(m_), cur_r_);
   }
 
   /// Runs over rows of Y (N × n_y) and U (N × n_u, or empty when n_u = 0).
@@ -141,106 +242,441 @@ class ZonotopicEstimator {
     if (Y.cols() != sys_.ny())
       throw DimensionError("y: expected " + std::to_string(sys_.ny()) + " columns, got " + std::to_string(Y.cols()));
     if (sys_.nu() > 0) require_shape(U, N, sys_.nu(), "u");
-    const Eigen::Index n = sys_.nx();
-    ZonotopeTrajectory t{Eigen::MatrixXd(N, n), Eigen::MatrixXd(N, n), Eigen::MatrixXd(N, n), {}};
+    ZonotopeTrajectory t{Eigen::MatrixXd(N, n_), Eigen::MatrixXd(N, n_), Eigen::MatrixXd(N, n_), {}};
     t.sets.reserve(static_cast<std::size_t>(N));
     const Eigen::VectorXd no_input(0);
     for (Eigen::Index k = 0; k < N; ++k) {
-      Zonotope X = sys_.nu() > 0 ? step(Y.row(k).transpose(), U.row(k).transpose()) : step(Y.row(k).transpose(), no_input);
-      const BoundingBox box = X.interval_hull();
-      t.center.row(k) = X.center().transpose();
-      t.lower.row(k) = box.lo.transpose();
-      t.upper.row(k) = box.hi.transpose();
-      t.sets.push_back(std::move(X));
+      if (sys_.nu() > 0) update(Y.row(k).transpose(), U.row(k).transpose());
+      else update(Y.row(k).transpose(), no_input);
+      t.center.row(k) = cur_p_.transpose();
+      t.lower.row(k) = cur_lo_.transpose();
+      t.upper.row(k) = cur_hi_.transpose();
+      t.sets.push_back(current_set());
     }
     return t;
   }
 
-  /// Strip-by-strip correction (papers §3.1), followed by the reduction.
+  /// Strip-by-strip correction (papers §3.1) of X, followed by the reduction.
   Zonotope correct(const Zonotope& X, const Eigen::Ref<const Eigen::VectorXd>& y,
                    const Eigen::Ref<const Eigen::VectorXd>& u) const {
-    return correct_impl(X, Eigen::VectorXd::Zero(sys_.nx()), y, u);
+    detail::require_length(X.dimension(), n_, "X");
+    detail::require_length(y.size(), sys_.ny(), "y");
+    detail::require_length(u.size(), sys_.nu(), "u");
+    require_finite(y, "y");
+    require_finite(u, "u");
+    ZonotopicEstimator tmp(sys_, X, gain_, opt_);
+    tmp.correct_and_reduce(y, u, true);
+    return tmp.current_set();
   }
 
   /// Prediction of x_{k+1} from a set for x_k (exact for known A, [Le2013] inclusion for [A]).
   Zonotope predict(const Zonotope& X, const Eigen::Ref<const Eigen::VectorXd>& u) const {
-    Eigen::VectorXd r(sys_.nx());
-    Zonotope P = predict_impl(X, u, r);
-    return with_rounding_box(P, r);
+    detail::require_length(X.dimension(), n_, "X");
+    detail::require_length(u.size(), sys_.nu(), "u");
+    require_finite(u, "u");
+    ZonotopicEstimator tmp(sys_, X, gain_, opt_);
+    tmp.correct_and_reduce(Eigen::VectorXd::Zero(sys_.ny()), u, false);
+    tmp.predict_prior(u);
+    return tmp.prediction();
   }
 
  private:
-  /// Correction of X ⊕ box(r): the pending box is carried through every κ_i, the strips'
-  /// own rounding is added, and one box is appended before the reduction.
-  Zonotope correct_impl(const Zonotope& X, Eigen::VectorXd r, const Eigen::Ref<const Eigen::VectorXd>& y,
-                        const Eigen::Ref<const Eigen::VectorXd>& u) const {
-    Zonotope Z = X;
-    const Eigen::Index n = sys_.nx();
+  using Mat = Eigen::MatrixXd;
+  using Vec = Eigen::VectorXd;
+  /// Pending box above this fraction of the largest radius: appended as generators.
+  static constexpr double kBoxToGenerators = 1e-6;
+
+  static Zonotope with_box(const Vec& p, const Eigen::Ref<const Mat>& H, const Vec& r) {
+    const Eigen::Index n = p.size(), m = H.cols();
+    const Eigen::Index nb = static_cast<Eigen::Index>((r.array() > 0).count());
+    Mat out(n, m + nb);
+    out.leftCols(m) = H;
+    Eigen::Index j = m;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (r(i) > 0) {
+        out.col(j).setZero();
+        out(i, j++) = r(i);
+      }
+    return Zonotope(p, std::move(out));
+  }
+
+  // ---- model data, fixed at construction ---------------------------------------------------
+  void setup_model() {
+    n_ = sys_.nx();
+    const Eigen::Index ny = sys_.ny();
+    lazy_ = gain_.kind() != ZonotopeGain::Kind::Custom;
+    want_S_ = gain_.kind() == ZonotopeGain::Kind::SegmentMin;
+    interval_ = sys_.uncertain_A();
+    absMid_ = sys_.A().cwiseAbs();
+    absA_ = absMid_ + sys_.A_rad();
+    std::vector<Eigen::Index> cols;
+    for (Eigen::Index j = 0; j < sys_.nw(); ++j)
+      if (sys_.E().col(j).cwiseAbs().maxCoeff() > 0) cols.push_back(j);
+    Enz_.resize(n_, static_cast<Eigen::Index>(cols.size()));
+    for (std::size_t j = 0; j < cols.size(); ++j) Enz_.col(static_cast<Eigen::Index>(j)) = sys_.E().col(cols[j]);
+    EEt_.noalias() = Enz_ * Enz_.transpose();
+    Ct_ = sys_.C().transpose();
+    absCt_ = Ct_.cwiseAbs();
+    phi_.resize(ny);
+    D_used_.assign(static_cast<std::size_t>(ny), false);
+    for (Eigen::Index i = 0; i < ny; ++i) {
+      // φ_i = Σ_j |F_ij|, rounded up when more than one term is summed.
+      const Eigen::Index terms = (sys_.F().row(i).array() != 0).count();
+      phi_(i) = sys_.output_noise_bound(i) *
+                (terms > 1 ? 1.0 + static_cast<double>(terms + 2) * std::numeric_limits<double>::epsilon() : 1.0);
+      D_used_[static_cast<std::size_t>(i)] = sys_.nu() > 0 && sys_.D().row(i).cwiseAbs().maxCoeff() > 0;
+    }
+    absB_ = sys_.B().cwiseAbs();
+    absD_ = sys_.D().cwiseAbs();
+  }
+
+  void allocate(Eigen::Index m0) {
+    capN_ = Enz_.cols() + (interval_ ? 2 * n_ : 0) + sys_.ny();
+    cap_ = std::max(m0, opt_.max_generators) + capN_ + n_;
+    for (Mat& H : H_) H.resize(n_, cap_);
+    N_.resize(n_, capN_);
+    Nc_.resize(n_, capN_);
+    T_.resize(n_, n_);
+    Tc_.resize(n_, n_);
+    S_ = Mat::Zero(n_, n_);
+    Sc_ = Mat::Zero(n_, n_);
+    p_ = rA_ = rP_ = wG_ = Vec::Zero(n_);
+    pc_ = rc_ = wH_ = wGA_ = Vec::Zero(n_);
+    cur_p_ = cur_r_ = cur_lo_ = cur_hi_ = cur_w_ = Vec::Zero(n_);
+    lam_ = sc_ = v_ = t_ = e_ = Vec::Zero(n_);
+    uabs_ = Vec::Zero(sys_.nu());
+    absT_ = Mat::Zero(n_, n_);
+    wN_ = Vec::Zero(capN_);
+    cN_ = Vec::Zero(capN_);
+  }
+
+  /// The prior set p ⊕ H B, exactly (T = I, no pending box).
+  void load_prior(const Zonotope& X) {
+    const Zonotope Xn = X.remove_zero_generators();
+    p_ = Xn.center();
+    mG_ = Xn.num_generators();
+    H_[cur_].leftCols(mG_) = Xn.generators();
+    wG_ = detail::abs_row_sums(Xn.generators());
+    if (mG_ == 0) wG_.setZero();
+    T_.setIdentity();
+    T_identity_ = true;
+    mN_ = 0;
+    rA_.setZero();
+    rP_.setZero();
+    if (want_S_) S_.noalias() = Xn.generators() * Xn.generators().transpose();
+  }
+
+  Eigen::Index mG() const { return mG_; }
+  const Mat& G() const { return H_[cur_]; }
+
+  // ---- correction and reduction: writes the current set, the prior stays untouched until
+  // the very end (nothing is committed if a gain rule throws) ------------------------------
+  void correct_and_reduce(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, bool correct) {
+    using rounding_bounds::gamma;
+    const int work = 1 - cur_;
+    Mat& W = H_[work];
+    pc_ = p_;
+    rc_ = rP_;
+    Eigen::Index mW = 0;
+    const double g = gamma(n_ + 2), g1 = 1.0 + g;
+    // The columns the transform T acts on: G and the carried box diag(rA); rs|[G, diag(rA)]|.
+    wGA_ = wG_ + rA_;
+    if (lazy_ && correct) {
+      Tc_ = T_;
+      bool Tc_identity = T_identity_;
+      Nc_.leftCols(mN_) = N_.leftCols(mN_);
+      Eigen::Index mN = mN_;
+      if (want_S_) Sc_ = S_;
+      for (Eigen::Index i : opt_.strip_order) {
+        const auto c = Ct_.col(i);
+        const auto ac = absCt_.col(i);
+        double phi = 0.0;
+        const double yi = shifted_measurement(i, y, u, phi);
+        if (want_S_) {
+          sc_.noalias() = Sc_ * c;
+          const double den = c.dot(sc_) + phi * phi;
+          if (den > 0) lam_ = sc_ / den;
+          else lam_.setZero();
+        } else {
+          lam_ = gain_.lambdas().row(i).transpose();
+        }
+        if (!lam_.allFinite())
+          throw NumericalError("gain rule: returned a non-finite lambda for output " + std::to_string(i));
+        // Rounding of p̂ = p + λ(y − cᵀp), of T̂ = T − λ(cᵀT) applied to [G, diag(rA)] (|T| rs
+        // bounds |T G| 1), of N̂ = N − λ(cᵀN) and of the new column φλ.
+        const double innov = std::abs(yi) + ac.dot(pc_.cwiseAbs());
+        e_ = pc_.cwiseAbs() + lam_.cwiseAbs() * innov;
+        if (Tc_identity) {
+          v_ = wGA_;
+        } else {
+          absT_ = Tc_.cwiseAbs();
+          v_.noalias() = absT_ * wGA_;
+        }
+        e_ += v_ + lam_.cwiseAbs() * ac.dot(v_);
+        if (mN > 0) {
+          v_ = Nc_.leftCols(mN).cwiseAbs().rowwise().sum();
+          e_ += v_ + lam_.cwiseAbs() * ac.dot(v_);
+        }
+        e_ += phi * lam_.cwiseAbs();
+        // The box of this step's roundings through κ: |κ| rc, then the new errors.
+        abs_kappa_times(c, rc_, t_);
+        rc_ = g1 * (t_ + g * e_);
+        // The updates.
+        pc_ += lam_ * (yi - c.dot(pc_));
+        t_.noalias() = Tc_.transpose() * c;
+        Tc_.noalias() -= lam_ * t_.transpose();
+        Tc_identity = false;
+        if (mN > 0) {
+          cN_.head(mN).noalias() = Nc_.leftCols(mN).transpose() * c;
+          Nc_.leftCols(mN).noalias() -= lam_ * cN_.head(mN).transpose();
+        }
+        if (phi > 0 && lam_.cwiseAbs().maxCoeff() > 0) Nc_.col(mN++) = phi * lam_;
+        if (want_S_) {
+          // S ← κ S κᵀ + φ² λλᵀ with κ = I − λcᵀ and S c = sc.
+          const double csc = c.dot(sc_);
+          Sc_.noalias() -= lam_ * sc_.transpose();
+          Sc_.noalias() -= sc_ * lam_.transpose();
+          Sc_.noalias() += (csc + phi * phi) * (lam_ * lam_.transpose());
+        }
+      }
+      // One product for all the strips and the previous prediction: W = [T G, N]; the carried
+      // box through the whole T at once (|T| rA), and the product's rounding.
+      if (Tc_identity) {
+        if (mG_ > 0) W.leftCols(mG_) = G().leftCols(mG_);
+        rc_ += rA_;
+      } else {
+        if (mG_ > 0) product(Tc_, G(), W, mG_);
+        absT_ = Tc_.cwiseAbs();
+        v_.noalias() = absT_ * rA_;
+        t_.noalias() = absT_ * wGA_;
+        rc_ = g1 * (rc_ + v_ + gamma(n_) * t_);
+      }
+      W.middleCols(mG_, mN) = Nc_.leftCols(mN);
+      mW = mG_ + mN;
+    } else {
+      mW = materialize_prior(W, rc_);
+      if (correct) mW = explicit_strips(W, mW, y, u);
+      if (want_S_) Sc_.noalias() = W.leftCols(mW) * W.leftCols(mW).transpose();
+    }
+    // Drop zero columns (CORA never counts them) and take the row sums of |W|.
+    mW = compact_and_sum(W, mW, wH_);
+    // A pending box that is no longer negligible becomes generators (counted). Rounding in
+    // strongly contracted directions makes it ~1e-8 of the smallest radius on CORA's data;
+    // the threshold only stops a long growth without reductions.
+    const double scale = mW > 0 ? wH_.maxCoeff() : 0.0;
+    if (rc_.maxCoeff() > kBoxToGenerators * scale) {
+      for (Eigen::Index i = 0; i < n_; ++i)
+        if (rc_(i) > 0) {
+          W.col(mW).setZero();
+          W(i, mW++) = rc_(i);
+          wH_(i) += rc_(i);
+          if (want_S_) Sc_(i, i) += rc_(i) * rc_(i);
+        }
+      rc_.setZero();
+    }
+    bool reduced = false;
+    if (correct && mW > opt_.max_generators) {
+      const Eigen::Index m_before = mW;
+      mW = detail::reduce_in_place(opt_.reduction, W, mW, opt_.max_generators, &rc_, rws_, want_S_);
+      reduced = rws_.reduced_count > 0;
+      if (reduced) {
+        rc_.setZero();
+        if (want_S_) {
+          const Eigen::Index boxed = mW - (m_before - rws_.reduced_count);
+          Sc_ -= rws_.gram;
+          Sc_.noalias() += W.middleCols(mW - boxed, boxed) * W.middleCols(mW - boxed, boxed).transpose();
+        }
+        mW = compact_and_sum(W, mW, wH_, false);  // no zero columns left; the new row sums
+      }
+    }
+    // Commit the current set (nothing below throws).
+    cur_ = work;
+    m_ = mW;
+    mG_ = mW;
+    cur_p_ = pc_;
+    cur_r_ = rc_;
+    cur_w_ = wH_;
+    reduced_ = reduced;
+    has_current_ = true;
+    const double infl = 1.0 + static_cast<double>(mW + n_ + 4) * std::numeric_limits<double>::epsilon();
+    e_ = (wH_ + rc_) * infl;
+    cur_lo_ = cur_p_ - e_;
+    cur_hi_ = cur_p_ + e_;
+    if (want_S_) S_ = Sc_;
+  }
+
+  /// y_i − D_i u and the strip half-width, widened by the rounding of D_i u when D_i ≠ 0.
+  double shifted_measurement(Eigen::Index i, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u,
+                             double& phi) const {
+    phi = phi_(i);
+    if (!D_used_[static_cast<std::size_t>(i)]) return y(i);
+    const double yi = y(i) - sys_.D().row(i).dot(u);
+    phi += rounding_bounds::gamma(sys_.nu()) * (std::abs(y(i)) + absD_.row(i).dot(u.cwiseAbs()));
+    return yi;
+  }
+
+  /// W = [T G, N] explicitly; the carried box |T| rA and the product's rounding are added to
+  /// r. Returns the column count.
+  Eigen::Index materialize_prior(Mat& W, Vec& r) const {
+    using rounding_bounds::gamma;
+    if (T_identity_) {
+      if (mG_ > 0) W.leftCols(mG_) = G().leftCols(mG_);
+      r += rA_;
+    } else {
+      if (mG_ > 0) product(T_, G(), W, mG_);
+      const Mat absT = T_.cwiseAbs();
+      r = (1.0 + gamma(n_)) * (r + absT * rA_ + gamma(n_) * (absT * (wG_ + rA_)));
+    }
+    W.middleCols(mG_, mN_) = N_.leftCols(mN_);
+    return mG_ + mN_;
+  }
+
+  /// t = |I − λcᵀ| r (the exact |κ|, with λ = lam_), rounded to nearest (the caller inflates).
+  void abs_kappa_times(const Eigen::Ref<const Vec>& c, const Vec& r, Vec& t) const {
+    for (Eigen::Index i = 0; i < n_; ++i) {
+      double acc = 0.0;
+      const double li = lam_(i);
+      for (Eigen::Index j = 0; j < n_; ++j) acc += std::abs((i == j ? 1.0 : 0.0) - li * c(j)) * r(j);
+      t(i) = acc;
+    }
+  }
+
+  /// Strip by strip on the explicit generator matrix, for gain rules that need the set.
+  Eigen::Index explicit_strips(Mat& W, Eigen::Index m, const Eigen::Ref<const Vec>& y,
+                               const Eigen::Ref<const Vec>& u) {
+    using rounding_bounds::gamma;
+    const double g = gamma(n_ + 2), g1 = 1.0 + g;
     for (Eigen::Index i : opt_.strip_order) {
-      const double yi = y(i) - (sys_.nu() > 0 ? sys_.D().row(i).dot(u) : 0.0);
-      StripMeasurement m{Strip(sys_.C().row(i).transpose(), yi, sys_.output_noise_bound(i)), i};
-      const Eigen::VectorXd lambda = rule_(Z, m);
-      if (lambda.size() != n || !lambda.allFinite())
+      const auto c = Ct_.col(i);
+      const auto ac = absCt_.col(i);
+      double phi = 0.0;
+      const double yi = shifted_measurement(i, y, u, phi);
+      const StripMeasurement meas{Strip(Vec(c), yi, phi), i};
+      const Vec lambda = gain_(Zonotope(pc_, W.leftCols(m)), meas);
+      if (lambda.size() != n_ || !lambda.allFinite())
         throw NumericalError("gain rule: returned a non-finite or wrongly sized lambda for output " +
                              std::to_string(i));
-      const Eigen::VectorXd strip_err = rounding_radius_strip(Z, m, lambda);
-      Z = Z.intersect_strip_family(m.strip, lambda);
-      // |κ| r with κ = I − λcᵀ, rounded up by a relative γ.
-      const Eigen::MatrixXd abs_kappa =
-          (Eigen::MatrixXd::Identity(n, n) - lambda * m.strip.normal().transpose()).cwiseAbs();
-      r = (1.0 + rounding_bounds::gamma(n + 2)) * (abs_kappa * r) + strip_err;
+      const double innov = std::abs(yi) + ac.dot(pc_.cwiseAbs());
+      e_ = pc_.cwiseAbs() + lambda.cwiseAbs() * innov + phi * lambda.cwiseAbs();
+      if (m > 0) {
+        v_ = W.leftCols(m).cwiseAbs().rowwise().sum();
+        e_ += v_ + lambda.cwiseAbs() * ac.dot(v_);
+      }
+      lam_ = lambda;
+      abs_kappa_times(c, rc_, t_);
+      rc_ = g1 * (t_ + g * e_);
+      pc_ += lambda * (yi - c.dot(pc_));
+      if (m > 0) {
+        cN_.resize(std::max(cN_.size(), m));
+        cN_.head(m).noalias() = W.leftCols(m).transpose() * c;
+        W.leftCols(m).noalias() -= lambda * cN_.head(m).transpose();
+      }
+      if (phi > 0 && lambda.cwiseAbs().maxCoeff() > 0) W.col(m++) = phi * lambda;
     }
-    return reduce(with_rounding_box(Z, r));
+    return m;
   }
 
-  /// Prediction without its rounding box; the rounding radius is returned in r.
-  Zonotope predict_impl(const Zonotope& X, const Eigen::Ref<const Eigen::VectorXd>& u, Eigen::VectorXd& r) const {
-    Zonotope P = sys_.uncertain_A() ? interval_linear_map(sys_.A(), sys_.A_rad(), X) : X.linear_map(sys_.A());
-    r = rounding_radius_linear_map(sys_.A(), X);
-    Eigen::VectorXd shift = Eigen::VectorXd::Zero(sys_.nx());
+  /// Removes exactly-zero columns of W (keeping the order) when `drop_zeros`, and sets
+  /// w = rs|W|, rounded up.
+  Eigen::Index compact_and_sum(Mat& W, Eigen::Index m, Vec& w, bool drop_zeros = true) const {
+    w.setZero();
+    Eigen::Index k = 0;
+    for (Eigen::Index j = 0; j < m; ++j) {
+      if (drop_zeros && W.col(j).cwiseAbs().maxCoeff() == 0.0) continue;
+      if (k != j) W.col(k) = W.col(j);
+      w += W.col(k).cwiseAbs();
+      ++k;
+    }
+    w *= 1.0 + static_cast<double>(k + 2) * std::numeric_limits<double>::epsilon();
+    return k;
+  }
+
+  /// W.leftCols(m) = T G.leftCols(m).
+  static void product(const Mat& T, const Mat& G, Mat& W, Eigen::Index m) {
+    W.leftCols(m).noalias() = T * G.leftCols(m);
+  }
+
+  // ---- prediction of the next prior from the current set ----------------------------------
+  void predict_prior(const Eigen::Ref<const Vec>& u) {
+    using rounding_bounds::gamma;
+    const Mat& A = sys_.A();
+    // p⁺ = A p + B u and its rounding.
+    p_.noalias() = A * cur_p_;
+    v_ = cur_p_.cwiseAbs();
+    e_.noalias() = absMid_ * v_;
+    e_ *= gamma(n_);
     if (sys_.nu() > 0) {
-      shift = sys_.B() * u;
-      r += rounding_bounds::gamma(sys_.nu()) * (sys_.B().cwiseAbs() * u.cwiseAbs());
+      t_.noalias() = sys_.B() * u;
+      uabs_ = u.cwiseAbs();
+      v_.noalias() = absB_ * uabs_;
+      e_ += gamma(sys_.nu()) * v_;
+      e_ += gamma(1) * (p_.cwiseAbs() + t_.cwiseAbs());
+      p_ += t_;
     }
-    r += rounding_bounds::gamma(1) * (P.center().cwiseAbs() + shift.cwiseAbs());
-    Eigen::MatrixXd H(sys_.nx(), P.num_generators() + sys_.nw());
-    H << P.generators(), sys_.E();
-    return Zonotope(P.center() + shift, std::move(H)).remove_zero_generators();
-  }
-
-  /// Rounding of p̂ = p + λ(y − cᵀp) and Ĥ = H − λ(cᵀH) (papers §0.1 Property 6).
-  Eigen::VectorXd rounding_radius_strip(const Zonotope& Z, const StripMeasurement& m,
-                                        const Eigen::VectorXd& lambda) const {
-    const Eigen::VectorXd& c = m.strip.normal();
-    const Eigen::Index n = Z.dimension();
-    const double g = rounding_bounds::gamma(n + 2);
-    const double innov = std::abs(m.strip.measurement()) + c.cwiseAbs().dot(Z.center().cwiseAbs());
-    Eigen::VectorXd r = g * (Z.center().cwiseAbs() + lambda.cwiseAbs() * innov);
-    if (Z.num_generators() > 0) {
-      const Eigen::MatrixXd absH = Z.generators().cwiseAbs();
-      r += g * (absH.rowwise().sum() + lambda.cwiseAbs() * (c.cwiseAbs().transpose() * absH).sum());
+    // The current set's box is carried to the next materialisation and mapped there by the
+    // whole transform T = κ_q ⋯ κ_1 A at once (much tighter than |κ_q| ⋯ |κ_1| |A| r). For [A]
+    // the part (A − mid) box(r) ⊆ box(rad r) is added to the prediction's own rounding.
+    rA_ = cur_r_;
+    rP_ = e_;
+    if (interval_) {
+      v_.noalias() = sys_.A_rad() * cur_r_;
+      rP_ += (1.0 + gamma(n_)) * v_;
     }
-    r += g * m.strip.half_width() * lambda.cwiseAbs();
-    return r;
-  }
-
-  static Zonotope with_rounding_box(const Zonotope& Z, const Eigen::VectorXd& r) {
-    const Eigen::Index n = Z.dimension(), m = Z.num_generators();
-    Eigen::MatrixXd H(n, m + n);
-    H << Z.generators(), Eigen::MatrixXd(r.asDiagonal());
-    return Zonotope(Z.center(), std::move(H)).remove_zero_generators();
-  }
-
-  Zonotope reduce(const Zonotope& Z) const {
-    return Z.num_generators() > opt_.max_generators ? Z.reduce_combastel(opt_.max_generators) : Z;
+    // Generators: A G lazily (T = A), then E and, for [A], the two boxes of [Le2013].
+    T_ = A;
+    T_identity_ = false;
+    wG_ = cur_w_;
+    mN_ = 0;
+    N_.leftCols(Enz_.cols()) = Enz_;
+    mN_ = Enz_.cols();
+    if (interval_) {
+      const double infl = 1.0 + static_cast<double>(n_ + 2) * std::numeric_limits<double>::epsilon();
+      v_.noalias() = sys_.A_rad() * cur_w_;
+      t_.noalias() = sys_.A_rad() * cur_p_.cwiseAbs();
+      for (const Vec* box : {&v_, &t_})
+        for (Eigen::Index i = 0; i < n_; ++i)
+          if ((*box)(i) > 0) {
+            N_.col(mN_).setZero();
+            N_(i, mN_++) = (*box)(i) * infl;
+          }
+    }
+    if (want_S_) {
+      Sc_.noalias() = A * S_;
+      S_.noalias() = Sc_ * A.transpose();
+      S_ += EEt_;
+      for (Eigen::Index j = Enz_.cols(); j < mN_; ++j) S_.noalias() += N_.col(j) * N_.col(j).transpose();
+    }
   }
 
   LinearSystem sys_;
-  Zonotope next_;
-  Eigen::VectorXd pending_ = Eigen::VectorXd::Zero(next_.dimension());  ///< rounding box of next_
-  ZonotopeGainRule rule_;
+  ZonotopeGain gain_;
   ZonotopicOptions opt_;
+  Eigen::Index n_ = 0, cap_ = 0, capN_ = 0;
+  bool lazy_ = false, want_S_ = false, interval_ = false;
+  Mat absMid_, absA_, Enz_, EEt_, Ct_, absCt_, absB_, absD_;
+  Vec phi_;
+  std::vector<bool> D_used_;
+
+  // The prior (the set for x_{k+1}): p_ ⊕ [T_ G, N_] B ⊕ T_ box(rA_) ⊕ box(rP_), with
+  // G = H_[cur_].leftCols(mG_); S_ ≈ its Gram matrix (segment minimisation), wG_ = rs|G|
+  // rounded up.
+  Vec p_, rA_, rP_, wG_;
+  Mat T_, N_, S_;
+  bool T_identity_ = true;
+  Eigen::Index mG_ = 0, mN_ = 0;
+
+  // The current set (x_k): cur_p_ ⊕ H_[cur_].leftCols(m_) B ⊕ box(cur_r_), and its hull.
+  Mat H_[2];
+  int cur_ = 0;
+  Eigen::Index m_ = 0;
+  Vec cur_p_, cur_r_, cur_w_, cur_lo_, cur_hi_;
+  bool has_current_ = false, reduced_ = false;
   Eigen::Index k_ = 0;
+
+  // Scratch.
+  Vec pc_, rc_, wH_, wGA_, lam_, sc_, v_, t_, e_, wN_, cN_, uabs_;
+  Mat Tc_, Nc_, Sc_, absT_;
+  detail::ReductionWorkspace rws_;
 };
 
 }  // namespace setbound

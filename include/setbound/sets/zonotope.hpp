@@ -24,6 +24,7 @@
 #include "setbound/core/validate.hpp"
 #include "setbound/sets/ellipsoid.hpp"  // BoundingBox, detail::require_length
 #include "setbound/sets/strip.hpp"
+#include "setbound/sets/zonotope_reduction.hpp"
 
 namespace setbound {
 
@@ -199,32 +200,40 @@ class Zonotope {
   double pradius(const Eigen::Ref<const Eigen::MatrixXd>& P) const { return pradius_with_vertex(P).value; }
 
   /// Reduction of [Le2013] Property 3 (Combastel 2003 / [Alamo2005]), papers §0.1: when
-  /// m > s, sort the columns by decreasing Euclidean norm, keep the first s - n and replace
-  /// the rest H_Q by the n×n diagonal rs(H_Q). The result has exactly s generators and
-  /// contains Z (H_Q B ⊆ rs(H_Q) B^n, the interval hull). Unchanged when m <= s.
-  /// s must be >= n ("s").
+  /// m > s, keep the s - n longest columns (Euclidean norm) and replace the rest H_Q by the
+  /// n×n diagonal rs(H_Q). The result has at most s generators (a zero row of rs(H_Q) gives
+  /// no column) and contains Z (H_Q B ⊆ rs(H_Q) B^n, the interval hull). Unchanged when
+  /// m <= s. s must be >= n ("s").
   Zonotope reduce_combastel(Eigen::Index s) const {
     const Eigen::Index n = dimension();
     if (s < n)
       throw InvalidArgumentError("s: the generator limit must be >= n = " + std::to_string(n) + ", got " +
                                  std::to_string(s));
-    if (num_generators() <= s) return *this;
-    const Eigen::VectorXd norms = H_.colwise().norm().transpose();
-    return keep_and_box(norms, s - n);
+    return reduced(ZonotopeReduction::Combastel, s);
   }
 
-  /// Girard 2005 reduction to at most `max_generators` (>= n) generators: sort by
-  /// ||g||_1 - ||g||_inf (how much boxing a generator costs: zero for an axis-aligned one),
-  /// keep the max_generators - n largest, replace the rest by their interval hull.
+  /// Girard 2005 reduction to at most `max_generators` (>= n) generators: keep the
+  /// max_generators - n largest ||g||_1 - ||g||_inf (how much boxing a generator costs: zero
+  /// for an axis-aligned one), replace the rest by their interval hull. Ties are reduced
+  /// lower index first, as CORA's pickedGenerators (MATLAB mink).
   Zonotope reduce_girard_to(Eigen::Index max_generators) const {
     const Eigen::Index n = dimension();
     if (max_generators < n)
       throw InvalidArgumentError("limit: the generator limit must be >= n = " + std::to_string(n) +
                                  ", got " + std::to_string(max_generators));
-    if (num_generators() <= max_generators) return *this;
-    const Eigen::VectorXd score =
-        (H_.cwiseAbs().colwise().sum() - H_.cwiseAbs().colwise().maxCoeff()).transpose();
-    return keep_and_box(score, max_generators - n);
+    return reduced(ZonotopeReduction::Girard, max_generators);
+  }
+
+  /// CORA's PCA reduction (reduce(Z,'pca',order), priv_reducePCA) to at most
+  /// `max_generators` (>= n): Girard's choice of the columns to reduce, which are then boxed
+  /// in the eigenbasis of their Gram matrix H_R H_Rᵀ instead of the axes. Guaranteed in
+  /// floating point (see sets/zonotope_reduction.hpp).
+  Zonotope reduce_pca(Eigen::Index max_generators) const {
+    const Eigen::Index n = dimension();
+    if (max_generators < n)
+      throw InvalidArgumentError("limit: the generator limit must be >= n = " + std::to_string(n) +
+                                 ", got " + std::to_string(max_generators));
+    return reduced(ZonotopeReduction::Pca, max_generators);
   }
 
   /// Girard 2005 with an order bound: result has at most floor(order * n) generators.
@@ -333,19 +342,13 @@ class Zonotope {
   }
 
  private:
-  /// Keeps the `keep` columns with the largest `key` (ties by index) and replaces all the
-  /// others by the n×n diagonal of their absolute row sums, rounded outward.
-  Zonotope keep_and_box(const Eigen::VectorXd& key, Eigen::Index keep) const {
-    const Eigen::Index n = dimension(), m = num_generators();
-    std::vector<Eigen::Index> order(static_cast<size_t>(m));
-    std::iota(order.begin(), order.end(), Eigen::Index{0});
-    std::stable_sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) { return key(a) > key(b); });
-    Eigen::MatrixXd rest(n, m - keep);
-    Eigen::MatrixXd Hn(n, keep + n);
-    for (Eigen::Index j = 0; j < keep; ++j) Hn.col(j) = H_.col(order[static_cast<size_t>(j)]);
-    for (Eigen::Index j = keep; j < m; ++j) rest.col(j - keep) = H_.col(order[static_cast<size_t>(j)]);
-    Hn.rightCols(n) = detail::abs_row_sums(rest).asDiagonal();
-    return Zonotope(p_, std::move(Hn));
+  /// The non-zero columns (CORA counts only those), reduced in place by `method`.
+  Zonotope reduced(ZonotopeReduction method, Eigen::Index limit) const {
+    Eigen::MatrixXd H = remove_zero_generators().H_;
+    detail::ReductionWorkspace ws;
+    const Eigen::Index m = detail::reduce_in_place(method, H, H.cols(), limit, nullptr, ws);
+    if (m == H.cols()) return Zonotope(p_, std::move(H));
+    return Zonotope(p_, H.leftCols(m));
   }
 
   Eigen::VectorXd p_;

@@ -1,0 +1,169 @@
+// setbound — order reduction of a zonotope's generator matrix, in place (papers.md §0.1).
+//
+// All three methods keep the generators that are costly to box and replace the others, H_R,
+// by n generators W with W B^n ⊇ H_R B^{|R|} (⊕ an extra box B_r, see below):
+//
+//   Combastel ([Le2013] Property 3): keep the s − n longest columns (Euclidean norm), W the
+//             diagonal rs(H_R) (the interval hull of H_R B).
+//   Girard (2005): keep the s − n columns with the largest ‖g‖₁ − ‖g‖∞ (the cost of boxing a
+//             generator; zero for an axis-aligned one), W = rs(H_R).
+//   Pca (CORA's reduce 'pca', Althoff's priv_reducePCA): select as Girard, then box H_R in the
+//             eigenbasis Q of H_R H_Rᵀ (its principal components): W = Q diag(rs(Qᵀ H_R)).
+//
+// "s − n kept" is CORA's rule with order s/n: reduce only when the number of non-zero columns
+// m exceeds s, keep floor(n·(order − 1)) = s − n, box the m − s + n others. The reduced set is
+// chosen as MATLAB's mink does: the smallest keys, ties to the lower column index. Kept columns
+// stay in their original order, the n box columns follow (CORA's [Gunred, Gbox]).
+//
+// An extra axis box B_r (the estimators' pending rounding box, r >= 0 componentwise) can be
+// absorbed into W without counting as generators.
+//
+// Guarantee in floating point. For Combastel/Girard, W = diag(s) with s the absolute row sums
+// of [H_R, diag(r)] rounded up, an exact enclosure. For PCA the computed Q is only nearly
+// orthogonal and W = fl(Q diag(s)) is rounded, so s is made large enough for the stored W:
+// with Q̂ = W diag(s)⁻¹ (= Q up to one rounding per entry, |Q̂ − Q| ≤ u|Q|) and
+// F̂ = Q̂ᵀQ̂ − I, ‖F̂‖₂ ≤ f < 1/2 (bounded from the computed QᵀQ),
+//   Q̂⁻¹ = (I + F̂)⁻¹ Q̂ᵀ,   ‖Q̂⁻¹ − Q̂ᵀ‖₂ ≤ η = f √(1 + f) / (1 − f),
+// so every x = H_R z + diag(r) t (|z|, |t| ≤ 1) is x = Q̂ d with
+//   |d_i| ≤ rs(|fl(Qᵀ H_R)|)_i + (γ_n + u)(|Q|ᵀ rs|H_R|)_i + (1 + u)(|Q|ᵀ r)_i + η (Σ‖g_j‖₂ + ‖r‖₂) = s_i
+// (after outward rounding of the sums), i.e. x ∈ W B^n. If f is not small (a failed
+// eigen-decomposition), the method falls back to the axis box, which is exact.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <vector>
+
+namespace setbound {
+
+/// Order-reduction method of a zonotope (see sets/zonotope_reduction.hpp).
+enum class ZonotopeReduction { Combastel = 1, Girard = 2, Pca = 3 };
+
+namespace rounding_bounds {
+inline constexpr double kUnitRoundoff = std::numeric_limits<double>::epsilon() / 2;
+/// γ_k = k u / (1 − k u) (Higham), for k + 2 operations and doubled as a safety factor for
+/// the additions around it.
+inline double gamma(Eigen::Index k) {
+  const double ku = static_cast<double>(k + 2) * kUnitRoundoff;
+  return 2.0 * ku / (1.0 - ku);
+}
+}  // namespace rounding_bounds
+
+namespace detail {
+
+/// Buffers of the in-place reduction, reused between calls (no allocation once grown).
+struct ReductionWorkspace {
+  Eigen::VectorXd key;
+  std::vector<Eigen::Index> order;
+  Eigen::MatrixXd Gred;            ///< n × |R|, the reduced columns (original order)
+  Eigen::MatrixXd gram;            ///< n × n, Gred Gredᵀ (PCA, or when requested)
+  Eigen::MatrixXd Q, QtG, QtQ, W;  ///< PCA basis, Qᵀ Gred, QᵀQ, the box generators
+  Eigen::MatrixXd absQ, bound;
+  Eigen::VectorXd s, wred, tmp;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig;
+  Eigen::Index reduced_count = 0;  ///< |R| of the last call (0: nothing reduced)
+};
+
+/// Reduction keys of the first m columns of H: larger = more worth keeping.
+inline void reduction_keys(ZonotopeReduction method, const Eigen::MatrixXd& H, Eigen::Index m, Eigen::VectorXd& key) {
+  if (key.size() < m) key.resize(std::max<Eigen::Index>(m, 2 * key.size()));
+  for (Eigen::Index j = 0; j < m; ++j) {
+    if (method == ZonotopeReduction::Combastel) key(j) = H.col(j).norm();
+    else key(j) = H.col(j).cwiseAbs().sum() - H.col(j).cwiseAbs().maxCoeff();  // ‖g‖₁ − ‖g‖∞
+  }
+}
+
+/// The axis box: s = rs(|Gred|) + r, rounded up (exact enclosure of Gred B ⊕ B_r).
+inline void axis_box(const Eigen::VectorXd& wred, const Eigen::VectorXd* r, Eigen::Index count, Eigen::VectorXd& s) {
+  const double infl = 1.0 + static_cast<double>(count + 4) * std::numeric_limits<double>::epsilon();
+  s = wred;
+  if (r) s += *r;
+  s *= infl;
+}
+
+/// PCA box of ws.Gred (⊕ B_r) into ws.W (n × n); returns false (W untouched) when the
+/// computed basis is not safely orthogonal, so the caller uses the axis box.
+inline bool pca_box(const Eigen::VectorXd* r, ReductionWorkspace& ws) {
+  using rounding_bounds::gamma;
+  const double u = rounding_bounds::kUnitRoundoff;
+  const Eigen::Index n = ws.Gred.rows(), k = ws.Gred.cols();
+  ws.eig.compute(ws.gram);
+  if (ws.eig.info() != Eigen::Success) return false;
+  // Descending eigenvalues, as CORA's svd(cov) orders its basis.
+  ws.Q = ws.eig.eigenvectors().rowwise().reverse();
+  ws.QtQ.noalias() = ws.Q.transpose() * ws.Q;
+  const Eigen::MatrixXd& absQ = ws.absQ = ws.Q.cwiseAbs();
+  ws.bound = (ws.QtQ - Eigen::MatrixXd::Identity(n, n)).cwiseAbs() * (1.0 + u);
+  ws.bound.noalias() += (gamma(n) + 3.0 * u) * (absQ.transpose() * absQ);
+  const double f = ws.bound.rowwise().sum().maxCoeff() * (1.0 + gamma(n));
+  if (!(f < 0.5)) return false;
+  const double eta = f * std::sqrt(1.0 + f) / (1.0 - f) * (1.0 + 4.0 * u);
+  double mass = 0.0;  // Σ‖g_j‖₂ + ‖r‖₂
+  for (Eigen::Index j = 0; j < k; ++j) mass += ws.Gred.col(j).norm();
+  if (r) mass += r->norm();
+  ws.QtG.noalias() = ws.Q.transpose() * ws.Gred;
+  ws.s = ws.QtG.cwiseAbs().rowwise().sum();
+  ws.s.noalias() += (gamma(n) + u) * (absQ.transpose() * ws.wred);
+  if (r) ws.s.noalias() += (1.0 + u) * (absQ.transpose() * *r);
+  ws.s.array() += eta * mass;
+  ws.s *= 1.0 + gamma(k + n + 8);
+  // fl(Q_ij s_j) has relative error <= u only for normal results: refuse tiny boxes.
+  if (!(ws.s.minCoeff() > 1e-280) || !ws.s.allFinite()) return false;
+  ws.W = ws.Q * ws.s.asDiagonal();
+  return true;
+}
+
+/// Reduces the first m columns of H in place to at most `limit` (>= n) columns when m > limit,
+/// absorbing the box B_r (r may be null) into the replacement generators. Returns the new
+/// column count. When nothing is reduced (m <= limit) H is untouched, r is NOT absorbed and
+/// ws.reduced_count = 0. H must have room for m columns; the result never needs more.
+/// With want_gram, ws.gram = Gred Gredᵀ of the reduced columns afterwards (for the estimators'
+/// Gram matrix); the n box columns are H.middleCols(result − boxed, boxed).
+inline Eigen::Index reduce_in_place(ZonotopeReduction method, Eigen::MatrixXd& H, Eigen::Index m, Eigen::Index limit,
+                                    const Eigen::VectorXd* r, ReductionWorkspace& ws, bool want_gram = false) {
+  const Eigen::Index n = H.rows();
+  ws.reduced_count = 0;
+  if (m <= limit) return m;
+  const Eigen::Index keep = limit - n, nred = m - keep;
+  // Which columns: the nred smallest keys, ties to the lower index (MATLAB mink).
+  reduction_keys(method, H, m, ws.key);
+  const double* key = ws.key.data();
+  auto less = [key](Eigen::Index a, Eigen::Index b) { return key[a] < key[b] || (key[a] == key[b] && a < b); };
+  ws.order.resize(static_cast<std::size_t>(m));
+  std::iota(ws.order.begin(), ws.order.end(), Eigen::Index{0});
+  if (nred < m)
+    std::nth_element(ws.order.begin(), ws.order.begin() + static_cast<std::ptrdiff_t>(nred), ws.order.end(), less);
+  ws.order.resize(static_cast<std::size_t>(nred));
+  std::sort(ws.order.begin(), ws.order.end());  // the reduced columns, in index order
+  // Gather the reduced columns and move the kept ones to the front.
+  if (ws.Gred.rows() != n || ws.Gred.cols() != nred) ws.Gred.resize(n, nred);
+  Eigen::Index kk = 0, t = 0;
+  for (Eigen::Index j = 0; j < m; ++j) {
+    if (t < nred && ws.order[static_cast<std::size_t>(t)] == j) {
+      ws.Gred.col(t++) = H.col(j);
+    } else {
+      if (kk != j) H.col(kk) = H.col(j);
+      ++kk;
+    }
+  }
+  ws.wred = ws.Gred.cwiseAbs().rowwise().sum() * (1.0 + static_cast<double>(nred + 2) * std::numeric_limits<double>::epsilon());
+  if (method == ZonotopeReduction::Pca || want_gram) ws.gram.noalias() = ws.Gred * ws.Gred.transpose();
+  bool boxed = false;
+  if (method == ZonotopeReduction::Pca) boxed = pca_box(r, ws);
+  if (!boxed) {
+    axis_box(ws.wred, r, nred, ws.s);
+    ws.W = ws.s.asDiagonal();
+  }
+  // Append the non-zero box columns (CORA keeps zero ones, but never counts them).
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (ws.W.col(i).cwiseAbs().maxCoeff() > 0) H.col(kk++) = ws.W.col(i);
+  ws.reduced_count = nred;
+  return kk;
+}
+
+}  // namespace detail
+}  // namespace setbound
