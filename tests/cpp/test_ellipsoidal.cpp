@@ -12,35 +12,17 @@
 #include <vector>
 
 #include "setbound/estimators/ellipsoidal.hpp"
+#include "ell_test_systems.hpp"
 #include "test_helpers.hpp"
 
 using namespace setbound;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
+using setbound::testing::bc14;
+using setbound::testing::me17;
+
 namespace {
-
-// EX-BC14 (papers §1.4).
-LinearSystem bc14() {
-  MatrixXd A(3, 3), E(3, 5), C(2, 3), F(2, 5);
-  A << 1, 0, 0.2, 0, 0.8, 1, 0, 0, 1;
-  E << 0.1, 0, 0, 0, 0, 0, 0.05, 0, 0, 0, 0, 0, 0.05, 0, 0;
-  C << 1, 0, 2, 0, -1, 1;
-  F << 0, 0, 0, 0.15, 0, 0, 0, 0, 0, 0.15;
-  return LinearSystem(A, C, E, F);
-}
-
-// EX-ME17a / EX-ME17b (papers §2.5), ω = [w; v]; a_rad > 0 makes A(0,0) and A(1,1) uncertain.
-LinearSystem me17(bool unstable, double a_rad = 0.0) {
-  MatrixXd A(2, 2), E(2, 2), C(1, 2), F(1, 2);
-  A << (unstable ? -1.5 : -0.8), 0.2, -0.3, 0.1;
-  E << -0.12, 0, 0.02, 0;
-  C << -2, 1;
-  F << 0, 0.2;
-  MatrixXd Arad = MatrixXd::Zero(2, 2);
-  Arad(0, 0) = Arad(1, 1) = a_rad;
-  return LinearSystem(A, C, E, F, {}, {}, Arad);
-}
 
 // Initial sets of the papers: EX-BC14 E(I, 0, √2); EX-ME17 the ball of radius √20 around [5, 5].
 Ellipsoid bc14_x0() { return Ellipsoid(MatrixXd::Identity(3, 3), VectorXd::Zero(3), std::sqrt(2.0)); }

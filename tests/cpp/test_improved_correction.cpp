@@ -19,6 +19,7 @@
 #include "setbound/estimators/improved_correction.hpp"
 #include "setbound/lmi/classes.hpp"
 #include "setbound/lmi/model.hpp"
+#include "ell_test_systems.hpp"
 #include "test_helpers.hpp"
 
 using setbound::CorrectionOption;
@@ -27,6 +28,9 @@ using setbound::Ellipsoid;
 using setbound::ImprovedCorrector;
 using setbound::LinearSystem;
 using setbound::testing::expect_error_naming;
+
+using setbound::testing::bc14;
+using setbound::testing::me17;
 
 namespace {
 
@@ -44,18 +48,6 @@ std::string name(CorrectionOption o) {
   return "?";
 }
 
-// EX-ME17a / EX-ME17b (papers.md §2.5).
-LinearSystem me17(bool unstable) {
-  Eigen::MatrixXd A(2, 2);
-  if (unstable) A << -1.5, 0.2, -0.3, 0.1;
-  else A << -0.8, 0.2, -0.3, 0.1;
-  Eigen::MatrixXd E(2, 2), C(1, 2), F(1, 2);
-  E << -0.12, 0, 0.02, 0;
-  C << -2, 1;
-  F << 0, 0.2;
-  return LinearSystem(A, C, E, F);
-}
-
 // The 3-D check of §6.5: C and E of EX-BC14, output noise coupled between the two outputs.
 LinearSystem coupled3d() {
   Eigen::MatrixXd A(3, 3), E = Eigen::MatrixXd::Zero(3, 5), C(2, 3), F(2, 5);
@@ -71,15 +63,6 @@ Ellipsoid coupled3d_prediction() {
   Eigen::MatrixXd P(3, 3);
   P << 3, .5, .2, .5, 2, .1, .2, .1, 1.5;
   return Ellipsoid(P, Eigen::VectorXd::Zero(3), 2.0);
-}
-
-// EX-BC14 itself (papers.md §1.4), for the timing at its size.
-LinearSystem bc14() {
-  LinearSystem s = coupled3d();
-  Eigen::MatrixXd F = Eigen::MatrixXd::Zero(2, 5);
-  F(0, 3) = 0.15;
-  F(1, 4) = 0.15;
-  return LinearSystem(s.A(), s.C(), s.E(), F);
 }
 
 Eigen::MatrixXd gauss(std::mt19937& g, Eigen::Index r, Eigen::Index c, double scale = 1.0) {

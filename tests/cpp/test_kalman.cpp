@@ -13,38 +13,17 @@
 #include <vector>
 
 #include "setbound/estimators/kalman.hpp"
+#include "ell_test_systems.hpp"
 #include "test_helpers.hpp"
 
 using setbound::KalmanFilter;
 using setbound::LinearSystem;
 using setbound::testing::expect_error_naming;
 
+using setbound::testing::bc14;
+using setbound::testing::me17;
+
 namespace {
-
-// EX-ME17a / EX-ME17b (papers.md §2.5).
-LinearSystem me17(bool unstable) {
-  Eigen::MatrixXd A(2, 2);
-  if (unstable) A << -1.5, 0.2, -0.3, 0.1;
-  else A << -0.8, 0.2, -0.3, 0.1;
-  Eigen::MatrixXd E(2, 2), C(1, 2), F(1, 2);
-  E << -0.12, 0, 0.02, 0;
-  C << -2, 1;
-  F << 0, 0.2;
-  return LinearSystem(A, C, E, F);
-}
-
-// EX-BC14 (papers.md §1.4).
-LinearSystem bc14() {
-  Eigen::MatrixXd A(3, 3), E = Eigen::MatrixXd::Zero(3, 5), C(2, 3), F = Eigen::MatrixXd::Zero(2, 5);
-  A << 1, 0, 0.2, 0, 0.8, 1, 0, 0, 1;
-  E(0, 0) = 0.1;
-  E(1, 1) = 0.05;
-  E(2, 2) = 0.05;
-  C << 1, 0, 2, 0, -1, 1;
-  F(0, 3) = 0.15;
-  F(1, 4) = 0.15;
-  return LinearSystem(A, C, E, F);
-}
 
 Eigen::MatrixXd random_matrix(std::mt19937& g, Eigen::Index r, Eigen::Index c, double scale = 1.0) {
   std::normal_distribution<double> N(0.0, 1.0);

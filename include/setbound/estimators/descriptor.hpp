@@ -158,15 +158,7 @@ class DescriptorEstimator {
   DescriptorEstimator(EllDesign design, DescriptorSystem sys, const Ellipsoid& x0)
       : d_(std::move(design)), sys_(std::move(sys)), eq_(sys_.equivalent()), cur_(check(d_, sys_, x0)) {
     const Eigen::Index n = sys_.nx(), ny = sys_.ny();
-    d_.P = 0.5 * (d_.P + d_.P.transpose());
-    require_shape(d_.L, n, ny, "design.L");
-    require_finite(d_.L, "design.L");
-    if (!(d_.beta > 0 && d_.beta < 1)) {
-      std::ostringstream s;
-      s << "design.beta: must be in (0, 1), got " << d_.beta;
-      throw InvalidArgumentError(s.str());
-    }
-    require_nonnegative(d_.sigma, "design.sigma");
+    detail::ell_check_design_values(d_, ny);
     // The design must hold for *this* system's equivalent (whatever system it was made for).
     const detail::EllLmiData data(eq_);
     const std::vector<Eigen::VectorXd> omegas = detail::ell_box_vertices(data.m(), true);

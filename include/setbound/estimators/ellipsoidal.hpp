@@ -371,6 +371,20 @@ inline std::string ell_cancellable_hint(const Eigen::MatrixXd& E, const Eigen::M
          "with the Ball normalisation";
 }
 
+/// Symmetrises d.P exactly and checks the gain's shape and the scalars of a design handed to an
+/// estimator (messages name the field).
+inline void ell_check_design_values(EllDesign& d, Eigen::Index ny) {
+  d.P = (0.5 * (d.P + d.P.transpose())).eval();
+  require_shape(d.L, d.P.rows(), ny, "design.L");
+  require_finite(d.L, "design.L");
+  if (!(d.beta > 0 && d.beta < 1)) {
+    std::ostringstream s;
+    s << "design.beta: must be in (0, 1), got " << d.beta;
+    throw InvalidArgumentError(s.str());
+  }
+  require_nonnegative(d.sigma, "design.sigma");
+}
+
 inline const char* ell_normalization_name(EllNormalization n) {
   switch (n) {
     case EllNormalization::LogDet: return "LogDet";
@@ -712,15 +726,7 @@ class EllipsoidalPredictor {
     if (mode_ != EllPredictorMode::Offline && mode_ != EllPredictorMode::OnlineVertex &&
         mode_ != EllPredictorMode::OnlineScaled)
       throw InvalidArgumentError("mode: unknown predictor mode " + std::to_string(static_cast<int>(mode_)));
-    d_.P = 0.5 * (d_.P + d_.P.transpose());
-    require_shape(d_.L, n, sys.ny(), "design.L");
-    require_finite(d_.L, "design.L");
-    if (!(d_.beta > 0 && d_.beta < 1)) {
-      std::ostringstream s;
-      s << "design.beta: must be in (0, 1), got " << d_.beta;
-      throw InvalidArgumentError(s.str());
-    }
-    require_nonnegative(d_.sigma, "design.sigma");
+    detail::ell_check_design_values(d_, sys.ny());
     if (mode_ == EllPredictorMode::Offline && data_.interval)
       throw InvalidArgumentError(
           "mode: the Offline predictor cannot be used with an interval A: the centre term (A - mid[A]) x_k of the "
