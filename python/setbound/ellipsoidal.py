@@ -28,7 +28,7 @@ import numpy as np
 from ._native import as_f64, check, dptr, ffi, lib
 from .errors import DimensionError, InvalidArgumentError
 from .sets import Ellipsoid
-from .system import DescriptorSystem, LinearSystem
+from .system import DescriptorSystem, LinearSystem, run_inputs, step_inputs
 from .trajectory import Trajectory
 
 _NORMALIZATIONS = {
@@ -150,17 +150,6 @@ class _EllipsoidalEstimator:
         self._P, self._c, self._rho = np.empty((n, n)), np.empty(n), ffi.new("double*")
         self._lo, self._hi = np.empty(n), np.empty(n)
 
-    def _inputs(self, y, u):
-        s = self.system
-        y = as_f64(y, "y", shape=(s.ny,))
-        if s.nu > 0:
-            if u is None:
-                raise InvalidArgumentError(f"u: the system has {s.nu} inputs; an input is required")
-            u = as_f64(u, "u", shape=(s.nu,))
-        elif u is not None and np.size(u) != 0:
-            raise DimensionError("u: the system has no input")
-        return y, (dptr(u) if s.nu > 0 else ffi.NULL)
-
     def _snapshot(self):
         return (Ellipsoid(self._P.copy(), self._c.copy(), self._rho[0]), self._lo.copy(), self._hi.copy())
 
@@ -179,7 +168,7 @@ class _EllipsoidalEstimator:
         return int(s[0])
 
     def _step(self, y, u):
-        y, up = self._inputs(y, u)
+        y, up = step_inputs(self.system, y, u)
         check(lib.sb_ellipsoidal_step(self._handle, dptr(y), up, dptr(self._P), dptr(self._c), self._rho,
                                       dptr(self._lo), dptr(self._hi)))
 
@@ -201,10 +190,8 @@ class _EllipsoidalEstimator:
         """Processes the rows of ``y`` (N × n_y) and ``u`` (N × n_u); row k of the result is
         about ``x_k`` (see the module docstring for what each row has used)."""
         s = self.system
-        y = as_f64(y, "y", shape=(None, s.ny))
+        y, u = run_inputs(s, y, u)
         N = y.shape[0]
-        if s.nu > 0:
-            u = as_f64(u, "u", shape=(N, s.nu))
         n = self.design.nx
         centers, lows, highs, sets = np.empty((N, n)), np.empty((N, n)), np.empty((N, n)), []
         if not self.is_filter and N > 0:
@@ -308,24 +295,16 @@ class KalmanFilter:
     def step(self, y, u=None):
         """Correction with ``y_k``, then prediction; returns ``(mean, covariance)`` of ``x_k``."""
         s = self.system
-        y = as_f64(y, "y", shape=(s.ny,))
-        if s.nu > 0:
-            if u is None:
-                raise InvalidArgumentError(f"u: the system has {s.nu} inputs; an input is required")
-            u = as_f64(u, "u", shape=(s.nu,))
-        elif u is not None and np.size(u) != 0:
-            raise DimensionError("u: the system has no input")
+        y, up = step_inputs(s, y, u)
         m, G = np.empty(s.nx), np.empty((s.nx, s.nx))
-        check(lib.sb_kalman_step(self._handle, dptr(y), dptr(u) if s.nu > 0 else ffi.NULL, dptr(m), dptr(G)))
+        check(lib.sb_kalman_step(self._handle, dptr(y), up, dptr(m), dptr(G)))
         self.mean, self.covariance = m, G
         return m.copy(), G.copy()
 
     def run(self, y, u=None) -> Trajectory:
         s = self.system
-        y = as_f64(y, "y", shape=(None, s.ny))
+        y, u = run_inputs(s, y, u)
         N = y.shape[0]
-        if s.nu > 0:
-            u = as_f64(u, "u", shape=(N, s.nu))
         means, covs = np.empty((N, s.nx)), np.empty((N, s.nx, s.nx))
         for k in range(N):
             means[k], covs[k] = self.step(y[k], u[k] if s.nu > 0 else None)

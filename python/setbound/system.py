@@ -16,6 +16,31 @@ from .errors import DimensionError, InvalidArgumentError
 from .interval import IntervalMatrix
 
 
+def step_inputs(system, y, u):
+    """One measurement ``y`` (n_y) and input ``u`` (n_u, or None without inputs), checked against
+    ``system``; returns ``(y, u_ptr)`` with ``u_ptr`` a C pointer or NULL."""
+    y = as_f64(y, "y", shape=(system.ny,))
+    if system.nu > 0:
+        if u is None:
+            raise InvalidArgumentError(f"u: the system has {system.nu} inputs; an input is required")
+        u = as_f64(u, "u", shape=(system.nu,))
+        return y, dptr(u)
+    if u is not None and np.size(u) != 0:
+        raise DimensionError("u: the system has no input")
+    return y, ffi.NULL
+
+
+def run_inputs(system, y, u):
+    """Measurements ``y`` (N × n_y) and inputs ``u`` (N × n_u, or None without inputs) for a run;
+    returns ``(y, u)`` with ``u`` None when the system has no input."""
+    y = as_f64(y, "y", shape=(None, system.ny))
+    if system.nu > 0:
+        return y, as_f64(u, "u", shape=(y.shape[0], system.nu))
+    if u is not None and np.size(u) != 0:
+        raise DimensionError("u: the system has no input")
+    return y, None
+
+
 class LinearSystem:
     """A discrete-time linear model with unit-box disturbances (validated by the C library)."""
 

@@ -19,7 +19,7 @@ import numpy as np
 from ._native import as_f64, check, dptr, ffi, lib
 from .errors import DimensionError, InvalidArgumentError
 from .sets import Zonotope
-from .system import LinearSystem
+from .system import LinearSystem, run_inputs, step_inputs
 from .trajectory import Trajectory
 
 
@@ -74,15 +74,9 @@ class _ZonotopicEstimator:
 
     def _step(self, y, u):
         s = self.system
-        y = as_f64(y, "y", shape=(s.ny,))
-        if s.nu > 0:
-            if u is None:
-                raise InvalidArgumentError(f"u: the system has {s.nu} inputs; an input is required")
-            u = as_f64(u, "u", shape=(s.nu,))
-        elif u is not None and np.size(u) != 0:
-            raise DimensionError("u: the system has no input")
+        y, up = step_inputs(s, y, u)
         c, lo, hi = np.empty(s.nx), np.empty(s.nx), np.empty(s.nx)
-        check(lib.sb_zonotopic_step(self._handle, dptr(y), dptr(u) if s.nu > 0 else ffi.NULL,
+        check(lib.sb_zonotopic_step(self._handle, dptr(y), up,
                                     dptr(c), dptr(lo), dptr(hi), self._m))
         return c, lo, hi
 
@@ -101,10 +95,8 @@ class _ZonotopicEstimator:
     def run(self, y, u=None) -> Trajectory:
         """Processes the rows of ``y`` (N × n_y) and ``u`` (N × n_u); row k is about x_k."""
         s = self.system
-        y = as_f64(y, "y", shape=(None, s.ny))
+        y, u = run_inputs(s, y, u)
         N = y.shape[0]
-        if s.nu > 0:
-            u = as_f64(u, "u", shape=(N, s.nu))
         centers, lows, highs, sets = np.empty((N, s.nx)), np.empty((N, s.nx)), np.empty((N, s.nx)), []
         for k in range(N):
             centers[k], lows[k], highs[k] = self._step(y[k], u[k] if s.nu > 0 else None)
