@@ -142,7 +142,13 @@ def main():
         lines += ["![widths over time](img/zonotopic_widths.png)", ""]
     except ImportError:
         pass
-    Path(args.out).write_text("\n".join(lines) + "\n")
+    # Keep the C++ per-step table that bench/bench_zonotopic_cpp writes into the same file.
+    begin, end = "<!-- bench_zonotopic_cpp:begin -->", "<!-- bench_zonotopic_cpp:end -->"
+    out = Path(args.out)
+    old = out.read_text() if out.exists() else ""
+    if begin in old and end in old:
+        lines += ["## C++ per-step times", "", old[old.index(begin):old.index(end) + len(end)], ""]
+    out.write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 
 

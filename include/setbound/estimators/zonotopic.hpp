@@ -51,15 +51,6 @@
 
 namespace setbound {
 
-/// Componentwise bound on the rounding error of computing K p and K H (each column), summed
-/// over the generators: the set {fl(Kp) + fl(KH) s + r t} ⊇ {K p + K H s} for this r.
-inline Eigen::VectorXd rounding_radius_linear_map(const Eigen::MatrixXd& K, const Zonotope& Z) {
-  const Eigen::MatrixXd absK = K.cwiseAbs();
-  Eigen::VectorXd mass = Z.center().cwiseAbs();
-  if (Z.num_generators() > 0) mass += Z.generators().cwiseAbs().rowwise().sum();
-  return rounding_bounds::gamma(K.cols()) * (absK * mass);
-}
-
 /// One-strip correction: the output-i row (c, D_i u, φ) of the model and the gain λ.
 struct StripMeasurement {
   Strip strip;   // |cᵀx − (y_i − D_i u)| ≤ φ
@@ -346,7 +337,6 @@ class ZonotopicEstimator {
     lam_ = sc_ = v_ = t_ = e_ = Vec::Zero(n_);
     uabs_ = Vec::Zero(sys_.nu());
     absT_ = Mat::Zero(n_, n_);
-    wN_ = Vec::Zero(capN_);
     cN_ = Vec::Zero(capN_);
   }
 
@@ -460,9 +450,9 @@ class ZonotopicEstimator {
     }
     // Drop zero columns (CORA never counts them) and take the row sums of |W|.
     mW = compact_and_sum(W, mW, wH_);
-    // A pending box that is no longer negligible becomes generators (counted). Rounding in
-    // strongly contracted directions makes it ~1e-8 of the smallest radius on CORA's data;
-    // the threshold only stops a long growth without reductions.
+    // A pending box that is no longer negligible becomes generators (counted). On CORA's data
+    // it stays below 2e-10 of the largest radius; the threshold only stops a long growth
+    // without reductions.
     const double scale = mW > 0 ? wH_.maxCoeff() : 0.0;
     if (rc_.maxCoeff() > kBoxToGenerators * scale) {
       for (Eigen::Index i = 0; i < n_; ++i)
@@ -577,23 +567,68 @@ class ZonotopicEstimator {
   }
 
   /// Removes exactly-zero columns of W (keeping the order) when `drop_zeros`, and sets
-  /// w = rs|W|, rounded up.
+  /// w = rs|W|, rounded up. Fixed-size column kernels for n <= 8.
   Eigen::Index compact_and_sum(Mat& W, Eigen::Index m, Vec& w, bool drop_zeros = true) const {
-    w.setZero();
+    switch (n_) {
+      case 1: return compact_and_sum_impl<1>(W, m, w, drop_zeros);
+      case 2: return compact_and_sum_impl<2>(W, m, w, drop_zeros);
+      case 3: return compact_and_sum_impl<3>(W, m, w, drop_zeros);
+      case 4: return compact_and_sum_impl<4>(W, m, w, drop_zeros);
+      case 5: return compact_and_sum_impl<5>(W, m, w, drop_zeros);
+      case 6: return compact_and_sum_impl<6>(W, m, w, drop_zeros);
+      case 7: return compact_and_sum_impl<7>(W, m, w, drop_zeros);
+      case 8: return compact_and_sum_impl<8>(W, m, w, drop_zeros);
+      default: return compact_and_sum_impl<Eigen::Dynamic>(W, m, w, drop_zeros);
+    }
+  }
+  template <int N>
+  Eigen::Index compact_and_sum_impl(Mat& W, Eigen::Index m, Vec& w, bool drop_zeros) const {
+    using Col = Eigen::Matrix<double, N, 1>;
+    const Eigen::Index n = n_;
+    // A fixed-size accumulator lives in registers; a dynamic one is w itself (no allocation).
+    Col acc_fixed;
+    if constexpr (N != Eigen::Dynamic) acc_fixed.setZero();
+    else w.setZero();
+    auto& acc = [&]() -> auto& {
+      if constexpr (N != Eigen::Dynamic) return acc_fixed;
+      else return w;
+    }();
+    double* const base = W.data();
     Eigen::Index k = 0;
     for (Eigen::Index j = 0; j < m; ++j) {
-      if (drop_zeros && W.col(j).cwiseAbs().maxCoeff() == 0.0) continue;
-      if (k != j) W.col(k) = W.col(j);
-      w += W.col(k).cwiseAbs();
+      const Eigen::Map<const Col> col(base + j * n, n);
+      acc += col.cwiseAbs();
+      if (drop_zeros && (col.array() == 0.0).all()) continue;
+      if (k != j) Eigen::Map<Col>(base + k * n, n) = col;  // k < j: no overlap
       ++k;
     }
-    w *= 1.0 + static_cast<double>(k + 2) * std::numeric_limits<double>::epsilon();
+    const double infl = 1.0 + static_cast<double>(k + 2) * std::numeric_limits<double>::epsilon();
+    if constexpr (N != Eigen::Dynamic) w = acc_fixed * infl;
+    else w *= infl;
     return k;
   }
 
-  /// W.leftCols(m) = T G.leftCols(m).
+  /// W.leftCols(m) = T G.leftCols(m); fixed-size kernels for n <= 8 (Eigen's blocked product
+  /// packs its operands, which costs more than the product for a few rows).
   static void product(const Mat& T, const Mat& G, Mat& W, Eigen::Index m) {
-    W.leftCols(m).noalias() = T * G.leftCols(m);
+    switch (T.rows()) {
+      case 1: W.leftCols(m).noalias() = T(0, 0) * G.leftCols(m); return;
+      case 2: return small_product<2>(T, G, W, m);
+      case 3: return small_product<3>(T, G, W, m);
+      case 4: return small_product<4>(T, G, W, m);
+      case 5: return small_product<5>(T, G, W, m);
+      case 6: return small_product<6>(T, G, W, m);
+      case 7: return small_product<7>(T, G, W, m);
+      case 8: return small_product<8>(T, G, W, m);
+      default: W.leftCols(m).noalias() = T * G.leftCols(m);
+    }
+  }
+  template <int N>
+  static void small_product(const Mat& T, const Mat& G, Mat& W, Eigen::Index m) {
+    const Eigen::Matrix<double, N, N> Tf = T;
+    Eigen::Map<const Eigen::Matrix<double, N, Eigen::Dynamic>> Gm(G.data(), N, m);
+    Eigen::Map<Eigen::Matrix<double, N, Eigen::Dynamic>> Wm(W.data(), N, m);
+    Wm.noalias() = Tf.lazyProduct(Gm);
   }
 
   // ---- prediction of the next prior from the current set ----------------------------------
@@ -632,7 +667,8 @@ class ZonotopicEstimator {
     if (interval_) {
       const double infl = 1.0 + static_cast<double>(n_ + 2) * std::numeric_limits<double>::epsilon();
       v_.noalias() = sys_.A_rad() * cur_w_;
-      t_.noalias() = sys_.A_rad() * cur_p_.cwiseAbs();
+      e_ = cur_p_.cwiseAbs();  // (free again: the prediction's rounding is in rP_)
+      t_.noalias() = sys_.A_rad() * e_;
       for (const Vec* box : {&v_, &t_})
         for (Eigen::Index i = 0; i < n_; ++i)
           if ((*box)(i) > 0) {
@@ -674,7 +710,7 @@ class ZonotopicEstimator {
   Eigen::Index k_ = 0;
 
   // Scratch.
-  Vec pc_, rc_, wH_, wGA_, lam_, sc_, v_, t_, e_, wN_, cN_, uabs_;
+  Vec pc_, rc_, wH_, wGA_, lam_, sc_, v_, t_, e_, cN_, uabs_;
   Mat Tc_, Nc_, Sc_, absT_;
   detail::ReductionWorkspace rws_;
 };

@@ -34,6 +34,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <vector>
@@ -59,7 +60,7 @@ namespace detail {
 struct ReductionWorkspace {
   Eigen::VectorXd key;
   std::vector<Eigen::Index> order;
-  Eigen::MatrixXd Gred;            ///< n × |R|, the reduced columns (original order)
+  Eigen::MatrixXd Gred;            ///< n × capacity; the first |R| columns are the reduced ones
   Eigen::MatrixXd gram;            ///< n × n, Gred Gredᵀ (PCA, or when requested)
   Eigen::MatrixXd Q, QtG, QtQ, W;  ///< PCA basis, Qᵀ Gred, QᵀQ, the box generators
   Eigen::MatrixXd absQ, bound;
@@ -71,9 +72,37 @@ struct ReductionWorkspace {
 /// Reduction keys of the first m columns of H: larger = more worth keeping.
 inline void reduction_keys(ZonotopeReduction method, const Eigen::MatrixXd& H, Eigen::Index m, Eigen::VectorXd& key) {
   if (key.size() < m) key.resize(std::max<Eigen::Index>(m, 2 * key.size()));
-  for (Eigen::Index j = 0; j < m; ++j) {
-    if (method == ZonotopeReduction::Combastel) key(j) = H.col(j).norm();
-    else key(j) = H.col(j).cwiseAbs().sum() - H.col(j).cwiseAbs().maxCoeff();  // ‖g‖₁ − ‖g‖∞
+  const Eigen::Index n = H.rows();
+  const double* base = H.data();
+  double* out = key.data();
+  // Four columns at a time: independent accumulators instead of one dependency chain.
+  Eigen::Index j = 0;
+  for (; j + 4 <= m; j += 4) {
+    const double* g0 = base + j * n;
+    const double *g1 = g0 + n, *g2 = g1 + n, *g3 = g2 + n;
+    double a0 = 0, a1 = 0, a2 = 0, a3 = 0, b0 = 0, b1 = 0, b2 = 0, b3 = 0;
+    if (method == ZonotopeReduction::Combastel) {
+      for (Eigen::Index i = 0; i < n; ++i) a0 += g0[i] * g0[i], a1 += g1[i] * g1[i], a2 += g2[i] * g2[i], a3 += g3[i] * g3[i];
+      out[j] = std::sqrt(a0), out[j + 1] = std::sqrt(a1), out[j + 2] = std::sqrt(a2), out[j + 3] = std::sqrt(a3);
+    } else {  // ‖g‖₁ − ‖g‖∞ (MATLAB: vecnorm(G,1,1) − vecnorm(G,Inf,1))
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const double x0 = std::abs(g0[i]), x1 = std::abs(g1[i]), x2 = std::abs(g2[i]), x3 = std::abs(g3[i]);
+        a0 += x0, a1 += x1, a2 += x2, a3 += x3;
+        b0 = std::max(b0, x0), b1 = std::max(b1, x1), b2 = std::max(b2, x2), b3 = std::max(b3, x3);
+      }
+      out[j] = a0 - b0, out[j + 1] = a1 - b1, out[j + 2] = a2 - b2, out[j + 3] = a3 - b3;
+    }
+  }
+  for (; j < m; ++j) {
+    const double* g = base + j * n;
+    double a = 0, b = 0;
+    if (method == ZonotopeReduction::Combastel) {
+      for (Eigen::Index i = 0; i < n; ++i) a += g[i] * g[i];
+      out[j] = std::sqrt(a);
+    } else {
+      for (Eigen::Index i = 0; i < n; ++i) a += std::abs(g[i]), b = std::max(b, std::abs(g[i]));
+      out[j] = a - b;
+    }
   }
 }
 
@@ -87,10 +116,11 @@ inline void axis_box(const Eigen::VectorXd& wred, const Eigen::VectorXd* r, Eige
 
 /// PCA box of ws.Gred (⊕ B_r) into ws.W (n × n); returns false (W untouched) when the
 /// computed basis is not safely orthogonal, so the caller uses the axis box.
-inline bool pca_box(const Eigen::VectorXd* r, ReductionWorkspace& ws) {
+inline bool pca_box(const Eigen::VectorXd* r, Eigen::Index k, ReductionWorkspace& ws) {
   using rounding_bounds::gamma;
   const double u = rounding_bounds::kUnitRoundoff;
-  const Eigen::Index n = ws.Gred.rows(), k = ws.Gred.cols();
+  const Eigen::Index n = ws.Gred.rows();
+  const auto Gred = ws.Gred.leftCols(k);
   ws.eig.compute(ws.gram);
   if (ws.eig.info() != Eigen::Success) return false;
   // Descending eigenvalues, as CORA's svd(cov) orders its basis.
@@ -103,10 +133,11 @@ inline bool pca_box(const Eigen::VectorXd* r, ReductionWorkspace& ws) {
   if (!(f < 0.5)) return false;
   const double eta = f * std::sqrt(1.0 + f) / (1.0 - f) * (1.0 + 4.0 * u);
   double mass = 0.0;  // Σ‖g_j‖₂ + ‖r‖₂
-  for (Eigen::Index j = 0; j < k; ++j) mass += ws.Gred.col(j).norm();
+  for (Eigen::Index j = 0; j < k; ++j) mass += Gred.col(j).norm();
   if (r) mass += r->norm();
-  ws.QtG.noalias() = ws.Q.transpose() * ws.Gred;
-  ws.s = ws.QtG.cwiseAbs().rowwise().sum();
+  if (ws.QtG.rows() != n || ws.QtG.cols() < k) ws.QtG.resize(n, std::max<Eigen::Index>(k, 2 * ws.QtG.cols()));
+  ws.QtG.leftCols(k).noalias() = ws.Q.transpose() * Gred;
+  ws.s = ws.QtG.leftCols(k).cwiseAbs().rowwise().sum();
   ws.s.noalias() += (gamma(n) + u) * (absQ.transpose() * ws.wred);
   if (r) ws.s.noalias() += (1.0 + u) * (absQ.transpose() * *r);
   ws.s.array() += eta * mass;
@@ -122,7 +153,7 @@ inline bool pca_box(const Eigen::VectorXd* r, ReductionWorkspace& ws) {
 /// column count. When nothing is reduced (m <= limit) H is untouched, r is NOT absorbed and
 /// ws.reduced_count = 0. H must have room for m columns; the result never needs more.
 /// With want_gram, ws.gram = Gred Gredᵀ of the reduced columns afterwards (for the estimators'
-/// Gram matrix); the n box columns are H.middleCols(result − boxed, boxed).
+/// Gram matrix); the reduced columns are ws.Gred.leftCols(ws.reduced_count).
 inline Eigen::Index reduce_in_place(ZonotopeReduction method, Eigen::MatrixXd& H, Eigen::Index m, Eigen::Index limit,
                                     const Eigen::VectorXd* r, ReductionWorkspace& ws, bool want_gram = false) {
   const Eigen::Index n = H.rows();
@@ -133,27 +164,49 @@ inline Eigen::Index reduce_in_place(ZonotopeReduction method, Eigen::MatrixXd& H
   reduction_keys(method, H, m, ws.key);
   const double* key = ws.key.data();
   auto less = [key](Eigen::Index a, Eigen::Index b) { return key[a] < key[b] || (key[a] == key[b] && a < b); };
-  ws.order.resize(static_cast<std::size_t>(m));
-  std::iota(ws.order.begin(), ws.order.end(), Eigen::Index{0});
-  if (nred < m)
-    std::nth_element(ws.order.begin(), ws.order.begin() + static_cast<std::ptrdiff_t>(nred), ws.order.end(), less);
-  ws.order.resize(static_cast<std::size_t>(nred));
-  std::sort(ws.order.begin(), ws.order.end());  // the reduced columns, in index order
-  // Gather the reduced columns and move the kept ones to the front.
-  if (ws.Gred.rows() != n || ws.Gred.cols() != nred) ws.Gred.resize(n, nred);
-  Eigen::Index kk = 0, t = 0;
-  for (Eigen::Index j = 0; j < m; ++j) {
-    if (t < nred && ws.order[static_cast<std::size_t>(t)] == j) {
-      ws.Gred.col(t++) = H.col(j);
-    } else {
-      if (kk != j) H.col(kk) = H.col(j);
-      ++kk;
+  ws.order.clear();
+  if (nred * 16 < m) {
+    // Few to reduce (the estimators' steady state): a max-heap of the nred smallest so far.
+    for (Eigen::Index j = 0; j < m; ++j) {
+      if (static_cast<Eigen::Index>(ws.order.size()) < nred) {
+        ws.order.push_back(j);
+        std::push_heap(ws.order.begin(), ws.order.end(), less);
+      } else if (less(j, ws.order.front())) {
+        std::pop_heap(ws.order.begin(), ws.order.end(), less);
+        ws.order.back() = j;
+        std::push_heap(ws.order.begin(), ws.order.end(), less);
+      }
     }
+  } else {
+    ws.order.resize(static_cast<std::size_t>(m));
+    std::iota(ws.order.begin(), ws.order.end(), Eigen::Index{0});
+    if (nred < m)
+      std::nth_element(ws.order.begin(), ws.order.begin() + static_cast<std::ptrdiff_t>(nred), ws.order.end(), less);
+    ws.order.resize(static_cast<std::size_t>(nred));
   }
-  ws.wred = ws.Gred.cwiseAbs().rowwise().sum() * (1.0 + static_cast<double>(nred + 2) * std::numeric_limits<double>::epsilon());
-  if (method == ZonotopeReduction::Pca || want_gram) ws.gram.noalias() = ws.Gred * ws.Gred.transpose();
+  std::sort(ws.order.begin(), ws.order.end());  // the reduced columns, in index order
+  // Gather the reduced columns and close the gaps (runs of kept columns move as blocks).
+  if (ws.Gred.rows() != n || ws.Gred.cols() < nred) ws.Gred.resize(n, std::max<Eigen::Index>(nred, 2 * ws.Gred.cols()));
+  double* const base = H.data();
+  Eigen::Index kk = 0, from = 0;
+  for (Eigen::Index t = 0; t < nred; ++t) {
+    const Eigen::Index j = ws.order[static_cast<std::size_t>(t)];
+    std::copy(base + j * n, base + (j + 1) * n, ws.Gred.data() + t * n);
+    if (j > from) {
+      if (kk != from) std::memmove(base + kk * n, base + from * n, static_cast<std::size_t>((j - from) * n) * sizeof(double));
+      kk += j - from;
+    }
+    from = j + 1;
+  }
+  if (m > from) {
+    if (kk != from) std::memmove(base + kk * n, base + from * n, static_cast<std::size_t>((m - from) * n) * sizeof(double));
+    kk += m - from;
+  }
+  const auto Gred = ws.Gred.leftCols(nred);
+  ws.wred = Gred.cwiseAbs().rowwise().sum() * (1.0 + static_cast<double>(nred + 2) * std::numeric_limits<double>::epsilon());
+  if (method == ZonotopeReduction::Pca || want_gram) ws.gram.noalias() = Gred * Gred.transpose();
   bool boxed = false;
-  if (method == ZonotopeReduction::Pca) boxed = pca_box(r, ws);
+  if (method == ZonotopeReduction::Pca) boxed = pca_box(r, nred, ws);
   if (!boxed) {
     axis_box(ws.wred, r, nred, ws.s);
     ws.W = ws.s.asDiagonal();
