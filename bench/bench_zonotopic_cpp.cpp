@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "setbound/core/linear_system.hpp"
+#include "setbound/estimators/pradius.hpp"
 #include "setbound/estimators/zonotopic.hpp"
 
 using namespace setbound;
@@ -253,9 +254,11 @@ const char* reduction_name(ZonotopeReduction r) {
 }
 
 Row run(const Benchmark& b, const std::string& method, const ZonotopeGain& gain, ZonotopeReduction red,
-        std::size_t min_steps, const std::string& golden_key, Index horizon = -1) {
+        std::size_t min_steps, const std::string& golden_key, Index horizon = -1,
+        const std::vector<Index>& strip_order = {}) {
   const Index n = b.system->nx();
   ZonotopicOptions opt;
+  opt.strip_order = strip_order;
   opt.max_generators = std::max<Index>(static_cast<Index>(b.order * static_cast<double>(n) + 1e-9), n);
   opt.reduction = red;
   const Index N = horizon > 0 ? std::min<Index>(horizon, b.Y.rows()) : b.Y.rows();
@@ -327,6 +330,15 @@ int main(int argc, char** argv) {
       rows.push_back(run(b, "segment min. (FRad-A)", seg, ZonotopeReduction::Combastel, min_steps, key));
     if (std::string(name) == "tank30")
       rows.push_back(run(b, "segment min., 20 steps", seg, cora_red, min_steps, "FRad-A [tFinal==10]", 20));
+    // The P-radius estimator ([Le2013], papers.md §3.2): offline gains, the fixed-gain path of the same step.
+    if (std::string(name) == "alamo2005_2d_cora_unittest" || std::string(name) == "vehicle6") {
+      try {
+        const PRadiusDesign d = design_pradius(*b.system);
+        rows.push_back(run(b, "P-radius (approach 1)", pradius_gain(d), cora_red, min_steps, "", -1, d.strip_order));
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "%s: P-radius design failed: %s\n", name, e.what());
+      }
+    }
   }
   std::string loadavg = "unknown";
   if (std::ifstream la("/proc/loadavg"); la) {
