@@ -13,6 +13,7 @@ from .errors import *  # noqa: F401,F403  (the exception classes are part of the
 from .interval import Box, Interval, IntervalMatrix
 from .sets import Ellipsoid, Strip, Zonotope
 from .system import DescriptorSystem, LinearSystem, is_detectable
+from .plant import Plant
 from .trajectory import Trajectory
 from . import zonotopic  # noqa: E402  (needs the classes above)
 from .zonotopic import exact_hull  # noqa: E402
@@ -28,6 +29,7 @@ __all__ = [
     "Interval",
     "IntervalMatrix",
     "LinearSystem",
+    "Plant",
     "Strip",
     "Trajectory",
     "Zonotope",

@@ -1,0 +1,80 @@
+"""The plant of the thesis methods (thesis.md §2), in the thesis's own letters.
+
+``x⁺ = A x + B u + F d``, ``y = C x + Z v``, ``w = (d, v)`` with ``m = n_d + n_v``.
+The disturbances are bounded by boxes ``d ∈ [d]``, ``v ∈ [v]`` (Ch. 4) or by the 2-norm
+bound ``wᵀw ≤ w̄ᵀw̄`` (Ch. 1–3, ``w̄`` the vector of box half-widths). The error of a
+Luenberger observer with gain ``L`` obeys ``e⁺ = (A − LC) e + E w`` with ``E = [F, −LZ]``.
+
+This is deliberately not :class:`~setbound.LinearSystem` (the papers' letters, one unit-box
+``ω`` shared by state and output): the thesis designs are defined for unscaled, independent
+``d`` and ``v``. :meth:`Plant.from_linear_system` converts when ``E`` and ``F`` act on
+separate disturbance components.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ._native import as_f64
+from .errors import DimensionError, NotFiniteError
+
+
+def _finite(a: np.ndarray, name: str) -> np.ndarray:
+    bad = np.argwhere(~np.isfinite(a))
+    if bad.size:
+        idx = tuple(int(i) for i in bad[0])
+        raise NotFiniteError(f"{name}: entry {idx} is {a[idx]}; all entries must be finite")
+    return a
+
+
+class Plant:
+    """``x⁺ = A x + B u + F d``, ``y = C x + Z v`` (thesis.md §2). ``B``, ``F`` or ``Z`` may be
+    omitted (no input, no state disturbance, no measurement noise)."""
+
+    def __init__(self, A, C, *, B=None, F=None, Z=None):
+        A = _finite(as_f64(A, "A", ndim=2), "A")
+        n = A.shape[0]
+        if n == 0 or A.shape != (n, n):
+            raise DimensionError(f"A: must be square with n_x >= 1, got shape {A.shape}")
+        C = _finite(as_f64(C, "C", shape=(None, n)), "C")
+        if C.shape[0] == 0:
+            raise DimensionError("C: the plant needs at least one output")
+        ny = C.shape[0]
+        B = np.zeros((n, 0)) if B is None else _finite(as_f64(B, "B", shape=(n, None)), "B")
+        F = np.zeros((n, 0)) if F is None else _finite(as_f64(F, "F", shape=(n, None)), "F")
+        Z = np.zeros((ny, 0)) if Z is None else _finite(as_f64(Z, "Z", shape=(ny, None)), "Z")
+        if F.shape[1] + Z.shape[1] == 0:
+            raise DimensionError("F, Z: the plant has no disturbance (n_d + n_v = 0)")
+        self.A, self.B, self.C, self.F, self.Z = A, B, C, F, Z
+
+    nx = property(lambda self: self.A.shape[0])
+    nu = property(lambda self: self.B.shape[1])
+    ny = property(lambda self: self.C.shape[0])
+    nd = property(lambda self: self.F.shape[1])
+    nv = property(lambda self: self.Z.shape[1])
+    m = property(lambda self: self.F.shape[1] + self.Z.shape[1])
+
+    def error_input(self, L) -> np.ndarray:
+        """``E = [F, −L Z]`` (n_x × m)."""
+        L = as_f64(L, "L", shape=(self.nx, self.ny))
+        return np.hstack([self.F, -L @ self.Z])
+
+    @classmethod
+    def from_linear_system(cls, system) -> "Plant":
+        """A :class:`~setbound.LinearSystem` whose ω components each drive either the state
+        (column of ``E``) or the output (column of ``F``), not both: ``d`` = the state columns,
+        ``v`` = the output columns, each bounded by the unit box."""
+        E, Fo = np.asarray(system.E), np.asarray(system.F)
+        if system.uncertain_A:
+            raise DimensionError("system: the thesis plant has a known A (no interval A)")
+        if np.any(system.D != 0):
+            raise DimensionError("system: D must be zero (the thesis output is y = C x + Z v)")
+        state = np.any(E != 0, axis=0)
+        output = np.any(Fo != 0, axis=0)
+        both = np.flatnonzero(state & output)
+        if both.size:
+            raise DimensionError(f"system: disturbance components {both.tolist()} drive both the state and "
+                                 "the output; the thesis plant needs independent d and v")
+        return cls(system.A, system.C, B=system.B, F=E[:, state], Z=Fo[:, output & ~state])
+
+    def __repr__(self) -> str:
+        return f"Plant(n_x={self.nx}, n_u={self.nu}, n_y={self.ny}, n_d={self.nd}, n_v={self.nv})"
