@@ -101,6 +101,7 @@ class EstimatorKind:
     guaranteed: bool = True
     steady_volume: Callable[[Any, Any], float] | None = None
     description: str = ""
+    checks: dict[str, tuple[Callable[[Any], bool], str]] = field(default_factory=dict)
 
 
 #: Registered system kinds, ``kind -> SystemKind``.
@@ -123,17 +124,18 @@ def register_system(kind: str, keys, build: Callable[[dict], Any], cls: type, *,
 
 
 def register_estimator(method: str, family: str, options: dict[str, Any], build, *, systems=("linear",),
-                       guaranteed: bool = True, steady_volume=None, description: str = "",
+                       guaranteed: bool = True, steady_volume=None, description: str = "", checks=None,
                        replace: bool = False) -> EstimatorKind:
     """Adds an estimator kind usable as ``[[estimator]] method = "<method>"`` (see the module
-    docstring). ``options`` must not contain ``method`` or ``name``."""
+    docstring). ``options`` must not contain ``method`` or ``name``. ``checks`` maps an option to
+    ``(predicate, what it must be)``: values given in a job file are validated when it is loaded."""
     if method in ESTIMATORS and not replace:
         raise ValueError(f"method: the estimator {method!r} is already registered (replace=True to override)")
     bad = {"method", "name"} & set(options)
     if bad:
         raise ValueError(f"options: {', '.join(sorted(bad))} is reserved")
     entry = EstimatorKind(method, family, dict(options), build, tuple(systems), guaranteed, steady_volume,
-                          description)
+                          description, dict(checks or {}))
     ESTIMATORS[method] = entry
     METHODS[method] = (family, entry.options)
     return entry
@@ -395,6 +397,9 @@ def _estimators(lst, system_kind: str):
         if system_kind not in kind.systems:
             raise ConfigError(f"{where}.method: {method!r} does not apply to a {system_kind} system "
                               f"(it applies to: {', '.join(kind.systems)})")
+        for k, v in tab.items():
+            if k in kind.checks and not kind.checks[k][0](v):
+                raise ConfigError(f"{where}.{k}: must be {kind.checks[k][1]}, got {v!r}")
         opts = {**kind.options, **{k: v for k, v in tab.items() if k in kind.options}}
         name = tab.get("name", method)
         if not isinstance(name, str) or not name or any(ch in name for ch in "/\\:*?\"<>|") or name.startswith("."):
@@ -636,29 +641,51 @@ def _rho_inf_volume(design, trajectory) -> float:
 
 _ELL = {"normalization": "logdet", "beta": None}
 _ZONO = {"max_generators": 20, "use_first_measurement": True, "reduction": "combastel"}
+
+
+def _one_of(*values):
+    return (lambda v: isinstance(v, str) and v in values), "one of " + ", ".join(map(repr, values))
+
+
+def _is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
+_POS_INT = ((lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 1), "a positive integer")
+_BOOL = ((lambda v: isinstance(v, bool)), "true or false")
+_ELL_CHECKS = {"normalization": _one_of("logdet", "ball", "paper_trace"),
+               "beta": ((lambda v: _is_number(v) and 0 < v < 1), "a number in (0, 1)")}
+_ZONO_CHECKS = {"max_generators": _POS_INT, "use_first_measurement": _BOOL,
+                "reduction": _one_of("combastel", "girard", "pca")}
 register_system("linear", {"A", "A_radius", "B", "C", "D", "E", "F"}, _linear_system, LinearSystem,
                 description="x+ = A x + B u + E w, y = C x + D u + F w (A may be an interval matrix)")
 register_system("descriptor", {"E", "A", "B", "C", "D", "F"}, _descriptor_system, DescriptorSystem,
                 description="E x+ = A x + B u + D w, y = C x + F w (papers.md §4)")
 register_estimator("offline", "ellipsoidal", _ELL, _build_ellipsoidal("offline"), steady_volume=_rho_inf_volume,
+                   checks=_ELL_CHECKS,
                    description="[BenChabane2014] offline gain (papers.md §1.1)")
-register_estimator("online", "ellipsoidal", _ELL, _build_ellipsoidal("online"),
+register_estimator("online", "ellipsoidal", _ELL, _build_ellipsoidal("online"), checks=_ELL_CHECKS,
                    description="[BenChabane2014] online LMI per step (papers.md §1.2)")
-register_estimator("scaled", "ellipsoidal", _ELL, _build_ellipsoidal("scaled"),
+register_estimator("scaled", "ellipsoidal", _ELL, _build_ellipsoidal("scaled"), checks=_ELL_CHECKS,
                    description="[BenChabane2014] online with scaling (papers.md §1.3)")
 register_estimator("improved", "ellipsoidal",
                    {**_ELL, "option": "det_normalized", "feedback": "fixed_shape", "predictor": "online"},
                    _build_ellipsoidal("improved"),
+                   checks={**_ELL_CHECKS, "option": _one_of("det_normalized", "fixed_shape", "ball_normalized"),
+                           "feedback": _one_of("fixed_shape", "outer_bound", "none"),
+                           "predictor": _one_of("online", "scaled", "offline")},
                    description="[Merhy2017] improved measurement correction (papers.md §2.2, §6)")
 register_estimator("descriptor", "ellipsoidal", _ELL, _build_ellipsoidal("descriptor"), systems=("descriptor",),
-                   steady_volume=_rho_inf_volume, description="[Merhy2019] descriptor systems (papers.md §4.1)")
+                   steady_volume=_rho_inf_volume, checks=_ELL_CHECKS, description="[Merhy2019] descriptor systems (papers.md §4.1)")
 register_estimator("kalman", "kalman", {"omega_cov": None, "cov0": None, "nsigma": 3.0}, _build_kalman,
-                   guaranteed=False, description="Kalman filter contrast, mean ± nsigma·σ (papers.md §2.3)")
-register_estimator("segment_min", "zonotopic", _ZONO, _build_zonotopic("segment_min"),
+                   guaranteed=False, checks={"nsigma": ((lambda v: _is_number(v) and v > 0), "a positive number")},
+                   description="Kalman filter contrast, mean ± nsigma·σ (papers.md §2.3)")
+register_estimator("segment_min", "zonotopic", _ZONO, _build_zonotopic("segment_min"), checks=_ZONO_CHECKS,
                    description="[Alamo2005] segment minimisation (papers.md §5.1)")
-register_estimator("volume_min", "zonotopic", _ZONO, _build_zonotopic("volume_min"),
+register_estimator("volume_min", "zonotopic", _ZONO, _build_zonotopic("volume_min"), checks=_ZONO_CHECKS,
                    description="[Alamo2005] volume minimisation (papers.md §5.2)")
 register_estimator("pradius", "zonotopic", {**_ZONO, "approach": 1}, _build_zonotopic("pradius"),
+                   checks={**_ZONO_CHECKS, "approach": ((lambda v: v in (1, 2) and not isinstance(v, bool)), "1 or 2")},
                    description="[Le2013] offline P-radius gains (papers.md §3.2, §3.3)")
 
 
