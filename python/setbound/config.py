@@ -189,17 +189,35 @@ class Job:
     source: str = ""
     plots: PlotSpec = field(default_factory=PlotSpec)
     system_kind: str = "linear"
-    #: offline designs shared by the estimators of the job (key -> (design, seconds to compute))
+    #: offline designs used by the estimators of the job (key -> (design, seconds to compute))
     designs: dict = field(default_factory=dict, repr=False)
 
     def cached_design(self, key, make):
-        """``make()`` once per ``key`` for this job (estimators with the same design options share
-        it); returns ``(design, seconds it took)``."""
-        if key not in self.designs:
+        """``make()`` once per ``key`` and system: estimators with the same design options share
+        the design, also across jobs of one process with an identical system (``setbound compare``,
+        tests). Returns ``(design, seconds it took to compute)``."""
+        full = (_fingerprint(self.system), key)
+        if full not in _DESIGN_CACHE:
             t0 = time.perf_counter()
             d = make()
-            self.designs[key] = (d, time.perf_counter() - t0)
+            if len(_DESIGN_CACHE) >= 32:
+                _DESIGN_CACHE.pop(next(iter(_DESIGN_CACHE)))
+            _DESIGN_CACHE[full] = (d, time.perf_counter() - t0)
+        self.designs[key] = _DESIGN_CACHE[full]
         return self.designs[key]
+
+
+# Offline designs depend only on the system and the design options: a small process-wide cache.
+_DESIGN_CACHE: dict = {}
+
+
+def _fingerprint(system) -> tuple:
+    parts = [type(system).__qualname__]
+    for name in ("E", "A", "A_rad", "B", "C", "D", "F"):
+        a = getattr(system, name, None)
+        if isinstance(a, np.ndarray):
+            parts.append((name, a.shape, a.tobytes()))
+    return tuple(parts)
 
 
 # ---------------------------------------------------------------- small validators

@@ -170,18 +170,19 @@ def test_demo_short_horizon(tmp_path, capsys):
         _png_ok(out / name)
 
 
-def test_demo_job_is_package_data_and_thesis_hook():
+def test_demo_job_is_package_data_and_thesis_hook(monkeypatch):
     job, skipped = demo.demo_job(steps=3)
     assert len(job.y) == 3 and job.system.nx == 3
     # the hook: methods listed in THESIS_OBSERVERS are added when registered, else reported
-    saved = list(demo.THESIS_OBSERVERS)
-    try:
-        demo.THESIS_OBSERVERS[:] = ["not_registered_yet", "segment_min"]
-        job2, skipped2 = demo.demo_job(steps=3)
-        assert skipped2 == ["not_registered_yet"]
-        assert len(job2.estimators) == len(job.estimators) + 1
-    finally:
-        demo.THESIS_OBSERVERS[:] = saved
+    monkeypatch.setattr(config, "ESTIMATORS", dict(config.ESTIMATORS))
+    monkeypatch.setattr(config, "METHODS", dict(config.METHODS))
+    config.register_estimator("thesis_test", "test", dict(config.ESTIMATORS["segment_min"].options),
+                              config.ESTIMATORS["segment_min"].build,
+                              description="a stand-in")
+    monkeypatch.setattr(demo, "THESIS_OBSERVERS", ["not_registered_yet", "thesis_test"])
+    job2, skipped2 = demo.demo_job(steps=3)
+    assert skipped2 == ["not_registered_yet"]
+    assert [e.name for e in job2.estimators] == [e.name for e in job.estimators] + ["thesis_test"]
 
 
 def test_python_m_setbound_demo(tmp_path, capsys):
