@@ -86,26 +86,32 @@ class LinearSystem:
 
     @property
     def nx(self) -> int:
+        """State dimension."""
         return self.A.shape[0]
 
     @property
     def ny(self) -> int:
+        """Number of outputs."""
         return self.C.shape[0]
 
     @property
     def nu(self) -> int:
+        """Number of known inputs (0 without B)."""
         return self.B.shape[1]
 
     @property
     def nw(self) -> int:
+        """Number of unit-box disturbances ω."""
         return self.E.shape[1]
 
     @property
     def uncertain_A(self) -> bool:
+        """True when A is an interval matrix with a nonzero radius."""
         return bool(np.any(self.A_rad > 0))
 
     @property
     def A_interval(self) -> IntervalMatrix:
+        """The interval matrix [A] = [A − A_rad, A + A_rad]."""
         return IntervalMatrix.from_mid_rad(self.A, self.A_rad)
 
     def is_detectable(self) -> bool:
@@ -163,10 +169,10 @@ class DescriptorSystem:
         for a in (self.E, self.A, self.B, self.C, self.D, self.F, self.T, self.N):
             a.flags.writeable = False
 
-    nx = property(lambda self: self.A.shape[0])
-    ny = property(lambda self: self.C.shape[0])
-    nu = property(lambda self: self.B.shape[1])
-    nw = property(lambda self: self.D.shape[1])
+    nx = property(lambda self: self.A.shape[0], doc="State dimension.")
+    ny = property(lambda self: self.C.shape[0], doc="Number of outputs.")
+    nu = property(lambda self: self.B.shape[1], doc="Number of known inputs.")
+    nw = property(lambda self: self.D.shape[1], doc="Number of unit-box disturbances w.")
 
     def __repr__(self) -> str:
         return f"DescriptorSystem(nx={self.nx}, ny={self.ny}, nu={self.nu}, nw={self.nw})"

@@ -185,12 +185,6 @@ def test_demo_job_is_package_data_and_thesis_hook(monkeypatch):
     assert [e.name for e in job2.estimators] == [e.name for e in job.estimators] + ["thesis_test"]
 
 
-def test_python_m_setbound_demo(tmp_path, capsys):
-    assert demo.main(["--out", str(tmp_path), "--steps", "4", "--no-plots", "-q"]) == 0
-    assert not list(tmp_path.glob("*.png"))
-    assert (tmp_path / "summary.json").is_file()
-
-
 class _Tty(io.StringIO):
     def isatty(self):
         return True
