@@ -94,3 +94,20 @@ def test_docstring_walker_finds_a_missing_docstring():
     Thing.__module__ = "setbound_fake"
     mod.Thing = Thing
     assert _undocumented(mod) == ["setbound_fake.Thing.size"]
+
+
+def test_user_guide_python_examples_run(tmp_path, monkeypatch, capsys):
+    """The ```python blocks of docs/user_guide.md run in order, in one namespace (```py blocks are
+    illustrations with placeholders)."""
+    pytest.importorskip("matplotlib")
+    text = (ROOT / "docs" / "user_guide.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    assert len(blocks) >= 3
+    if "import control" in "".join(blocks):
+        pytest.importorskip("control")
+    monkeypatch.chdir(tmp_path)
+    ns: dict = {}
+    for code in blocks:
+        exec(compile(code, "user_guide.md", "exec"), ns)
+    assert (tmp_path / "out" / "bounds.png").is_file()
+    assert ns["system"].nu == 1 and ns["system"].nw == 3  # the from_statespace example
