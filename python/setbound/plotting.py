@@ -102,6 +102,28 @@ def _new_figure(rows: int, cols: int, cell=(5.0, 3.0), figsize=None):
     return fig, axes
 
 
+def _finish_grid(fig, axes, used: int, rows: int, cols: int, fontsize=8) -> None:
+    """Hides the unused panels; the legend goes into the first unused panel when there is one
+    (it then covers no data), else into the first panel."""
+    spare = [axes[j // cols][j % cols] for j in range(used, rows * cols)]
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    for ax in spare:
+        ax.set_visible(False)
+    if spare:
+        spare[0].set_visible(True)
+        spare[0].axis("off")
+        spare[0].legend(handles, labels, loc="center", fontsize=fontsize + 1, frameon=False)
+    else:
+        axes[0][0].legend(fontsize=fontsize, loc="best")
+
+
+def _quiet_minor_labels(ax) -> None:
+    """No labels on the minor ticks of a log axis (they clutter short ranges)."""
+    from matplotlib.ticker import NullFormatter
+
+    ax.yaxis.set_minor_formatter(NullFormatter())
+
+
 def _components(components, n: int) -> list[int]:
     if components is None:
         return list(range(n))
@@ -145,9 +167,7 @@ def plot_bounds(trajectories, names=None, *, x_true=None, t=None, components=Non
         ax.set_ylabel(f"$x_{{{i + 1}}}$")
         ax.set_title(f"bounds of $x_{{{i + 1}}}$", fontsize=10)
         ax.grid(alpha=0.3)
-    for j in range(len(comps), rows * cols):
-        axes[j // cols][j % cols].set_visible(False)
-    axes[0][0].legend(fontsize=8, loc="best")
+    _finish_grid(fig, axes, len(comps), rows, cols)
     if title:
         fig.suptitle(title)
     return fig
@@ -189,13 +209,13 @@ def plot_widths(trajectories, names=None, *, reference=None, t=None, components=
             ax.set_ylabel(f"width of $x_{{{i + 1}}}$")
             if log is None or log:
                 ax.set_yscale("log")
+                _quiet_minor_labels(ax)
         if log and ref is not None:
             ax.set_yscale("log")
+            _quiet_minor_labels(ax)
         ax.set_xlabel(tlabel)
         ax.grid(alpha=0.3, which="both")
-    for j in range(len(comps), rows * cols):
-        axes[j // cols][j % cols].set_visible(False)
-    axes[0][0].legend(fontsize=8, loc="best")
+    _finish_grid(fig, axes, len(comps), rows, cols)
     fig.suptitle(title or ("bound widths relative to " + reference if reference else "bound widths"),
                  fontsize=11)
     return fig
@@ -218,8 +238,10 @@ def plot_volume(trajectories, names=None, *, t=None, log=True, title=None, figsi
         k = min(len(v), N)
         ax.plot(tt[:k], v[:k], color=colors[m], ls=_STYLES[m % len(_STYLES)], lw=1.2, label=name)
         drawn += 1
-    if log and drawn:
+    finite = [v for _, tr in items if tr.sets for v in tr.volume if np.isfinite(v) and v > 0]
+    if log and finite and max(finite) > 20 * min(finite):  # a log axis only when it helps
         ax.set_yscale("log")
+        _quiet_minor_labels(ax)
     ax.set_xlabel(tlabel)
     ax.set_ylabel("volume")
     ax.grid(alpha=0.3, which="both")
@@ -324,8 +346,9 @@ def plot_projections(trajectories, names=None, *, steps, dims=(0, 1), x_true=Non
                 continue
             pts_all.append(outline)
             ls = ":" if not tr.guaranteed else _STYLES[m % len(_STYLES)]
-            ax.add_patch(_MplPolygon(outline, closed=True, fill=m == 0 and tr.guaranteed, alpha=0.2 if m == 0 else 1,
-                                     facecolor=colors[m], edgecolor=colors[m]))
+            if m == 0 and tr.guaranteed:
+                ax.add_patch(_MplPolygon(outline, closed=True, fill=True, alpha=0.2, facecolor=colors[m],
+                                         edgecolor="none"))
             ax.add_patch(_MplPolygon(outline, closed=True, fill=False, edgecolor=colors[m], ls=ls, lw=1.3,
                                      label=name))
         if x_true is not None:
@@ -353,9 +376,7 @@ def plot_projections(trajectories, names=None, *, steps, dims=(0, 1), x_true=Non
         ax.set_ylabel(f"$x_{{{dims[1] + 1}}}$")
         ax.set_title(f"k = {k}", fontsize=10)
         ax.grid(alpha=0.3)
-    for j in range(len(steps), rows * cols):
-        axes[j // cols][j % cols].set_visible(False)
-    axes[0][0].legend(fontsize=7, loc="best")
+    _finish_grid(fig, axes, len(steps), rows, cols, fontsize=7)
     if title:
         fig.suptitle(title, fontsize=11)
     return fig

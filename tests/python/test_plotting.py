@@ -29,6 +29,15 @@ def runs():
     return system, sim, trajs
 
 
+def _panels(fig):
+    """The visible data panels (a spare panel holding the legend has its axis switched off)."""
+    return [a for a in fig.axes if a.get_visible() and a.axison]
+
+
+def _legend_texts(fig):
+    return [t.get_text() for a in fig.axes if a.get_legend() is not None for t in a.get_legend().get_texts()]
+
+
 def _check_png(path, figsize, dpi=plotting.DEFAULT_DPI):
     img = imread(path)
     assert img.shape[:2] == (round(figsize[1] * dpi), round(figsize[0] * dpi))
@@ -50,7 +59,8 @@ def test_figures_render_with_the_requested_size(runs, tmp_path, kind):
     system, sim, trajs = runs
     if kind == "bounds":
         fig = plotting.plot_bounds(trajs, x_true=sim.x, title="t")
-        assert len([a for a in fig.axes if a.get_visible()]) == 3
+        assert len(_panels(fig)) == 3
+        assert _legend_texts(fig)[-1] == "true state"
     elif kind == "widths":
         fig = plotting.plot_widths(trajs)
     elif kind == "relative":
@@ -64,7 +74,7 @@ def test_figures_render_with_the_requested_size(runs, tmp_path, kind):
         assert labels == ["offline", "segment_min"]  # the Kalman filter has no sets
     else:
         fig = plotting.plot_projections(trajs, steps=[0, 6, 11], dims=(0, 2), x_true=sim.x, system=system, y=sim.y)
-        assert len([a for a in fig.axes if a.get_visible()]) == 3
+        assert len(_panels(fig)) == 3
     size = tuple(fig.get_size_inches())
     path = plotting.save_png(fig, tmp_path / "sub" / f"{kind}.png")
     _check_png(path, size)
@@ -85,7 +95,7 @@ def test_inputs_are_checked(runs):
     with pytest.raises(ValueError, match="names: expected 3"):
         plotting.plot_bounds(list(trajs.values()), names=["a"])
     fig = plotting.plot_bounds(list(trajs.values()))  # default names
-    assert "estimator 0" in [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert "estimator 0" in _legend_texts(fig)
 
 
 def _support_polygon(V, d):
