@@ -721,16 +721,18 @@ def _concat(parts):
 
 
 def run_trajectory(estimator, y, u=None, *, label: str = "", quiet: bool = False, chunk: int | None = None):
-    """``estimator.run(y, u)`` in chunks, with a progress bar (see :mod:`setbound.progress`) when
-    stderr is a terminal. Every estimator's ``run`` continues from its current state, so the
-    chunks join into the same trajectory as one call."""
+    """``estimator.run(y, u)`` with a progress bar (see :mod:`setbound.progress`) when stderr is a
+    terminal: then in chunks (``chunk`` rows, default N/50). Every estimator's ``run`` continues
+    from its current state, so the chunks join into the same trajectory as one call."""
     from .progress import Progress
 
     N = len(y)
-    if chunk is None:
-        chunk = max(1, -(-N // 50))
-    parts = []
     with Progress(N, label, quiet=quiet) as bar:
+        if not bar.enabled and chunk is None:
+            return estimator.run(y, u)  # nothing to draw: one call
+        if chunk is None:
+            chunk = max(1, -(-N // 50))
+        parts = []
         for a in range(0, N, chunk):
             b = min(N, a + chunk)
             parts.append(estimator.run(y[a:b], None if u is None else u[a:b]))

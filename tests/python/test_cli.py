@@ -227,3 +227,20 @@ def test_chunked_run_equals_one_run():
         assert len(parts.sets) == len(whole.sets) and parts.guaranteed == whole.guaranteed
         if isinstance(kind.build(job, spec.options)[0], ellipsoidal.KalmanFilter):
             np.testing.assert_array_equal(whole.covariance, parts.covariance)
+
+
+def test_run_draws_progress_on_a_terminal_only(tmp_path, monkeypatch, capsys):
+    path = ROOT / "examples" / "me17_stable.toml"
+    tty = _Tty()
+    monkeypatch.setattr("sys.stderr", tty)
+    assert cli.main(["run", str(path), "--no-plots", "--out", str(tmp_path / "a")]) == 0
+    text = tty.getvalue()
+    for name in ("online", "improved", "kalman"):
+        assert f"{name} [" in text and "10/10" in text
+    tty2 = _Tty()
+    monkeypatch.setattr("sys.stderr", tty2)
+    assert cli.main(["run", str(path), "--no-plots", "--quiet", "--out", str(tmp_path / "b")]) == 0
+    assert tty2.getvalue() == ""
+    # the chunked (progress) run gives the same numbers as the plain one
+    a, b = np.load(tmp_path / "a" / "online.npz"), np.load(tmp_path / "b" / "online.npz")
+    np.testing.assert_array_equal(a["lower"], b["lower"])
