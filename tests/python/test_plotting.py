@@ -47,11 +47,24 @@ def _check_png(path, figsize, dpi=plotting.DEFAULT_DPI):
     return img
 
 
-def test_backend_is_not_needed():
-    # the module uses the object API only: pyplot need not be imported
+def test_renders_without_a_display_and_without_pyplot(tmp_path):
+    """In a fresh interpreter with no display: importing setbound.plotting and saving a figure
+    neither needs a GUI backend nor imports pyplot (no global figure state)."""
+    import os
+    import subprocess
     import sys
 
-    assert "matplotlib.pyplot" not in sys.modules or matplotlib.get_backend()
+    code = (
+        "import sys, numpy as np\n"
+        "from setbound import Trajectory, plotting\n"
+        "t = Trajectory(np.zeros((3, 2)), -np.ones((3, 2)), np.ones((3, 2)), [])\n"
+        f"plotting.save_png(plotting.plot_bounds(t), {str(tmp_path / 'x.png')!r})\n"
+        "assert 'matplotlib.pyplot' not in sys.modules, 'pyplot was imported'\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY", "MPLBACKEND")}
+    r = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "x.png").stat().st_size > 1000
 
 
 @pytest.mark.parametrize("kind", ["bounds", "widths", "relative", "volume", "projections"])
