@@ -10,6 +10,9 @@ source (a simulation of the true system, or measured data) and one or more estim
     E = [[0.1, 0, 0, 0, 0], [0, 0.05, 0, 0, 0], [0, 0, 0.05, 0, 0]]
     F = [[0, 0, 0, 0.15, 0], [0, 0, 0, 0, 0.15]]
     # B, D: inputs; A_radius: entrywise radius of an interval A (A is then its midpoint).
+    # omega = {lower = [...], upper = [...]} or {center = [...], generators = [[...]]}: explicit
+    # bounds of ω instead of the unit box (converted: ω = c + G ξ, ξ in the unit box; an offset
+    # c becomes an input column that is always 1, appended after the user's inputs).
     # kind = "descriptor": E x⁺ = A x + B u + D w, y = C x + F w (the letters of papers.md §4).
 
     [initial]                               # the initial set: an ellipsoid E(P, center, rho) …
@@ -76,6 +79,16 @@ from .system import DescriptorSystem, LinearSystem
 
 class ConfigError(InvalidArgumentError):
     """A job file is invalid; the message starts with the offending key."""
+
+
+@dataclass(frozen=True)
+class BuiltSystem:
+    """What a system kind's ``build`` may return instead of the bare system: the system and
+    ``constant_input`` — True when the conversion appended an input column that is always 1 (the
+    offset of non-centred disturbance bounds); jobs then append that column to the inputs."""
+
+    system: Any
+    constant_input: bool = False
 
 
 @dataclass(frozen=True)
@@ -189,6 +202,8 @@ class Job:
     source: str = ""
     plots: PlotSpec = field(default_factory=PlotSpec)
     system_kind: str = "linear"
+    #: True when ``[system.omega]`` had an offset: the last column of ``u`` is then the constant 1
+    constant_input: bool = False
     #: offline designs used by the estimators of the job (key -> (design, seconds to compute))
     designs: dict = field(default_factory=dict, repr=False)
 
@@ -326,10 +341,42 @@ def _linear_system(tab):
         if np.any(rad < 0):
             raise ConfigError("system.A_radius: entries must be >= 0")
         A = IntervalMatrix.from_mid_rad(A, rad)
+    constant_input = False
+    if "omega" in tab:
+        E, F, offset = _omega_bounds(tab["omega"], E.shape[1], E, F)
+        if np.any(offset[0] != 0) or np.any(offset[1] != 0):
+            # ω = c + G ξ with c ≠ 0: E c and F c enter as an input column that is always 1
+            constant_input = True
+            B = np.hstack([B if B is not None else np.zeros((n, 0)), offset[0][:, None]])
+            D = np.hstack([D if D is not None else np.zeros((C.shape[0], B.shape[1] - 1)), offset[1][:, None]])
     try:
-        return LinearSystem(A, C, B=B, D=D, E=E, F=F)
+        system = LinearSystem(A, C, B=B, D=D, E=E, F=F)
     except SetboundError as exc:
         raise ConfigError(f"system: {exc}") from None
+    return BuiltSystem(system, constant_input) if constant_input else system
+
+
+def _omega_bounds(tab, nw: int, E, F):
+    """``[system.omega]``: explicit bounds of ω instead of the unit box — a box (``lower``,
+    ``upper``) or a zonotope (``center``, ``generators``, nω × m). With ω = c + G ξ, ξ in the unit
+    box, the model becomes ``E G``, ``F G`` and the offsets ``E c``, ``F c``."""
+    where = "system.omega"
+    _check_keys(tab, {"lower", "upper", "center", "generators"}, where)
+    if "lower" in tab or "upper" in tab:
+        if "center" in tab or "generators" in tab:
+            raise ConfigError(f"{where}: give a box (lower, upper) or a zonotope (center, generators), not both")
+        lo = _matrix(_require(tab, "lower", where), f"{where}.lower", ndim=1, shape=(nw,))
+        hi = _matrix(_require(tab, "upper", where), f"{where}.upper", ndim=1, shape=(nw,))
+        if np.any(lo > hi):
+            k = int(np.flatnonzero(lo > hi)[0])
+            raise ConfigError(f"{where}.lower: entry {k} is above {where}.upper")
+        c, G = (lo + hi) / 2, np.diag((hi - lo) / 2)
+    else:
+        c = _matrix(_require(tab, "center", where), f"{where}.center", ndim=1, shape=(nw,))
+        G = _matrix(_require(tab, "generators", where), f"{where}.generators", shape=(nw, None))
+    keep = np.any(G != 0, axis=0)  # drop zero generators (a fixed component of ω)
+    G = G[:, keep] if np.any(keep) else np.zeros((nw, 1))
+    return E @ G, F @ G, (E @ c, F @ c)
 
 
 def _descriptor_system(tab):
@@ -356,7 +403,10 @@ def _system(tab):
         raise ConfigError(f"system.kind: expected one of {', '.join(map(repr, SYSTEMS))}, got {kind!r}")
     entry = SYSTEMS[kind]
     _check_keys(tab, entry.keys, "system")
-    return kind, entry.build(tab)
+    built = entry.build(tab)
+    if isinstance(built, BuiltSystem):
+        return kind, built.system, built.constant_input
+    return kind, built, False
 
 
 def _initial(tab, n):
@@ -458,6 +508,12 @@ def _plots(tab, n: int, N: int, names: list[str]) -> PlotSpec:
     return spec
 
 
+def _with_constant(u, N: int, constant_input: bool):
+    if not constant_input:
+        return u
+    return np.hstack([u if u is not None else np.zeros((N, 0)), np.ones((N, 1))])
+
+
 def load(path) -> Job:
     """Reads and validates a job file; raises ConfigError naming the key on any problem."""
     path = Path(path)
@@ -477,11 +533,12 @@ def from_dict(doc: dict, *, base=Path("."), source: str = "") -> Job:
     from .simulation import simulate
 
     _check_keys(doc, {"title", "system", "initial", "simulation", "data", "estimator", "plots"}, "job")
-    system_kind, system = _system(_require(doc, "system", "job"))
+    system_kind, system, constant_input = _system(_require(doc, "system", "job"))
+    nu = system.nu - (1 if constant_input else 0)  # the inputs the user gives
     n = system.nx
     initial = _initial(_require(doc, "initial", "job"), n)
     job = Job(title=str(doc.get("title", Path(source).stem or "job")), system=system, initial=initial, source=source,
-              system_kind=system_kind)
+              system_kind=system_kind, constant_input=constant_input)
     if ("simulation" in doc) == ("data" in doc):
         raise ConfigError("job: exactly one of [simulation] and [data] is required")
     if "simulation" in doc:
@@ -496,7 +553,7 @@ def from_dict(doc: dict, *, base=Path("."), source: str = "") -> Job:
         if "stop" in tt and "step" in tt:
             raise ConfigError("simulation.time: give either stop or step, not both")
         t = np.linspace(start, float(tt["stop"]), N) if "stop" in tt else start + float(tt.get("step", 1.0)) * np.arange(N)
-        u = _inputs(sim.get("inputs"), t, system.nu, "simulation.inputs")
+        u = _with_constant(_inputs(sim.get("inputs"), t, nu, "simulation.inputs"), N, constant_input)
         x0 = sim.get("x0", "sample")
         if x0 != "sample":
             x0 = _matrix(x0, "simulation.x0", ndim=1, shape=(n,))
@@ -536,9 +593,9 @@ def from_dict(doc: dict, *, base=Path("."), source: str = "") -> Job:
             raise ConfigError("data.file: no measurements (an array 'y', or CSV columns y0, y1, …)")
         job.y = _matrix(arrays["y"], "data.y", shape=(None, system.ny))
         N = job.y.shape[0]
-        job.u = _matrix(arrays["u"], "data.u", shape=(N, system.nu)) if system.nu else None
-        if system.nu and "u" not in arrays:
-            raise ConfigError(f"data.u: missing (the system has {system.nu} inputs)")
+        if nu and "u" not in arrays:
+            raise ConfigError(f"data.u: missing (the system has {nu} inputs)")
+        job.u = _with_constant(_matrix(arrays["u"], "data.u", shape=(N, nu)) if nu else None, N, constant_input)
         job.x_true = _matrix(arrays["x"], "data.x", shape=(N, n)) if "x" in arrays else None
         job.t = np.arange(N, dtype=float)
     job.estimators = _estimators(doc.get("estimator"), system_kind)
@@ -675,8 +732,9 @@ _ELL_CHECKS = {"normalization": _one_of("logdet", "ball", "paper_trace"),
                "beta": ((lambda v: _is_number(v) and 0 < v < 1), "a number in (0, 1)")}
 _ZONO_CHECKS = {"max_generators": _POS_INT, "use_first_measurement": _BOOL,
                 "reduction": _one_of("combastel", "girard", "pca")}
-register_system("linear", {"A", "A_radius", "B", "C", "D", "E", "F"}, _linear_system, LinearSystem,
-                description="x+ = A x + B u + E w, y = C x + D u + F w (A may be an interval matrix)")
+register_system("linear", {"A", "A_radius", "B", "C", "D", "E", "F", "omega"}, _linear_system, LinearSystem,
+                description="x+ = A x + B u + E w, y = C x + D u + F w (A may be an interval matrix; "
+                            "w in the unit box or in the [system.omega] box/zonotope)")
 register_system("descriptor", {"E", "A", "B", "C", "D", "F"}, _descriptor_system, DescriptorSystem,
                 description="E x+ = A x + B u + D w, y = C x + F w (papers.md §4)")
 register_estimator("offline", "ellipsoidal", _ELL, _build_ellipsoidal("offline"), steady_volume=_rho_inf_volume,

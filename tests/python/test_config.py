@@ -72,6 +72,15 @@ def test_base_is_valid(tmp_path):
     (lambda t: t.replace('method = "offline"', 'method = "segment_min"\nreduction = 3'), r"estimator\[0\]\.reduction: must be one of 'combastel'"),
     (lambda t: t.replace('method = "offline"', 'method = "offline"\nbeta = 1.5'), r"estimator\[0\]\.beta: must be a number in \(0, 1\)"),
     (lambda t: t.replace('method = "offline"', 'method = "pradius"\napproach = 3'), r"estimator\[0\]\.approach: must be 1 or 2"),
+    # explicit bounds of omega
+    (lambda t: t.replace("F = [[0, 0.1]]", "F = [[0, 0.1]]\nomega = {lower = [0, 1], upper = [1, 0]}"),
+     r"system\.omega\.lower: entry 1 is above system\.omega\.upper"),
+    (lambda t: t.replace("F = [[0, 0.1]]", "F = [[0, 0.1]]\nomega = {lower = [0], upper = [1]}"),
+     r"system\.omega\.lower: expected shape \(2,\)"),
+    (lambda t: t.replace("F = [[0, 0.1]]", "F = [[0, 0.1]]\nomega = {lower = [0, 0], upper = [1, 1], center = [0, 0]}"),
+     r"system\.omega: give a box"),
+    (lambda t: t.replace("F = [[0, 0.1]]", "F = [[0, 0.1]]\nomega = {center = [0, 0]}"), r"system\.omega\.generators: missing"),
+    (lambda t: t.replace("F = [[0, 0.1]]", "F = [[0, 0.1]]\nomega = {radius = 1}"), r"system\.omega\.radius: unknown key"),
 ])
 def test_malformed_files_name_the_key(tmp_path, edit, message):
     text = edit(BASE)
@@ -182,3 +191,44 @@ def test_every_registered_estimator_is_documented_and_buildable():
     for name, kind in config.ESTIMATORS.items():
         assert kind.description and kind.systems and set(kind.systems) <= set(config.SYSTEMS), name
         assert config.METHODS[name] == (kind.family, kind.options)
+
+
+@pytest.mark.parametrize("bounds", ["box", "zonotope"])
+def test_explicit_omega_bounds_are_converted_exactly_and_contain_the_truth(tmp_path, bounds):
+    """[system.omega]: ω in a non-centred box or zonotope. The converted unit-box model, driven by
+    measurements of the ORIGINAL model with ω at the vertices of its bounds, contains the truth."""
+    E = np.array([[0.1, 0.0], [0.0, 0.1]])
+    F = np.array([[0.0, 0.1]])
+    if bounds == "box":
+        spec = "omega = {lower = [0.5, -1.0], upper = [1.5, 2.0]}"
+        c, G = np.array([1.0, 0.5]), np.diag([0.5, 1.5])
+    else:
+        spec = "omega = {center = [1.0, 0.5], generators = [[0.5, 0.2], [0.0, 1.5]]}"
+        c, G = np.array([1.0, 0.5]), np.array([[0.5, 0.2], [0.0, 1.5]])
+    text = BASE.replace("F = [[0, 0.1]]", "F = [[0, 0.1]]\n" + spec).replace(
+        '[[estimator]]\nmethod = "offline"\n', '[[estimator]]\nmethod = "offline"\n[[estimator]]\nmethod = "segment_min"\n')
+    job = load_text(tmp_path, text)
+    s = job.system
+    assert job.constant_input and s.nu == 1
+    np.testing.assert_allclose(s.E, E @ G)
+    np.testing.assert_allclose(s.F, F @ G)
+    np.testing.assert_allclose(s.B[:, 0], E @ c)
+    np.testing.assert_allclose(s.D[:, 0], F @ c)
+    np.testing.assert_array_equal(job.u, np.ones((5, 1)))
+    assert all(r.contained for r in config.run(job))
+    # independent truth: the original model, ω at vertices of its bounds (box corners / zonotope vertices)
+    rng = np.random.default_rng(7)
+    A = np.array([[0.5, 0.1], [0, 0.7]])
+    N = 40
+    x = np.empty((N, 2))
+    y = np.empty((N, 1))
+    x[0] = [0.3, -0.2]
+    for k in range(N):
+        w = c + G @ rng.choice([-1.0, 1.0], size=G.shape[1])
+        y[k] = F @ w + x[k, :1]  # C = [1, 0]
+        if k + 1 < N:
+            x[k + 1] = A @ x[k] + E @ w
+    job.y, job.u, job.x_true = y, np.ones((N, 1)), x
+    job.t = np.arange(N, dtype=float)
+    for r in config.run(job):
+        assert r.contained is True, r.name
