@@ -46,7 +46,7 @@ test-wheel: install
 test: test-cpp test-python test-wheel
 
 demo: install
-	$(PY) -m setbound.demo --out out/demo
+	$(VENV)/bin/setbound demo --out out/demo
 
 bench: install
 	$(PY) -m pip install -q ".[bench]" --no-build-isolation --no-deps

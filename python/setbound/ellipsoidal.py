@@ -86,6 +86,7 @@ class EllDesign:
 
     @property
     def nx(self) -> int:
+        """State dimension n_x."""
         return self.P.shape[0]
 
 
@@ -302,6 +303,8 @@ class KalmanFilter:
         return m.copy(), G.copy()
 
     def run(self, y, u=None) -> Trajectory:
+        """Processes the rows of ``y`` (N × n_y) and ``u``; returns the Trajectory of means and
+        ``mean ± nsigma·σ`` boxes (``guaranteed = False``) with ``covariance`` (N × n × n); row k uses y_0 … y_k."""
         s = self.system
         y, u = run_inputs(s, y, u)
         N = y.shape[0]

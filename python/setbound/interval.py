@@ -153,10 +153,12 @@ class Interval:
 
     @classmethod
     def empty(cls) -> "Interval":
+        """The empty interval, encoded (+inf, −inf)."""
         return cls._raw(_INF, -_INF)
 
     @classmethod
     def entire(cls) -> "Interval":
+        """The whole real line (−inf, +inf)."""
         return cls._raw(-_INF, _INF)
 
     lo = property(lambda self: self._lo, doc="lower end (inf)")
@@ -164,26 +166,32 @@ class Interval:
 
     @property
     def is_empty(self) -> bool:
+        """True for the empty interval."""
         return self._lo > self._hi
 
     @property
     def mid(self) -> float:
+        """Midpoint (eq. 1.6; overflow-safe, IEEE 1788 conventions for unbounded intervals)."""
         return float(_mid(self._lo, self._hi))
 
     @property
     def rad(self) -> float:
+        """Radius (eq. 1.7), rounded up so that [mid − rad, mid + rad] ⊇ [x]."""
         return float(_rad(self._lo, self._hi))
 
     @property
     def width(self) -> float:
+        """Width hi − lo, rounded up."""
         return float(_width(self._lo, self._hi))
 
     @property
     def mag(self) -> float:
+        """Magnitude max |t| over the interval (NaN when empty)."""
         return math.nan if self.is_empty else max(abs(self._lo), abs(self._hi))
 
     @property
     def mig(self) -> float:
+        """Mignitude min |t| over the interval (0 when it contains 0; NaN when empty)."""
         if self.is_empty:
             return math.nan
         if self._lo <= 0 <= self._hi:
@@ -200,12 +208,15 @@ class Interval:
     __contains__ = contains
 
     def subset(self, other: "Interval") -> bool:
+        """True when this interval is included in ``other`` (the empty set is in every interval)."""
         return self.is_empty or (other._lo <= self._lo and self._hi <= other._hi)
 
     def intersect(self, other) -> "Interval":
+        """The intersection with ``other`` (empty when disjoint)."""
         return self._bin("intersect", other)
 
     def hull(self, other) -> "Interval":
+        """The interval hull of the union with ``other``."""
         return self._bin("hull", other)
 
     # arithmetic through the C ABI
@@ -238,13 +249,27 @@ class Interval:
             raise InvalidArgumentError(f"n: only integer powers are supported, got {n!r}")
         return power(self, int(n))
 
-    def reciprocal(self) -> "Interval": return self._un("recip")
-    def sqr(self) -> "Interval": return self._un("sqr")
-    def sqrt(self) -> "Interval": return self._un("sqrt")
-    def exp(self) -> "Interval": return self._un("exp")
-    def sin(self) -> "Interval": return self._un("sin")
-    def cos(self) -> "Interval": return self._un("cos")
-    def abs(self) -> "Interval": return self._un("abs")
+    def reciprocal(self) -> "Interval":
+        """1/[x], with the extended cases of thesis eq. 1.28 (1/[0, 0] is empty)."""
+        return self._un("recip")
+    def sqr(self) -> "Interval":
+        """{t² : t ∈ [x]} (not [x]·[x])."""
+        return self._un("sqr")
+    def sqrt(self) -> "Interval":
+        """{√t : t ∈ [x], t ≥ 0}, rounded outward."""
+        return self._un("sqrt")
+    def exp(self) -> "Interval":
+        """{exp t : t ∈ [x]}, rounded outward."""
+        return self._un("exp")
+    def sin(self) -> "Interval":
+        """{sin t : t ∈ [x]}, rounded outward."""
+        return self._un("sin")
+    def cos(self) -> "Interval":
+        """{cos t : t ∈ [x]}, rounded outward."""
+        return self._un("cos")
+    def abs(self) -> "Interval":
+        """{|t| : t ∈ [x]}."""
+        return self._un("abs")
 
     def __eq__(self, other):
         if not isinstance(other, Interval):
@@ -282,22 +307,27 @@ def sqr(x) -> Interval:
 
 
 def sqrt(x) -> Interval:
+    """{√t : t ∈ [x], t ≥ 0}, rounded outward."""
     return _require_interval(x, "x").sqrt()
 
 
 def exp(x) -> Interval:
+    """{exp t : t ∈ [x]}, rounded outward."""
     return _require_interval(x, "x").exp()
 
 
 def sin(x) -> Interval:
+    """{sin t : t ∈ [x]}, rounded outward."""
     return _require_interval(x, "x").sin()
 
 
 def cos(x) -> Interval:
+    """{cos t : t ∈ [x]}, rounded outward."""
     return _require_interval(x, "x").cos()
 
 
 def abs_(x) -> Interval:
+    """{|t| : t ∈ [x]} (named ``abs_`` so as not to shadow the builtin)."""
     return _require_interval(x, "x").abs()
 
 
@@ -361,26 +391,30 @@ class Box:
 
     @classmethod
     def empty(cls, n: int) -> "Box":
+        """The empty box of dimension ``n``."""
         return cls._raw(np.full(n, _INF), np.full(n, -_INF))
 
-    lo = property(lambda self: self._lo)
-    hi = property(lambda self: self._hi)
+    lo = property(lambda self: self._lo, doc="Lower ends (read-only array).")
+    hi = property(lambda self: self._hi, doc="Upper ends (read-only array).")
 
     def __len__(self) -> int:
         return self._lo.size
 
     @property
     def is_empty(self) -> bool:
+        """True when some component is empty."""
         return bool((self._lo > self._hi).any())
 
     @property
     def center(self) -> np.ndarray:
+        """Midpoint vector (also ``mid``)."""
         return _mid(self._lo, self._hi)
 
     mid = center
 
     @property
     def radius(self) -> np.ndarray:
+        """Radius vector, rounded up (also ``rad``)."""
         return _rad(self._lo, self._hi)
 
     rad = radius
@@ -422,12 +456,14 @@ class Box:
         return Interval._raw(self._lo[i], self._hi[i])
 
     def contains(self, point) -> bool:
+        """True when ``point`` (n components) lies in the box."""
         p = as_f64(point, "point", shape=(len(self),))
         return bool(((self._lo <= p) & (p <= self._hi)).all())
 
     __contains__ = contains
 
     def subset(self, other: "Box") -> bool:
+        """True when this box is included in ``other``."""
         other = self._same(other, "other")
         return self.is_empty or bool(((other._lo <= self._lo) & (self._hi <= other._hi)).all())
 
@@ -444,9 +480,11 @@ class Box:
         return Box._raw(lo, hi)
 
     def intersect(self, other: "Box") -> "Box":
+        """Componentwise intersection with ``other``."""
         return self._bin("intersect", other)
 
     def hull(self, other: "Box") -> "Box":
+        """The smallest box containing both boxes."""
         return self._bin("hull", other)
 
     def __add__(self, other):
@@ -528,20 +566,23 @@ class IntervalMatrix:
         lo, hi = _binary("add", m, m, -r, r)
         return cls(lo.reshape(m.shape), hi.reshape(m.shape), name=name)
 
-    lo = property(lambda self: self._lo)
-    hi = property(lambda self: self._hi)
-    shape = property(lambda self: self._lo.shape)
+    lo = property(lambda self: self._lo, doc="Lower ends (read-only matrix).")
+    hi = property(lambda self: self._hi, doc="Upper ends (read-only matrix).")
+    shape = property(lambda self: self._lo.shape, doc="Shape (rows, cols).")
 
     @property
     def mid(self) -> np.ndarray:
+        """Midpoint matrix mid[A]."""
         return _mid(self._lo, self._hi)
 
     @property
     def rad(self) -> np.ndarray:
+        """Radius matrix rad[A] (rounded up)."""
         return _rad(self._lo, self._hi)
 
     @property
     def width(self) -> np.ndarray:
+        """Entrywise widths."""
         return _width(self._lo, self._hi)
 
     @property
@@ -553,6 +594,7 @@ class IntervalMatrix:
         return Interval._raw(self._lo[ij], self._hi[ij])
 
     def contains(self, N) -> bool:
+        """True when the real matrix ``N`` (same shape) lies in [A]."""
         N = as_f64(N, "N", shape=self.shape)
         return bool(((self._lo <= N) & (N <= self._hi)).all())
 

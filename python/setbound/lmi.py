@@ -86,10 +86,13 @@ class Problem:
 
     # --- set-up ------------------------------------------------------------------------
     def set_objective(self, c) -> None:
+        """Sets the linear objective cᵀx (``c``: num_vars entries)."""
         ca = as_f64(c, "c", shape=(self.num_vars,))
         check(lib.sb_lmi_set_objective(self._h, dptr(ca)))
 
     def add_block(self, F0, Fs) -> int:
+        """Adds the block F0 + Σ_i x_i Fs[i] ⪰ 0 (``F0`` n × n, ``Fs`` num_vars × n × n, symmetric);
+        returns its index."""
         F0a, Fsa, n = _block_arrays(F0, Fs, self.num_vars, "block")
         idx = ffi.new("int*")
         check(lib.sb_lmi_add_block(self._h, n, dptr(F0a), dptr(Fsa), idx))
@@ -114,6 +117,7 @@ class Problem:
         check(lib.sb_lmi_set_logdet(self._h, n, dptr(G0a), dptr(Gsa)))
 
     def set_equalities(self, Aeq, beq) -> None:
+        """Sets the equality constraints Aeq x = beq."""
         A = as_f64(Aeq, "Aeq", ndim=2)
         if A.shape[1] != self.num_vars:
             raise DimensionError(f"Aeq: expected {self.num_vars} columns, got shape {A.shape}")
@@ -168,6 +172,8 @@ class Problem:
         return out
 
     def duals(self) -> list[np.ndarray]:
+        """The dual matrix of every block from the last solve (the infeasibility certificate after
+        an infeasible solve)."""
         Zs = []
         for b, n in enumerate(self._sizes):
             Z = np.empty((n, n))

@@ -46,12 +46,12 @@ class Plant:
             raise DimensionError("F, Z: the plant has no disturbance (n_d + n_v = 0)")
         self.A, self.B, self.C, self.F, self.Z = A, B, C, F, Z
 
-    nx = property(lambda self: self.A.shape[0])
-    nu = property(lambda self: self.B.shape[1])
-    ny = property(lambda self: self.C.shape[0])
-    nd = property(lambda self: self.F.shape[1])
-    nv = property(lambda self: self.Z.shape[1])
-    m = property(lambda self: self.F.shape[1] + self.Z.shape[1])
+    nx = property(lambda self: self.A.shape[0], doc="State dimension.")
+    nu = property(lambda self: self.B.shape[1], doc="Number of known inputs.")
+    ny = property(lambda self: self.C.shape[0], doc="Number of outputs.")
+    nd = property(lambda self: self.F.shape[1], doc="Number of state disturbances (columns of F).")
+    nv = property(lambda self: self.Z.shape[1], doc="Number of measurement noises (columns of Z).")
+    m = property(lambda self: self.F.shape[1] + self.Z.shape[1], doc="nd + nv, the length of the stacked uncertainty.")
 
     def error_input(self, L) -> np.ndarray:
         """``E = [F, −L Z]`` (n_x × m)."""

@@ -220,6 +220,7 @@ class Zonotope:
     __radd__ = __add__
 
     def translate(self, b) -> "Zonotope":
+        """The zonotope moved by the vector ``b``."""
         b = as_f64(b, "b", shape=(self.n,))
         return Zonotope(self._p + b, self._H)
 

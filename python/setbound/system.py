@@ -6,6 +6,8 @@
 
 The zonotopic papers' form ``x⁺ = A x + F_w ω``, ``y = C x + Φ v`` is
 ``LinearSystem(A, C, E=[F_w, 0], F=[0, Φ])``: stack the disturbances, ``ω = [w; v]``.
+
+:func:`from_statespace` converts a discrete-time ``control.StateSpace`` (python-control).
 """
 from __future__ import annotations
 
@@ -84,26 +86,32 @@ class LinearSystem:
 
     @property
     def nx(self) -> int:
+        """State dimension."""
         return self.A.shape[0]
 
     @property
     def ny(self) -> int:
+        """Number of outputs."""
         return self.C.shape[0]
 
     @property
     def nu(self) -> int:
+        """Number of known inputs (0 without B)."""
         return self.B.shape[1]
 
     @property
     def nw(self) -> int:
+        """Number of unit-box disturbances ω."""
         return self.E.shape[1]
 
     @property
     def uncertain_A(self) -> bool:
+        """True when A is an interval matrix with a nonzero radius."""
         return bool(np.any(self.A_rad > 0))
 
     @property
     def A_interval(self) -> IntervalMatrix:
+        """The interval matrix [A] = [A − A_rad, A + A_rad]."""
         return IntervalMatrix.from_mid_rad(self.A, self.A_rad)
 
     def is_detectable(self) -> bool:
@@ -161,10 +169,74 @@ class DescriptorSystem:
         for a in (self.E, self.A, self.B, self.C, self.D, self.F, self.T, self.N):
             a.flags.writeable = False
 
-    nx = property(lambda self: self.A.shape[0])
-    ny = property(lambda self: self.C.shape[0])
-    nu = property(lambda self: self.B.shape[1])
-    nw = property(lambda self: self.D.shape[1])
+    nx = property(lambda self: self.A.shape[0], doc="State dimension.")
+    ny = property(lambda self: self.C.shape[0], doc="Number of outputs.")
+    nu = property(lambda self: self.B.shape[1], doc="Number of known inputs.")
+    nw = property(lambda self: self.D.shape[1], doc="Number of unit-box disturbances w.")
 
     def __repr__(self) -> str:
         return f"DescriptorSystem(nx={self.nx}, ny={self.ny}, nu={self.nu}, nw={self.nw})"
+
+
+def from_statespace(ss, *, E=None, F=None, disturbance_inputs=None, output_noise=None) -> LinearSystem:
+    """A :class:`LinearSystem` from a discrete-time ``control.StateSpace`` (python-control; any
+    object with ``A``, ``B``, ``C``, ``D`` and a sampling time ``dt`` that is not None or 0).
+
+    A state-space model carries no disturbance description, so say which unit-box
+    disturbances ``ω`` act (at least one is required):
+
+    * ``disturbance_inputs``: indices of inputs of ``ss`` that are bounded disturbances
+      (``|ω_i| ≤ 1``): their columns of ``B`` and ``D`` become columns of ``E`` and ``F``; the
+      other inputs stay known inputs ``u``;
+    * ``E``, ``F``: extra disturbance columns (``E`` n_x × m, ``F`` n_y × m; a missing one is zero);
+    * ``output_noise``: a bound ``φ`` (scalar, or one per output) of the measurement noise
+      ``|v_i| ≤ φ_i``, appended as columns ``[0; diag(φ)]``.
+
+    Example: ``from_statespace(control.ss(A, B, C, 0, dt=0.1), disturbance_inputs=[0],
+    output_noise=0.2)`` is ``x⁺ = A x + B ω₀``, ``y = C x + 0.2 v``.
+    """
+    for attr in ("A", "B", "C", "D"):
+        if not hasattr(ss, attr):
+            raise InvalidArgumentError(f"ss: expected a control.StateSpace (with A, B, C, D), "
+                                       f"got {type(ss).__name__}")
+    dt = getattr(ss, "dt", None)
+    if dt is None or dt is False or (not isinstance(dt, bool) and dt == 0):
+        raise InvalidArgumentError(f"ss: must be a discrete-time system (dt not None or 0), got dt = {dt!r}; "
+                                   "discretise it first, e.g. control.sample_system(sys, Ts)")
+    A = np.array(ss.A, dtype=float, ndmin=2)
+    nx = A.shape[0]
+    B = np.array(ss.B, dtype=float).reshape(nx, -1)
+    C = np.array(ss.C, dtype=float).reshape(-1, nx)
+    ny = C.shape[0]
+    D = np.array(ss.D, dtype=float).reshape(ny, B.shape[1])
+    nu_all = B.shape[1]
+    idx = [] if disturbance_inputs is None else [int(i) for i in np.atleast_1d(disturbance_inputs)]
+    for i in idx:
+        if not 0 <= i < nu_all:
+            raise InvalidArgumentError(f"disturbance_inputs: input index {i} out of range 0..{nu_all - 1}")
+    if len(set(idx)) != len(idx):
+        raise InvalidArgumentError("disturbance_inputs: repeated input index")
+    known = [i for i in range(nu_all) if i not in idx]
+    Ecols, Fcols = [B[:, idx]], [D[:, idx]]
+    if E is not None or F is not None:
+        Ex = as_f64(E, "E", shape=(nx, None)) if E is not None else None
+        Fx = as_f64(F, "F", shape=(ny, None)) if F is not None else None
+        m = (Ex if Ex is not None else Fx).shape[1]
+        if Ex is not None and Fx is not None and Fx.shape[1] != m:
+            raise DimensionError(f"F: expected {m} columns (as E), got {Fx.shape[1]}")
+        Ecols.append(Ex if Ex is not None else np.zeros((nx, m)))
+        Fcols.append(Fx if Fx is not None else np.zeros((ny, m)))
+    if output_noise is not None:
+        phi = np.broadcast_to(np.asarray(output_noise, dtype=float), (ny,)) if np.ndim(output_noise) == 0 \
+            else as_f64(output_noise, "output_noise", shape=(ny,))
+        if not np.all(np.isfinite(phi)) or np.any(phi < 0):
+            raise InvalidArgumentError("output_noise: must be finite and >= 0")
+        Ecols.append(np.zeros((nx, ny)))
+        Fcols.append(np.diag(phi))
+    Ew, Fw = np.hstack(Ecols), np.hstack(Fcols)
+    if Ew.shape[1] == 0:
+        raise InvalidArgumentError("ss: no disturbance given; pass disturbance_inputs, E/F or output_noise "
+                                   "(a state-space model does not say which signals are bounded)")
+    if known:
+        return LinearSystem(A, C, B=B[:, known], D=D[:, known], E=Ew, F=Fw)
+    return LinearSystem(A, C, E=Ew, F=Fw)

@@ -22,6 +22,9 @@ from .errors import SetboundError
 
 @dataclass
 class Trajectory:
+    """Row ``k`` of ``center``, ``lower``, ``upper`` (N × n_x) and ``sets[k]`` describe ``x_k``;
+    see the module docstring. ``guaranteed`` is False for the Kalman baseline only."""
+
     center: np.ndarray  # (N, n_x)
     lower: np.ndarray  # (N, n_x)
     upper: np.ndarray  # (N, n_x)
@@ -63,3 +66,30 @@ class Trajectory:
         """Per step: is the true state row x[k] inside the interval hull of row k?"""
         x = np.asarray(x, dtype=float)
         return np.all((self.lower - tol <= x) & (x <= self.upper + tol), axis=1)
+
+    def to_dataframe(self, t=None):
+        """A ``pandas.DataFrame`` with one row per step (index ``k``; a column ``t`` when ``t`` is
+        given) and the columns ``center{i}``, ``lower{i}``, ``upper{i}`` (i = 0 … n_x−1), then
+        ``volume`` and ``radius`` when the trajectory has sets. Needs pandas (``pip install
+        setbound[interop]``)."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Trajectory.to_dataframe needs pandas, which is not installed: "
+                              "pip install pandas (or setbound[interop])") from None
+        N, n = self.center.shape
+        cols = {}
+        if t is not None:
+            t = np.asarray(t, dtype=float).ravel()
+            if t.shape != (N,):
+                raise ValueError(f"t: expected {N} time values, got {t.shape[0]}")
+            cols["t"] = t
+        for name, arr in (("center", self.center), ("lower", self.lower), ("upper", self.upper)):
+            for i in range(n):
+                cols[f"{name}{i}"] = arr[:, i]
+        if self.sets:
+            cols["volume"] = self.volume
+            cols["radius"] = self.radius
+        df = pd.DataFrame(cols, index=pd.RangeIndex(N, name="k"))
+        df.attrs["guaranteed"] = bool(self.guaranteed)
+        return df

@@ -1,40 +1,11 @@
-"""Job files (setbound.config) and the command line (setbound.cli): every example runs end to
-end, and malformed files give messages that name the key."""
-import json
-from pathlib import Path
+"""Job files (setbound.config): malformed files give messages that name the key, the registry
+of estimator and system kinds, measured data from CSV/NPZ. (The examples run end to end in
+test_cli.py.)"""
 
 import numpy as np
 import pytest
 
 from setbound import cli, config
-
-EXAMPLES = sorted((Path(__file__).resolve().parents[2] / "examples").glob("*.toml"))
-
-
-def test_there_are_examples():
-    assert len(EXAMPLES) >= 4
-
-
-@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
-def test_example_runs_end_to_end(path, tmp_path, capsys):
-    assert cli.main(["check", str(path)]) == 0
-    assert "ok" in capsys.readouterr().out
-    out = tmp_path / "out"
-    assert cli.main(["run", str(path), "--out", str(out)]) == 0
-    text = capsys.readouterr().out
-    job = config.load(path)
-    summary = json.loads((out / "summary.json").read_text())
-    assert summary["steps"] == len(job.y)
-    assert [e["name"] for e in summary["estimators"]] == [s.name for s in job.estimators]
-    for e in summary["estimators"]:
-        assert e["name"] in text
-        if e["guaranteed"]:
-            assert e["contains_truth"] is True, e
-        z = np.load(out / f"{e['name']}.npz")
-        assert z["center"].shape == (len(job.y), job.system.nx)
-        assert np.all(z["lower"] <= z["upper"])
-        assert (out / f"{e['name']}.csv").read_text().count("\n") == len(job.y) + 1
-
 
 BASE = """
 [system]
@@ -88,6 +59,28 @@ def test_base_is_valid(tmp_path):
     (lambda t: t.replace("horizon = 5", "horizon = 5\ninputs = ['sin(t)']"), r"simulation\.inputs: the system has no input"),
     (lambda t: t + "extra = 1\n", None),  # a key inside [[estimator]] (TOML puts it there)
     (lambda t: "title = 3\n[system\n", r"not valid TOML"),
+    # [plots] and estimator names (keys added with the plots of `setbound run`)
+    (lambda t: t.replace("[[estimator]]", "[plots]\nreference = 'online'\n[[estimator]]"),
+     r"plots\.reference: 'online' is not the name of an estimator"),
+    (lambda t: t.replace("[[estimator]]", "[plots]\nsteps = [0, 5]\n[[estimator]]"), r"plots\.steps: step 5 out of range"),
+    (lambda t: t.replace("[[estimator]]", "[plots]\nsteps = []\n[[estimator]]"), r"plots\.steps: expected a non-empty"),
+    (lambda t: t.replace("[[estimator]]", "[plots]\ndims = [0, 0]\n[[estimator]]"), r"plots\.dims: expected two distinct"),
+    (lambda t: t.replace("[[estimator]]", "[plots]\ndims = [0, 2]\n[[estimator]]"), r"plots\.dims: expected two distinct"),
+    (lambda t: t.replace("[[estimator]]", "[plots]\nenabled = 'yes'\n[[estimator]]"), r"plots\.enabled: must be true or false"),
+    (lambda t: t.replace("[[estimator]]", "[plots]\ncolour = 'red'\n[[estimator]]"), r"plots\.colour: unknown key"),
+    (lambda t: t.replace('method = "offline"', 'method = "offline"\nname = "a/b"'), r"estimator\[0\]\.name: must be"),
+    (lambda t: t.replace('method = "offline"', 'method = "segment_min"\nreduction = 3'), r"estimator\[0\]\.reduction: must be one of 'combastel'"),
+    (lambda t: t.replace('method = "offline"', 'method = "offline"\nbeta = 1.5'), r"estimator\[0\]\.beta: must be a number in \(0, 1\)"),
+    (lambda t: t.replace('method = "offline"', 'method = "pradius"\napproach = 3'), r"estimator\[0\]\.approach: must be 1 or 2"),
+    # explicit bounds of omega
+    (lambda t: t.replace("F = [[0, 0.1]]", "F = [[0, 0.1]]\nomega = {lower = [0, 1], upper = [1, 0]}"),
+     r"system\.omega\.lower: entry 1 is above system\.omega\.upper"),
+    (lambda t: t.replace("F = [[0, 0.1]]", "F = [[0, 0.1]]\nomega = {lower = [0], upper = [1]}"),
+     r"system\.omega\.lower: expected shape \(2,\)"),
+    (lambda t: t.replace("F = [[0, 0.1]]", "F = [[0, 0.1]]\nomega = {lower = [0, 0], upper = [1, 1], center = [0, 0]}"),
+     r"system\.omega: give a box"),
+    (lambda t: t.replace("F = [[0, 0.1]]", "F = [[0, 0.1]]\nomega = {center = [0, 0]}"), r"system\.omega\.generators: missing"),
+    (lambda t: t.replace("F = [[0, 0.1]]", "F = [[0, 0.1]]\nomega = {radius = 1}"), r"system\.omega\.radius: unknown key"),
 ])
 def test_malformed_files_name_the_key(tmp_path, edit, message):
     text = edit(BASE)
@@ -114,6 +107,7 @@ def test_expressions_of_t(tmp_path):
 
 
 def test_data_files(tmp_path):
+    """Measured data: NPZ (arrays y, u, x) and CSV (columns y0…, u0…, x0…) files."""
     rng = np.random.default_rng(0)
     y = rng.standard_normal((7, 1))
     np.savez(tmp_path / "run.npz", y=y)
@@ -124,3 +118,117 @@ def test_data_files(tmp_path):
     job = load_text(tmp_path, BASE.replace("[simulation]\nhorizon = 5\n", "[data]\nfile = 'run.csv'\n"))
     np.testing.assert_allclose(job.y, y)
     assert job.x_true.shape == (7, 2)
+
+
+def test_plots_table(tmp_path):
+    job = load_text(tmp_path, BASE.replace("[[estimator]]", "[plots]\nreference = 'offline'\nsteps = [1, 4]\n"
+                                                              "dims = [1, 0]\nenabled = false\n[[estimator]]"))
+    assert job.plots == config.PlotSpec(reference="offline", steps=[1, 4], dims=(1, 0), enabled=False)
+    assert load_text(tmp_path, BASE).plots == config.PlotSpec()
+
+
+def test_registry_adds_a_system_kind_and_an_estimator_in_one_place(tmp_path, monkeypatch):
+    """A new model kind and a new estimator kind are usable from job files once registered."""
+    from setbound import LinearSystem, Trajectory
+
+    monkeypatch.setattr(config, "SYSTEMS", dict(config.SYSTEMS))
+    monkeypatch.setattr(config, "ESTIMATORS", dict(config.ESTIMATORS))
+    monkeypatch.setattr(config, "METHODS", dict(config.METHODS))
+
+    class Scalar(LinearSystem):
+        pass
+
+    def build_scalar(tab):
+        a = tab["a"]
+        if not isinstance(a, (int, float)):
+            raise config.ConfigError(f"system.a: must be a number, got {a!r}")
+        return Scalar([[a]], [[1.0]], E=[[0.1, 0.0]], F=[[0.0, 0.1]])
+
+    class Hold:
+        """Returns the measurement ± the noise bound: guaranteed for y = x + 0.1 v."""
+
+        def run(self, y, u=None):
+            y = np.asarray(y, float)
+            return Trajectory(y.copy(), y - 0.1, y + 0.1, [])
+
+    config.register_system("scalar", {"a"}, build_scalar, Scalar)
+    config.register_estimator("hold", "test", {"margin": 0.0}, lambda job, o: (Hold(), None),
+                              systems=("scalar", "linear"))
+    text = """
+[system]
+kind = "scalar"
+a = 0.9
+[initial]
+center = [0]
+rho = 1.0
+[simulation]
+horizon = 6
+seed = 3
+[[estimator]]
+method = "hold"
+[[estimator]]
+method = "segment_min"
+"""
+    with pytest.raises(config.ConfigError, match=r"estimator\[1\]\.method: 'segment_min' does not apply to a "
+                                                 r"scalar system"):
+        load_text(tmp_path, text)
+    job = load_text(tmp_path, text.replace('[[estimator]]\nmethod = "segment_min"\n', ""))
+    assert job.system_kind == "scalar" and isinstance(job.system, Scalar)
+    assert config.METHODS["hold"] == ("test", {"margin": 0.0})
+    (res,) = config.run(job)
+    assert res.ok and res.contained is True
+    with pytest.raises(config.ConfigError, match=r"system\.a: must be a number"):
+        load_text(tmp_path, text.replace("a = 0.9", "a = 'x'"))
+    with pytest.raises(config.ConfigError, match=r"system\.kind: expected one of 'linear', 'descriptor', 'scalar'"):
+        load_text(tmp_path, text.replace('kind = "scalar"', 'kind = "other"'))
+    with pytest.raises(ValueError, match="already registered"):
+        config.register_estimator("hold", "test", {}, lambda job, o: (Hold(), None))
+
+
+def test_every_registered_estimator_is_documented_and_buildable():
+    assert {"offline", "online", "scaled", "improved", "descriptor", "kalman", "segment_min", "volume_min",
+            "pradius"} <= set(config.ESTIMATORS)
+    for name, kind in config.ESTIMATORS.items():
+        assert kind.description and kind.systems and set(kind.systems) <= set(config.SYSTEMS), name
+        assert config.METHODS[name] == (kind.family, kind.options)
+
+
+@pytest.mark.parametrize("bounds", ["box", "zonotope"])
+def test_explicit_omega_bounds_are_converted_exactly_and_contain_the_truth(tmp_path, bounds):
+    """[system.omega]: ω in a non-centred box or zonotope. The converted unit-box model, driven by
+    measurements of the ORIGINAL model with ω at the vertices of its bounds, contains the truth."""
+    E = np.array([[0.1, 0.0], [0.0, 0.1]])
+    F = np.array([[0.0, 0.1]])
+    if bounds == "box":
+        spec = "omega = {lower = [0.5, -1.0], upper = [1.5, 2.0]}"
+        c, G = np.array([1.0, 0.5]), np.diag([0.5, 1.5])
+    else:
+        spec = "omega = {center = [1.0, 0.5], generators = [[0.5, 0.2], [0.0, 1.5]]}"
+        c, G = np.array([1.0, 0.5]), np.array([[0.5, 0.2], [0.0, 1.5]])
+    text = BASE.replace("F = [[0, 0.1]]", "F = [[0, 0.1]]\n" + spec).replace(
+        '[[estimator]]\nmethod = "offline"\n', '[[estimator]]\nmethod = "offline"\n[[estimator]]\nmethod = "segment_min"\n')
+    job = load_text(tmp_path, text)
+    s = job.system
+    assert job.constant_input and s.nu == 1
+    np.testing.assert_allclose(s.E, E @ G)
+    np.testing.assert_allclose(s.F, F @ G)
+    np.testing.assert_allclose(s.B[:, 0], E @ c)
+    np.testing.assert_allclose(s.D[:, 0], F @ c)
+    np.testing.assert_array_equal(job.u, np.ones((5, 1)))
+    assert all(r.contained for r in config.run(job))
+    # independent truth: the original model, ω at vertices of its bounds (box corners / zonotope vertices)
+    rng = np.random.default_rng(7)
+    A = np.array([[0.5, 0.1], [0, 0.7]])
+    N = 40
+    x = np.empty((N, 2))
+    y = np.empty((N, 1))
+    x[0] = [0.3, -0.2]
+    for k in range(N):
+        w = c + G @ rng.choice([-1.0, 1.0], size=G.shape[1])
+        y[k] = F @ w + x[k, :1]  # C = [1, 0]
+        if k + 1 < N:
+            x[k + 1] = A @ x[k] + E @ w
+    job.y, job.u, job.x_true = y, np.ones((N, 1)), x
+    job.t = np.arange(N, dtype=float)
+    for r in config.run(job):
+        assert r.contained is True, r.name

@@ -1,0 +1,246 @@
+"""The command line end to end: `setbound check/run/compare/demo` on every example file, the
+files they write, the summary's contents, and the progress bar."""
+import io
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("matplotlib")
+
+from setbound import cli, config, demo  # noqa: E402
+from setbound.progress import Progress, set_quiet, track  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = sorted((ROOT / "examples").glob("*.toml"))
+PLOTS = {"bounds.png", "widths.png", "volume.png"}
+
+
+def test_there_are_examples():
+    assert len(EXAMPLES) >= 4
+
+
+def _png_ok(path: Path):
+    assert path.is_file(), path
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert path.stat().st_size > 5_000
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
+def test_example_runs_end_to_end(path, tmp_path, capsys):
+    assert cli.main(["check", str(path)]) == 0
+    assert "ok" in capsys.readouterr().out
+    out = tmp_path / "out"
+    assert cli.main(["--quiet", "run", str(path), "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    job = config.load(path)
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["steps"] == len(job.y)
+    assert [e["name"] for e in summary["estimators"]] == [s.name for s in job.estimators]
+    for e in summary["estimators"]:
+        assert e["ok"], e
+        assert e["name"] in text
+        if e["guaranteed"]:
+            assert e["contains_truth"] is True, e
+        else:
+            assert e["contains_truth"] is None
+        z = np.load(out / f"{e['name']}.npz")
+        assert z["center"].shape == (len(job.y), job.system.nx)
+        np.testing.assert_array_equal(z["x_true"], job.x_true)
+        w = z["upper"] - z["lower"]
+        assert np.all(w >= 0)
+        # the table is computed from the trajectory that was written
+        np.testing.assert_allclose(e["mean_width"], w.mean(axis=0), rtol=1e-12)
+        np.testing.assert_allclose(e["final_width"], w[-1], rtol=1e-12)
+        inside = np.all((z["lower"] <= z["x_true"]) & (z["x_true"] <= z["upper"]))
+        if e["guaranteed"]:
+            assert inside
+        # steady-state volume: the design's rho_inf volume where the method has one, else the last set's
+        if e["steady_volume_kind"] == "final":
+            assert e["steady_volume"] == pytest.approx(z["volume"][-1], rel=1e-12)
+        elif e["steady_volume_kind"] == "rho_inf":
+            assert e["method"] in ("offline", "descriptor")
+            # rho_k -> rho_inf monotonically, so the last volume lies between the first and rho_inf's
+            v = z["volume"]
+            assert min(v[0], e["steady_volume"]) * (1 - 1e-9) <= v[-1] <= max(v[0], e["steady_volume"]) * (1 + 1e-9)
+        assert e["design_time_s"] >= 0 and e["time_per_step_s"] > 0
+        rows = (out / f"{e['name']}.csv").read_text().splitlines()
+        assert len(rows) == len(job.y) + 1
+        np.testing.assert_allclose(np.array(rows[-1].split(","), float)[1:1 + job.system.nx], z["center"][-1])
+    for name in PLOTS | ({"projections.png"} if job.system.nx >= 2 else set()):
+        _png_ok(out / name)
+    assert (out / "widths_relative.png").is_file() == (len(job.estimators) > 1)
+
+
+def test_run_without_plots_and_default_out(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    path = ROOT / "examples" / "me17_stable.toml"
+    assert cli.main(["run", str(path), "--no-plots", "--quiet"]) == 0
+    out = tmp_path / "out" / "me17_stable"
+    assert (out / "summary.json").is_file()
+    assert not list(out.glob("*.png"))
+
+
+def test_compare_one_file_with_filter(tmp_path, capsys):
+    path = ROOT / "examples" / "bc14_3state.toml"
+    out = tmp_path / "cmp"
+    assert cli.main(["compare", str(path), "--estimators", "offline,segment_min", "--out", str(out), "-q"]) == 0
+    text = capsys.readouterr().out
+    summary = json.loads((out / "summary.json").read_text())
+    assert [e["name"] for e in summary["estimators"]] == ["offline", "segment_min"]
+    assert "online" not in text.split("---")[-1]
+    for name in PLOTS | {"widths_relative.png", "projections.png"}:
+        _png_ok(out / name)
+
+
+def test_compare_several_files_of_one_system(tmp_path, capsys):
+    src = (ROOT / "examples" / "me17_stable.toml").read_text()
+    other = tmp_path / "other.toml"  # the same system, other estimators (and its own, ignored, data)
+    other.write_text(src.split("[[estimator]]")[0].replace("seed = 17", "seed = 99")
+                     + '[[estimator]]\nmethod = "online"\n[[estimator]]\nmethod = "segment_min"\n')
+    out = tmp_path / "cmp"
+    assert cli.main(["compare", str(ROOT / "examples" / "me17_stable.toml"), str(other), "--out", str(out), "-q"]) == 0
+    names = [e["name"] for e in json.loads((out / "summary.json").read_text())["estimators"]]
+    assert names == ["online", "improved", "kalman", "other_online", "segment_min"]
+    a, b = np.load(out / "online.npz"), np.load(out / "other_online.npz")
+    # same data (the first file's) and same method: the same trajectory
+    np.testing.assert_array_equal(a["lower"], b["lower"])
+
+
+def test_compare_rejects_different_systems_and_unknown_filter(tmp_path, capsys):
+    ex = ROOT / "examples"
+    assert cli.main(["compare", str(ex / "me17_stable.toml"), str(ex / "me17_unstable.toml"),
+                     "--out", str(tmp_path)]) == 2
+    assert "different system" in capsys.readouterr().err
+    assert cli.main(["compare", str(ex / "me17_stable.toml"), "--estimators", "nope", "--out", str(tmp_path)]) == 2
+    assert "--estimators: nope" in capsys.readouterr().err
+
+
+def test_failed_design_is_listed_not_fatal(tmp_path, capsys):
+    """An undetectable pair makes every design fail: each is listed with its reason, exit code 1."""
+    text = """
+[system]
+A = [[1.2, 0], [0, 0.5]]
+C = [[0, 1]]
+E = [[0.1, 0], [0, 0.1]]
+F = [[0, 0.1]]
+[initial]
+center = [0, 0]
+rho = 1.0
+[simulation]
+horizon = 5
+[[estimator]]
+method = "offline"
+[[estimator]]
+method = "pradius"
+[[estimator]]
+method = "segment_min"
+"""
+    p = tmp_path / "bad.toml"
+    p.write_text(text)
+    assert cli.main(["run", str(p), "--out", str(tmp_path / "o"), "-q"]) == 1
+    out = capsys.readouterr().out
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    rows = {e["name"]: e for e in summary["estimators"]}
+    assert not rows["offline"]["ok"] and "NotDetectable" in rows["offline"]["error"]
+    assert not rows["pradius"]["ok"] and rows["pradius"]["error"]
+    assert rows["segment_min"]["ok"]  # needs no design: still runs (the set just grows)
+    assert out.count("FAILED") == 2
+    assert not (tmp_path / "o" / "offline.npz").exists()
+
+
+def test_demo_short_horizon(tmp_path, capsys):
+    out = tmp_path / "demo"
+    assert cli.main(["demo", "--out", str(out), "--steps", "6", "-q"]) == 0
+    text = capsys.readouterr().out
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["steps"] == 6
+    methods = {e["method"] for e in summary["estimators"]}
+    assert {"offline", "online", "scaled", "improved", "segment_min", "volume_min", "pradius", "kalman"} <= methods
+    for e in summary["estimators"]:
+        assert e["name"] in text
+        if e["ok"]:
+            assert (out / f"{e['name']}.npz").is_file()
+            if e["guaranteed"]:
+                assert e["contains_truth"] is True
+        else:
+            assert e["error"] and "FAILED" in text
+    for name in PLOTS | {"widths_relative.png", "projections.png"}:
+        _png_ok(out / name)
+
+
+def test_demo_job_is_package_data_and_thesis_hook(monkeypatch):
+    job, skipped = demo.demo_job(steps=3)
+    assert len(job.y) == 3 and job.system.nx == 3
+    # the hook: methods listed in THESIS_OBSERVERS are added when registered, else reported
+    monkeypatch.setattr(config, "ESTIMATORS", dict(config.ESTIMATORS))
+    monkeypatch.setattr(config, "METHODS", dict(config.METHODS))
+    config.register_estimator("thesis_test", "test", dict(config.ESTIMATORS["segment_min"].options),
+                              config.ESTIMATORS["segment_min"].build,
+                              description="a stand-in")
+    monkeypatch.setattr(demo, "THESIS_OBSERVERS", ["not_registered_yet", "thesis_test"])
+    job2, skipped2 = demo.demo_job(steps=3)
+    assert skipped2 == ["not_registered_yet"]
+    assert [e.name for e in job2.estimators] == [e.name for e in job.estimators] + ["thesis_test"]
+
+
+class _Tty(io.StringIO):
+    def isatty(self):
+        return True
+
+
+def test_progress_bar_only_on_a_terminal():
+    tty, pipe = _Tty(), io.StringIO()
+    for stream in (tty, pipe):
+        with Progress(10, "work", stream=stream, min_interval=0.0) as bar:
+            for _ in range(10):
+                bar.update()
+        assert bar.count == 10
+    assert pipe.getvalue() == ""
+    text = tty.getvalue()
+    assert "work [" in text and "10/10" in text and text.endswith("\n")
+    quiet = _Tty()
+    assert list(track(range(5), stream=quiet, quiet=True)) == list(range(5))
+    assert quiet.getvalue() == ""
+    set_quiet(True)
+    try:
+        silent = _Tty()
+        with Progress(3, stream=silent, min_interval=0.0) as bar:
+            bar.update(3)
+        assert silent.getvalue() == ""
+    finally:
+        set_quiet(False)
+
+
+def test_chunked_run_equals_one_run():
+    """run_trajectory (the progress-bar path) joins chunks into the same trajectory as one run()."""
+    from setbound import ellipsoidal
+
+    job = config.load(ROOT / "examples" / "me17_stable.toml")
+    for spec in job.estimators:
+        kind = config.ESTIMATORS[spec.method]
+        whole = kind.build(job, spec.options)[0].run(job.y, job.u)
+        parts = config.run_trajectory(kind.build(job, spec.options)[0], job.y, job.u, chunk=3, quiet=True)
+        np.testing.assert_array_equal(whole.lower, parts.lower)
+        np.testing.assert_array_equal(whole.upper, parts.upper)
+        assert len(parts.sets) == len(whole.sets) and parts.guaranteed == whole.guaranteed
+        if isinstance(kind.build(job, spec.options)[0], ellipsoidal.KalmanFilter):
+            np.testing.assert_array_equal(whole.covariance, parts.covariance)
+
+
+def test_run_draws_progress_on_a_terminal_only(tmp_path, monkeypatch, capsys):
+    path = ROOT / "examples" / "me17_stable.toml"
+    tty = _Tty()
+    monkeypatch.setattr("sys.stderr", tty)
+    assert cli.main(["run", str(path), "--no-plots", "--out", str(tmp_path / "a")]) == 0
+    text = tty.getvalue()
+    for name in ("online", "improved", "kalman"):
+        assert f"{name} [" in text and "10/10" in text
+    tty2 = _Tty()
+    monkeypatch.setattr("sys.stderr", tty2)
+    assert cli.main(["run", str(path), "--no-plots", "--quiet", "--out", str(tmp_path / "b")]) == 0
+    assert tty2.getvalue() == ""
+    # the chunked (progress) run gives the same numbers as the plain one
+    a, b = np.load(tmp_path / "a" / "online.npz"), np.load(tmp_path / "b" / "online.npz")
+    np.testing.assert_array_equal(a["lower"], b["lower"])
