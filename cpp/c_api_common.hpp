@@ -13,11 +13,14 @@
 #include "setbound/core/error.hpp"
 #include "setbound/core/validate.hpp"
 
+#ifndef SETBOUND_C_API_DECLARED  // setbound.h may enter a translation unit only once
+#define SETBOUND_C_API_DECLARED
 extern "C" {
 #pragma GCC visibility push(default)
 #include "setbound/setbound.h"
 #pragma GCC visibility pop
 }
+#endif
 
 namespace setbound::capi {
 

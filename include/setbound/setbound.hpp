@@ -4,9 +4,15 @@
 // (setbound.h) inside extern "C".
 #pragma once
 
+// setbound.h holds struct definitions and no include guard (cffi reads it as plain
+// declarations), so it may enter a translation unit only once: the library's own C ABI helpers
+// (cpp/c_api_common.hpp) include it too and define SETBOUND_C_API_DECLARED.
+#ifndef SETBOUND_C_API_DECLARED
+#define SETBOUND_C_API_DECLARED
 extern "C" {
 #include "setbound/setbound.h"
 }
+#endif
 
 #include "setbound/core/error.hpp"
 #include "setbound/core/linear_system.hpp"

@@ -6,6 +6,9 @@
 
 #include "c_api_common.hpp"
 #include "setbound/core/validate.hpp"
+// The umbrella header must compile on its own terms for C++ users (the installed-consumer test
+// includes only the headers it uses, to keep its build short).
+#include "setbound/setbound.hpp"
 
 TEST(CApiCore, VersionAndAbi) {
   EXPECT_STREQ(sb_version(), SETBOUND_TEST_VERSION);
