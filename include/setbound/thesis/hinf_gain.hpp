@@ -161,17 +161,17 @@ struct VertexGainResult {
 
 /// The vertex LMIs (3.13) with a common P (one vertex = LMI 2.35): minimise g. `what` names
 /// the caller in messages. C may have zero rows only with `no_gain` (the BRL: U = 0, L = 0).
-inline VertexGainResult hinf_vertex_gains(const std::vector<Eigen::MatrixXd>& As,
-                                          const std::vector<Eigen::MatrixXd>& Fs, const Eigen::MatrixXd& C,
-                                          const Eigen::MatrixXd& Z, const Eigen::MatrixXd& Q,
-                                          const HinfOptions& opt, const std::string& what, bool no_gain) {
+inline VertexGainResult hinf_vertex_gains_once(const std::vector<Eigen::MatrixXd>& As,
+                                               const std::vector<Eigen::MatrixXd>& Fs, const Eigen::MatrixXd& C,
+                                               const Eigen::MatrixXd& Z, const Eigen::MatrixXd& Q,
+                                               const HinfOptions& opt, const std::string& what, bool no_gain,
+                                               double margin, double& needed_margin) {
   const int n = static_cast<int>(As.front().rows());
   const int ny = static_cast<int>(C.rows());
   const int nd = static_cast<int>(Fs.front().cols());
   const int nv = static_cast<int>(Z.cols());
   const int m = nd + nv;
   const size_t N = As.size();
-  const double scale = std::max(1.0, Q.cwiseAbs().maxCoeff());
   lmi::Model model;
   lmi::Var P = model.symmetric(n);
   std::vector<lmi::Var> U;
@@ -186,8 +186,7 @@ inline VertexGainResult hinf_vertex_gains(const std::vector<Eigen::MatrixXd>& As
     if (nd > 0 && nv > 0) PE = lmi::block_matrix({{P * Fs[i], -(U[i] * Z)}});
     else if (nd > 0) PE = P * Fs[i];
     else PE = no_gain ? lmi::AffineExpr::zero(n, m) : -(U[i] * Z);
-    model.add_lmi(lmi::sym_block({{P - Q}, {lmi::AffineExpr::zero(m, n), g * Im}, {-PAo, -PE, P}}),
-                  opt.margin * scale);
+    model.add_lmi(lmi::sym_block({{P - Q}, {lmi::AffineExpr::zero(m, n), g * Im}, {-PAo, -PE, P}}), margin);
   }
   model.minimize(g);
   const lmi::LmiProblem problem = model.build();
@@ -232,11 +231,37 @@ inline VertexGainResult hinf_vertex_gains(const std::vector<Eigen::MatrixXd>& As
     ok = true;
     for (size_t i = 0; i < N && ok; ++i) ok = certify_dissipation(out.P, Q, Aos[i], Es[i], gc, opt.certificate_slack);
   }
-  if (!ok)
-    throw NumericalError(what + ": the LMI solution could not be certified in floating point (solver status " +
-                         lmi::status_name(res.status) + ")");
+  // The slack the certificate subtracts (see certify_psd), for a retry with a larger margin.
+  double tr = 0;
+  for (size_t i = 0; i < N; ++i)
+    tr = std::max(tr, dissipation_block(out.P, Q, Aos[i], Es[i], gc).diagonal().cwiseAbs().sum());
+  needed_margin = (ell_rounding::gamma(2 * n + m + 1) * 4.0 + opt.certificate_slack) * tr;
+  if (!ok) return VertexGainResult{};  // empty P: not certified
   out.g = gc;
   return out;
+}
+
+/// The vertex LMIs (3.13) with a common P (one vertex = LMI 2.35): minimise g, certified.
+/// `what` names the caller in messages. With `no_gain` (the BRL) U = 0, L = 0.
+/// The margin starts at opt.margin·max(1, ‖Q‖) and, when the certificate fails because the
+/// solution is large, the LMI is re-solved with a margin of 8× the certificate's slack.
+inline VertexGainResult hinf_vertex_gains(const std::vector<Eigen::MatrixXd>& As,
+                                          const std::vector<Eigen::MatrixXd>& Fs, const Eigen::MatrixXd& C,
+                                          const Eigen::MatrixXd& Z, const Eigen::MatrixXd& Q,
+                                          const HinfOptions& opt, const std::string& what, bool no_gain) {
+  double margin = opt.margin * std::max(1.0, Q.cwiseAbs().maxCoeff());
+  double needed = 0, time = 0;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    VertexGainResult r = hinf_vertex_gains_once(As, Fs, C, Z, Q, opt, what, no_gain, margin, needed);
+    time += r.solve_time;
+    if (r.P.size() > 0) {
+      r.solve_time = time;
+      return r;
+    }
+    margin = std::max(margin * 10.0, 8.0 * needed);
+  }
+  throw NumericalError(what + ": the LMI solution could not be certified in floating point (margin " +
+                       std::to_string(margin) + ")");
 }
 
 }  // namespace hinf_detail
