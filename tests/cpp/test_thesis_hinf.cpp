@@ -460,6 +460,12 @@ TEST(ThesisHinfObservers, StepDoesNotAllocate) {
   VectorXd y = VectorXd::Constant(1, 0.3), u = VectorXd::Ones(1), rho = VectorXd::Constant(1, 0.07);
   obs.step(y, u);
   ol.step(y, u, rho);
+  {
+    const long c0 = g_allocations.load();
+    VectorXd probe = VectorXd::Random(64);  // the counter sees Eigen's heap allocations
+    EXPECT_GT(g_allocations.load(), c0);
+    EXPECT_TRUE(probe.allFinite());
+  }
   const long before = g_allocations.load();
   for (int k = 0; k < 100; ++k) {
     obs.step(y, u);
