@@ -18,6 +18,8 @@ from .trajectory import Trajectory
 from . import zonotopic  # noqa: E402  (needs the classes above)
 from .zonotopic import exact_hull  # noqa: E402
 from . import ellipsoidal  # noqa: E402
+from . import inclusion, invariant  # noqa: E402  (thesis Chapter 1)
+from .invariant import Polytope  # noqa: E402
 
 __version__ = version()
 
@@ -29,6 +31,7 @@ __all__ = [
     "Interval",
     "IntervalMatrix",
     "LinearSystem",
+    "Polytope",
     "Plant",
     "Strip",
     "Trajectory",
@@ -38,6 +41,8 @@ __all__ = [
     "ellipsoidal",
     "errors",
     "exact_hull",
+    "inclusion",
+    "invariant",
     "lmi",
     "zonotopic",
     "version",
