@@ -18,6 +18,15 @@ from .trajectory import Trajectory
 from . import zonotopic  # noqa: E402  (needs the classes above)
 from .zonotopic import exact_hull  # noqa: E402
 from . import ellipsoidal  # noqa: E402
+from . import interval_observers  # noqa: E402
+from .interval_observers import (  # noqa: E402
+    IntervalInvariantObserver,
+    IntervalLuenbergerObserver,
+    NonlinearIntervalObserver,
+    interval_error_limit,
+    interval_error_recursion,
+    offline_error_sequence,
+)
 
 __version__ = version()
 
@@ -36,6 +45,13 @@ __all__ = [
     "is_detectable",
     "__version__",
     "ellipsoidal",
+    "interval_observers",
+    "IntervalInvariantObserver",
+    "IntervalLuenbergerObserver",
+    "NonlinearIntervalObserver",
+    "interval_error_limit",
+    "interval_error_recursion",
+    "offline_error_sequence",
     "errors",
     "exact_hull",
     "lmi",
