@@ -74,19 +74,20 @@ class LpvPlant:
         self.theta = np.ascontiguousarray(theta)
         self.C, self.Z = self.vertices[0].C, self.vertices[0].Z
 
-    A = property(lambda self: [p.A for p in self.vertices])
-    B = property(lambda self: [p.B for p in self.vertices])
-    F = property(lambda self: [p.F for p in self.vertices])
-    N = property(lambda self: len(self.vertices))
-    nx = property(lambda self: self.vertices[0].nx)
-    nu = property(lambda self: self.vertices[0].nu)
-    ny = property(lambda self: self.vertices[0].ny)
-    nd = property(lambda self: self.vertices[0].nd)
-    nv = property(lambda self: self.vertices[0].nv)
-    m = property(lambda self: self.vertices[0].m)
-    n_rho = property(lambda self: self.theta.shape[1])
+    A = property(lambda self: [p.A for p in self.vertices], doc="vertex matrices A_i (list)")
+    B = property(lambda self: [p.B for p in self.vertices], doc="vertex matrices B_i (list)")
+    F = property(lambda self: [p.F for p in self.vertices], doc="vertex matrices F_i (list)")
+    N = property(lambda self: len(self.vertices), doc="number of vertices")
+    nx = property(lambda self: self.vertices[0].nx, doc="state dimension")
+    nu = property(lambda self: self.vertices[0].nu, doc="input dimension")
+    ny = property(lambda self: self.vertices[0].ny, doc="output dimension")
+    nd = property(lambda self: self.vertices[0].nd, doc="state-disturbance dimension")
+    nv = property(lambda self: self.vertices[0].nv, doc="noise dimension")
+    m = property(lambda self: self.vertices[0].m, doc="disturbance dimension n_d + n_v")
+    n_rho = property(lambda self: self.theta.shape[1], doc="dimension of the scheduling vector ρ")
 
     def weights(self, rho) -> np.ndarray:
+        """Barycentric weights α(ρ) of the scheduling vector ρ (thesis (3.2))."""
         return polytopic_weights(self.theta, rho)
 
     def at(self, rho) -> Plant:
@@ -268,6 +269,7 @@ class EllipsoidalSMDesign:
 
     @property
     def L_vertices(self) -> np.ndarray:
+        """The vertex gains L_i stacked, (N, n_x, n_y); the LTI design has N = 1."""
         return self.L if self.L.ndim == 3 else self.L[None]
 
 
@@ -345,6 +347,7 @@ def mu0_from_box(design: EllipsoidalSMDesign, lo, hi) -> float:
 
 
 def box_corners(lo, hi) -> np.ndarray:
+    """The 2^n corners of the box [lo, hi], one per row."""
     lo, hi = np.asarray(lo, float), np.asarray(hi, float)
     n = lo.size
     return np.array([[hi[i] if (j >> i) & 1 else lo[i] for i in range(n)] for j in range(1 << n)])
@@ -436,9 +439,11 @@ class EllipsoidalSMObserver(_Observer):
     T + 1 rows (row 0 = the initial box) and ``traj.mu``."""
 
     def step(self, y, u=None) -> Box:
+        """Uses y_k and u_k, advances the observer and returns the box of x_{k+1} (unchanged on error)."""
         return self._step(y, u, None)
 
     def run(self, y, u=None) -> Trajectory:
+        """Runs over y (N × n_y) and u; row k of the trajectory bounds x_k (row 0: the initial box)."""
         return self._run(y, u, None)
 
 
@@ -447,9 +452,11 @@ class LPVEllipsoidalSMObserver(_Observer):
     _lpv = True
 
     def step(self, y, u=None, rho=None) -> Box:
+        """Uses y_k, u_k and the scheduling vector ρ_k, advances the observer and returns the box of x_{k+1}."""
         if rho is None:
             raise InvalidArgumentError("rho: the LPV observer needs the scheduling value of this step")
         return self._step(y, u, rho)
 
     def run(self, y, u=None, rho=None) -> Trajectory:
+        """Runs over y, u and the scheduling signal rho (N × n_ρ); row k bounds x_k (row 0: the initial box)."""
         return self._run(y, u, rho)

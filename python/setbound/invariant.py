@@ -76,6 +76,7 @@ class Polytope:
 
     @classmethod
     def from_box(cls, box: Box) -> "Polytope":
+        """The box as a polytope (2n facets, 2^n vertices)."""
         lo, hi = np.asarray(box.lo), np.asarray(box.hi)
         n = lo.size
         corners = np.array([[hi[i] if (k >> i) & 1 else lo[i] for i in range(n)] for k in range(1 << n)])
@@ -93,12 +94,12 @@ class Polytope:
             a.flags.writeable = False
         self._V, self._H, self._b = V, H, b
 
-    dimension = property(lambda self: self._n)
+    dimension = property(lambda self: self._n, doc="State dimension n.")
     vertices = property(lambda self: self._V, doc="vertices, one per row (p × n)")
     H = property(lambda self: self._H, doc="facet normals (m × n, unit rows)")
     b = property(lambda self: self._b, doc="facet offsets (m)")
-    num_vertices = property(lambda self: self._V.shape[0])
-    num_facets = property(lambda self: self._H.shape[0])
+    num_vertices = property(lambda self: self._V.shape[0], doc="Number of vertices.")
+    num_facets = property(lambda self: self._H.shape[0], doc="Number of facets (rows of H).")
 
     def contains(self, points, tol: float = 1e-9):
         """``H x <= b + tol`` for one point (→ bool) or each row of a 2-D array (→ bool array)."""
@@ -117,6 +118,7 @@ class Polytope:
         return bool(np.all(self.contains(other.vertices, tol)))
 
     def linear_map(self, M) -> "Polytope":
+        """The image M·P (vertices mapped, hull recomputed)."""
         Ma = as_f64(M, "M", ndim=2)
         if Ma.shape[1] != self._n:
             raise DimensionError(f"M: expected {self._n} columns, got shape {Ma.shape}")
@@ -141,16 +143,19 @@ class Polytope:
         return self.minkowski_sum(other)
 
     def scaled(self, a: float) -> "Polytope":
+        """The polytope a·P."""
         out = ffi.new("sb_polytope**")
         check(lib.sb_polytope_scale(self._handle, float(a), out))
         return _wrap(out[0])
 
     def bounding_box(self) -> Box:
+        """The exact interval hull (from the vertices)."""
         lo, hi = np.empty(self._n), np.empty(self._n)
         check(lib.sb_polytope_bounding_box(self._handle, dptr(lo), dptr(hi)))
         return Box(lo, hi)
 
     def max_vertex_norm(self) -> float:
+        """The largest Euclidean norm of a vertex (the ‖Φ‖ of thesis (4.33))."""
         r = ffi.new("double*")
         check(lib.sb_polytope_max_vertex_norm(self._handle, r))
         return r[0]

@@ -652,9 +652,7 @@ TEST(ThesisExamples, InvariantObserverRandomSystems) {
 // ---------------------------------------------------------------------------------------------
 // C ABI
 // ---------------------------------------------------------------------------------------------
-extern "C" {
-#include "setbound/setbound.h"
-}
+#include "c_api_common.hpp"  // the C ABI (setbound.h, once per translation unit)
 
 namespace {
 

@@ -12,9 +12,7 @@
 
 #include "setbound/sets/inclusion.hpp"
 #include "setbound/sets/polytope.hpp"
-extern "C" {
-#include "setbound/setbound.h"
-}
+#include "c_api_common.hpp"  // the C ABI (setbound.h, once per translation unit)
 #include "setbound/thesis/invariant.hpp"
 #include "test_helpers.hpp"
 

@@ -318,7 +318,7 @@ inline BrlRpi brl_ellipsoidal_rpi(const Eigen::MatrixXd& A, const Eigen::MatrixX
   const Eigen::Index n = A.rows();
   if (E.rows() != n || E.cols() == 0)
     throw DimensionError("E: expected shape (" + std::to_string(n) + ", m) with m >= 1, got " +
-                         detail::shape_string(E.rows(), E.cols()));
+                         setbound::detail::shape_string(E.rows(), E.cols()));
   require_finite(E, "E");
   if (wbar.size() != E.cols())
     throw DimensionError("wbar: expected " + std::to_string(E.cols()) + " entries (the columns of E), got " +

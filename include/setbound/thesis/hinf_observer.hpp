@@ -422,7 +422,7 @@ inline double mu0_from_ball(const EllipsoidalSMDesign& d, double radius) {
 inline double mu0_from_vertices(const EllipsoidalSMDesign& d, const Eigen::MatrixXd& vertices) {
   if (vertices.rows() != d.P.rows() || vertices.cols() == 0)
     throw DimensionError("vertices: expected shape (" + std::to_string(d.P.rows()) + ", p) with p >= 1, got " +
-                         detail::shape_string(vertices.rows(), vertices.cols()));
+                         setbound::detail::shape_string(vertices.rows(), vertices.cols()));
   require_finite(vertices, "vertices");
   using ell_rounding::round_up;
   double mx = 0;

@@ -28,7 +28,7 @@ class PolytopicWeights {
   explicit PolytopicWeights(Eigen::MatrixXd theta) : theta_(std::move(theta)) {
     const Eigen::Index N = theta_.rows(), L = theta_.cols();
     if (N < 1 || L < 1) throw DimensionError("theta: expected shape (N, L) with N, L >= 1, got " +
-                                             detail::shape_string(N, L));
+                                             setbound::detail::shape_string(N, L));
     require_finite(theta_, "theta");
     lo_ = theta_.colwise().minCoeff().transpose();
     hi_ = theta_.colwise().maxCoeff().transpose();

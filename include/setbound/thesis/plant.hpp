@@ -34,7 +34,7 @@ struct Plant {
     const Eigen::Index n = A.rows();
     if (C.cols() != n || C.rows() == 0)
       throw DimensionError("C: expected shape (n_y, " + std::to_string(n) + ") with n_y >= 1, got " +
-                           detail::shape_string(C.rows(), C.cols()));
+                           setbound::detail::shape_string(C.rows(), C.cols()));
     require_finite(C, "C");
     if (B.size() == 0) B.resize(n, 0);
     if (B.rows() != n)
