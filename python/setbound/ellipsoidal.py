@@ -28,7 +28,7 @@ import numpy as np
 from ._native import as_f64, check, dptr, ffi, lib
 from .errors import DimensionError, InvalidArgumentError
 from .sets import Ellipsoid
-from .system import DescriptorSystem, LinearSystem, run_inputs, step_inputs
+from .system import as_system, DescriptorSystem, LinearSystem, run_inputs, step_inputs
 from .trajectory import Trajectory
 
 _NORMALIZATIONS = {
@@ -99,6 +99,7 @@ def design_offline(system, normalization: str = "logdet", beta: float | None = N
     steady-state volume (logdet) or on ``ρ∞`` (ball). Raises ``NotDetectableError`` when
     ``(C, A)`` is not detectable and ``InfeasibleError`` when no design exists.
     """
+    system = as_system(system)
     norm = _choice(normalization, _NORMALIZATIONS, "normalization")
     if norm == lib.SB_ELL_NORM_PAPER_TRACE:
         warnings.warn("normalization='paper_trace' (tr P <= 1, papers.md §1.1) is degenerate: the LMI is "
@@ -278,6 +279,7 @@ class KalmanFilter:
     """
 
     def __init__(self, system: LinearSystem, mean0, cov0, omega_cov=None, *, nsigma: float = 3.0):
+        system = as_system(system)
         if not isinstance(system, LinearSystem):
             raise InvalidArgumentError(f"system: expected a setbound.LinearSystem, got {type(system).__name__}")
         n = system.nx

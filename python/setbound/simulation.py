@@ -25,7 +25,7 @@ import numpy as np
 
 from .errors import DimensionError, InvalidArgumentError
 from .sets import Ellipsoid, Zonotope
-from .system import DescriptorSystem, LinearSystem
+from .system import DescriptorSystem, LinearSystem, as_system
 
 _KINDS = ("uniform", "vertex", "gaussian", "zero")
 
@@ -85,6 +85,7 @@ def simulate(system, x0, N: int, *, disturbance: str = "uniform", rng=None, u=No
              A_choice: str = "vertex", boundary_start: bool | None = None) -> Simulation:
     """Simulates ``N`` steps of ``system`` from a true initial state drawn from ``x0`` (a set or a
     point); see the module docstring. ``boundary_start`` defaults to True for vertex noise."""
+    system = as_system(system)
     rng = np.random.default_rng(rng)
     if not (isinstance(N, (int, np.integer)) and N >= 1):
         raise InvalidArgumentError(f"N: must be a positive integer, got {N!r}")

@@ -240,3 +240,30 @@ def from_statespace(ss, *, E=None, F=None, disturbance_inputs=None, output_noise
     if known:
         return LinearSystem(A, C, B=B[:, known], D=D[:, known], E=Ew, F=Fw)
     return LinearSystem(A, C, E=Ew, F=Fw)
+
+
+def _is_statespace(obj) -> bool:
+    return type(obj).__name__ == "StateSpace" and all(hasattr(obj, a) for a in ("A", "B", "C", "D", "dt"))
+
+
+def as_system(system):
+    """The system argument of the estimators, designs and simulations: a :class:`LinearSystem` or
+    :class:`DescriptorSystem` is returned unchanged; a discrete-time ``control.StateSpace`` is
+    accepted directly when its inputs say which signals are the unit-box disturbances: every input
+    whose label starts with ``w`` (``"w"``, ``"w[0]"``, ``"w1"``…; name them with
+    ``control.ss(A, B, C, D, dt, inputs=["u", "w[0]", "w[1]"])``) is a disturbance ``|ω_i| ≤ 1``,
+    the others are known inputs. Anything else (or a StateSpace without such inputs) gets an error
+    that says what to do; :func:`from_statespace` gives full control."""
+    if isinstance(system, (LinearSystem, DescriptorSystem)):
+        return system
+    if _is_statespace(system):
+        labels = list(getattr(system, "input_labels", []) or [])
+        idx = [i for i, name in enumerate(labels) if str(name).startswith("w")]
+        if not idx:
+            raise InvalidArgumentError(
+                f"system: a control.StateSpace is accepted when its disturbance inputs are labelled 'w…' "
+                f"(its inputs are {labels}); label them, e.g. control.ss(A, B, C, D, dt, inputs=['u', 'w']), "
+                "or convert with setbound.system.from_statespace(ss, disturbance_inputs=[...], output_noise=...)")
+        return from_statespace(system, disturbance_inputs=idx)
+    raise InvalidArgumentError(f"system: expected a LinearSystem, DescriptorSystem or discrete-time "
+                               f"control.StateSpace, got {type(system).__name__}")

@@ -19,7 +19,7 @@ import numpy as np
 from ._native import as_f64, check, dptr, ffi, lib
 from .errors import DimensionError, InvalidArgumentError
 from .sets import Zonotope
-from .system import LinearSystem, run_inputs, step_inputs
+from .system import as_system, LinearSystem, run_inputs, step_inputs
 from .trajectory import Trajectory
 
 
@@ -51,6 +51,7 @@ class _ZonotopicEstimator:
 
     def __init__(self, system: LinearSystem, x0: Zonotope, *, max_generators: int = 20,
                  use_first_measurement: bool = True, strip_order=None, reduction: str = "combastel"):
+        system = as_system(system)
         _check_system_and_x0(system, x0)
         if reduction not in REDUCTIONS:
             raise InvalidArgumentError(f"reduction: expected one of {sorted(REDUCTIONS)}, got {reduction!r}")
@@ -130,6 +131,7 @@ def exact_hull(system: LinearSystem, y, u=None, *, x0: Zonotope, use_first_measu
     """The exact reference (known ``A`` only): for each step, 2 n_x linear programs over the
     initial set and every disturbance give the interval hull of the states consistent with
     ``y_0 … y_k``. Slow by nature; every guaranteed estimator's hull contains it."""
+    system = as_system(system)
     _check_system_and_x0(system, x0)
     y = as_f64(y, "y", shape=(None, system.ny))
     N = y.shape[0]
@@ -166,6 +168,7 @@ def design_pradius(system: LinearSystem, approach: int = 1, order=None, *,
     permutation of the outputs, ``None`` (natural order) or ``"best"`` (approach 2: try every
     order, keep the one with the largest final ``tau``). ``beta`` is chosen in ``beta_range``
     by a scalar search maximising ``tau``. Raises InfeasibleError when no gain contracts."""
+    system = as_system(system)
     if not isinstance(system, LinearSystem):
         raise InvalidArgumentError(f"system: expected a setbound.LinearSystem, got {type(system).__name__}")
     if approach not in (1, 2):

@@ -88,3 +88,28 @@ def test_to_dataframe_without_pandas(monkeypatch):
     monkeypatch.setitem(sys.modules, "pandas", None)  # makes `import pandas` fail
     with pytest.raises(ImportError, match="needs pandas.*pip install pandas"):
         _traj().to_dataframe()
+
+
+@needs_control
+def test_statespace_accepted_where_a_system_is_expected():
+    """A discrete-time StateSpace whose disturbance inputs are labelled 'w…' goes straight into the
+    estimators, designs and the simulator (setbound.system.as_system), with the same results as
+    the converted LinearSystem; without such labels the error says what to do."""
+    from setbound import ellipsoidal, zonotopic
+
+    Bfull = np.hstack([[[1.0], [0.0]], Fw, np.zeros((2, 2))])
+    Dfull = np.hstack([np.zeros((2, 2)), 0.2 * np.eye(2)])
+    ss = control.ss(A, Bfull, C, Dfull, dt=1.0, inputs=["u", "w[0]", "w[1]", "w[2]"])
+    ref = from_statespace(ss, disturbance_inputs=[1, 2, 3])
+    sim = simulate(ss, Zonotope(np.zeros(2), 2 * np.eye(2)), 30, rng=5, u=np.ones((30, 1)))
+    sim_ref = simulate(ref, Zonotope(np.zeros(2), 2 * np.eye(2)), 30, rng=5, u=np.ones((30, 1)))
+    np.testing.assert_array_equal(sim.y, sim_ref.y)
+    t = SegmentMinEstimator(ss, Zonotope(np.zeros(2), 2 * np.eye(2))).run(sim.y, sim.u)
+    t_ref = SegmentMinEstimator(ref, Zonotope(np.zeros(2), 2 * np.eye(2))).run(sim.y, sim.u)
+    np.testing.assert_array_equal(t.lower, t_ref.lower)
+    assert np.all(t.contains(sim.x, 1e-9))
+    d = ellipsoidal.design_offline(ss, beta=0.5)
+    np.testing.assert_allclose(d.P, ellipsoidal.design_offline(ref, beta=0.5).P)
+    assert zonotopic.design_pradius(ss, approach=2) is not None
+    with pytest.raises(InvalidArgumentError, match="labelled 'w"):
+        ellipsoidal.design_offline(control.ss(A, Fw, C, 0, dt=1.0))
