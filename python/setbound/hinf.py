@@ -428,7 +428,10 @@ class _Observer:
         C, Lo, Hi, M = np.empty((T + 1, self.nx)), np.empty((T + 1, self.nx)), np.empty((T + 1, self.nx)), np.empty(T + 1)
         check(lib.sb_hinf_observer_run(self._h, T, dptr(y), dptr(u), R, dptr(C), dptr(Lo), dptr(Hi), dptr(M)))
         self._c[:], self._lo[:], self._hi[:], self._mu[0] = C[-1], Lo[-1], Hi[-1], M[-1]
-        traj = Trajectory(C, Lo, Hi, sets=[Box(Lo[k], Hi[k]) for k in range(T + 1)], guaranteed=True)
+        # The library's convention (python/setbound/trajectory.py): N rows, row k = x_k having used
+        # y_0 … y_{k−1}; the observer itself has advanced to x_N (current()).
+        C, Lo, Hi, M = C[:T], Lo[:T], Hi[:T], M[:T]
+        traj = Trajectory(C, Lo, Hi, sets=[Box(Lo[k], Hi[k]) for k in range(T)], guaranteed=True)
         traj.mu = M
         return traj
 
@@ -436,7 +439,7 @@ class _Observer:
 class EllipsoidalSMObserver(_Observer):
     """Online observer (2.68–2.71): x̂⁺ = (A − LC)x̂ + Bu + Ly, μ⁺ = (1 − λ)μ + λ, box x̂ ± ē∞√μ.
     ``step(y_k, u_k)`` returns the box of x_{k+1}; ``run(y, u)`` returns a Trajectory with
-    T + 1 rows (row 0 = the initial box) and ``traj.mu``."""
+    N rows (row k = x_k having used y_0 … y_{k−1}; row 0 = the initial box) and ``traj.mu``."""
 
     def step(self, y, u=None) -> Box:
         """Uses y_k and u_k, advances the observer and returns the box of x_{k+1} (unchanged on error)."""

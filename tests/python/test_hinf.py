@@ -263,7 +263,8 @@ def d_wbar(d):
 
 def check_traj(d, xs, tr):
     mu0 = tr.mu[0]
-    for k, x in enumerate(xs):
+    assert len(tr) == len(xs) - 1  # N measurements: rows x_0 … x_{N-1} (the library's convention)
+    for k, x in enumerate(xs[:len(tr)]):
         e = x - tr.center[k]
         assert e @ d.P @ e <= tr.mu[k] * d.cbar * (1 + 1e-9), k
         assert np.all(tr.lower[k] <= x) and np.all(x <= tr.upper[k]), k
