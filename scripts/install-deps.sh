@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages setbound needs, only those missing (sudo when not root).
 set -euo pipefail
-packages=(g++ make cmake ninja-build pkg-config libeigen3-dev libnlopt-dev libnlopt-cxx-dev libgtest-dev ccache)
+packages=(g++ make cmake ninja-build pkg-config libeigen3-dev libnlopt-dev libnlopt-cxx-dev libgtest-dev ccache libqhull-dev)
 # A Python with the venv module is needed too (Debian splits it into python3-venv).
 if ! command -v python3 >/dev/null 2>&1; then
   packages+=(python3 python3-venv python3-dev)
