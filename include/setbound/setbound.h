@@ -413,3 +413,94 @@ int sb_kalman_create(const sb_linear_system* system, const double* mean0, const 
 int sb_kalman_free(sb_kalman* filter);
 int sb_kalman_step(sb_kalman* filter, const double* y, const double* u, double* mean, double* cov);
 /* ==== end ellipsoidal estimators ==== */
+
+/* ==== thesis Ch. 4: interval observers (thesis.md §6, docs/thesis_interval.md) ==== */
+/* Error-box recursion variants: TIGHT = exact interval hull A_o^k[e0] + sum_i (A_o^i E)[w];
+ * WRAPPED = the thesis's (4.10-4.11) with [g0] = E[w] boxed first; NAIVE = (4.15). */
+#define SB_IOBS_TIGHT 0
+#define SB_IOBS_WRAPPED 1
+#define SB_IOBS_NAIVE 2
+/* The boxes [e_0..e_steps] of e+ = Ao e + E w (Ao n x n Schur, E n x m, e0 and w boxes as lo/hi
+ * arrays); lo and hi are (steps+1) x n row-major. Guaranteed in floating point. */
+int sb_interval_error_recursion(int n, int m, const double* Ao, const double* E, const double* e0_lo,
+                                const double* e0_hi, const double* w_lo, const double* w_hi, int steps,
+                                int variant, double* lo, double* hi);
+/* The limit box [g] = sum_{i>=0} A_o^i E [w] (TIGHT) or sum A_o^i (E[w]) (WRAPPED); lo, hi (n). */
+int sb_interval_error_limit(int n, int m, const double* Ao, const double* E, const double* w_lo,
+                            const double* w_hi, int variant, double* lo, double* hi);
+
+/* Interval Luenberger observer (§6.2) on the thesis plant x+ = A x + B u + F d, y = C x + Z v
+ * (A nx x nx, B nx x nu, C ny x nx, F nx x nd, Z ny x nv; B, F, Z may be NULL when nu, nd, nv = 0).
+ * L (nx x ny): the gain; NULL = the H-infinity gain of LMI (4.13) (Q = I). x0 box, xhat0 in it,
+ * d box (nd), v box (nv). variant: SB_IOBS_TIGHT or SB_IOBS_WRAPPED. A one-step predictor: the
+ * current box before any step is [x0]; step(y_k, u_k) gives the box of x_{k+1}. */
+typedef struct sb_interval_luenberger sb_interval_luenberger;
+int sb_interval_luenberger_create(int nx, int nu, int ny, int nd, int nv, const double* A, const double* B,
+                                  const double* C, const double* F, const double* Z, const double* L,
+                                  const double* x0_lo, const double* x0_hi, const double* xhat0,
+                                  const double* d_lo, const double* d_hi, const double* v_lo,
+                                  const double* v_hi, int variant, sb_interval_luenberger** out);
+int sb_interval_luenberger_free(sb_interval_luenberger* observer);
+/* *steps taken, *freeze_index (from this step on the error box is constant), *contraction (the
+ * certified factor used for the rounding allowances), *gamma (H-infinity gamma of the design,
+ * NaN for a user gain). NULL outputs are skipped. */
+int sb_interval_luenberger_info(const sb_interval_luenberger* observer, int* steps, int* freeze_index,
+                                double* contraction, double* gamma);
+/* L (nx x ny) and, when the gain was designed, P (nx x nx, else left untouched). */
+int sb_interval_luenberger_gain(const sb_interval_luenberger* observer, double* L, double* P);
+int sb_interval_luenberger_current(const sb_interval_luenberger* observer, double* xhat, double* lo,
+                                   double* hi);
+/* On error (wrong data, NaN) the observer is unchanged. u may be NULL when nu = 0. */
+int sb_interval_luenberger_step(sb_interval_luenberger* observer, const double* y, const double* u,
+                                double* xhat, double* lo, double* hi);
+
+/* Nonlinear interval observer (§6.6): x+ = A x + h(p, x, k) + B u, y = C x + Z v; L NULL = the
+ * H-infinity gain of LMI (4.46) (F = I). window = how many past h boxes are convolved exactly
+ * (<= 0: default 256). step takes the inclusion box [h]_k = [h_lo, h_hi] (nx) of h(p, x_k, k)
+ * valid for every x_k in the current box. */
+typedef struct sb_interval_nonlinear sb_interval_nonlinear;
+int sb_interval_nonlinear_create(int nx, int nu, int ny, int nv, const double* A, const double* B,
+                                 const double* C, const double* Z, const double* L, const double* x0_lo,
+                                 const double* x0_hi, const double* xhat0, const double* v_lo,
+                                 const double* v_hi, int window, sb_interval_nonlinear** out);
+int sb_interval_nonlinear_free(sb_interval_nonlinear* observer);
+int sb_interval_nonlinear_info(const sb_interval_nonlinear* observer, int* steps, int* window, double* gamma);
+int sb_interval_nonlinear_gain(const sb_interval_nonlinear* observer, double* L, double* P);
+int sb_interval_nonlinear_current(const sb_interval_nonlinear* observer, double* xhat, double* lo, double* hi);
+int sb_interval_nonlinear_step(sb_interval_nonlinear* observer, const double* y, const double* u,
+                               const double* h_lo, const double* h_hi, double* xhat, double* lo, double* hi);
+
+/* Invariant-set interval observer (§6.3): offline design then table look-up online. L NULL = the
+ * H-infinity design of LMI (4.13); otherwise L (nx x ny), P (nx x nx) and gamma must satisfy
+ * (4.13) (checked by a certificate). Centred disturbance; mu > 1 (thesis: 2); inflation lambda
+ * >= 1 or 0 = the smallest admissible; epsilon > 0 is a radius; variant TIGHT or WRAPPED. */
+typedef struct sb_interval_invariant_design sb_interval_invariant_design;
+int sb_interval_invariant_design_create(int nx, int nu, int ny, int nd, int nv, const double* A, const double* B,
+                                        const double* C, const double* F, const double* Z, const double* L,
+                                        const double* P, double gamma, const double* x0_lo, const double* x0_hi,
+                                        const double* xhat0, const double* d_lo, const double* d_hi,
+                                        const double* v_lo, const double* v_hi, double mu, double inflation,
+                                        double epsilon, int variant, sb_interval_invariant_design** out);
+int sb_interval_invariant_design_free(sb_interval_invariant_design* design);
+/* Sizes and scalars (NULL outputs skipped): k_star, the vertex and facet counts of Phi_0, gamma,
+ * beta, mu, inflation (lambda used), inflation_min (smallest admissible), epsilon, c_in, c_out. */
+int sb_interval_invariant_design_info(const sb_interval_invariant_design* design, int* k_star, int* phi0_vertices,
+                                      int* phi0_facets, double* gamma, double* beta, double* mu, double* inflation,
+                                      double* inflation_min, double* epsilon, double* c_in, double* c_out);
+/* L (nx x ny), P (nx x nx), E (nx x m). */
+int sb_interval_invariant_design_matrices(const sb_interval_invariant_design* design, double* L, double* P,
+                                          double* E);
+/* lo, hi: (k_star+1) x nx row-major, the error boxes [s_0..s_k*]; shrinking: (k_star+1). */
+int sb_interval_invariant_design_sequence(const sb_interval_invariant_design* design, double* lo, double* hi,
+                                          double* shrinking);
+/* Phi_0: vertices (nx x p row-major, one vertex per column), H (f x nx) and b (f): {x : H x <= b}. */
+int sb_interval_invariant_design_phi0(const sb_interval_invariant_design* design, double* vertices, double* H,
+                                      double* b);
+typedef struct sb_interval_invariant sb_interval_invariant;
+int sb_interval_invariant_create(const sb_interval_invariant_design* design, sb_interval_invariant** out);
+int sb_interval_invariant_free(sb_interval_invariant* observer);
+int sb_interval_invariant_info(const sb_interval_invariant* observer, int* steps);
+int sb_interval_invariant_current(const sb_interval_invariant* observer, double* xhat, double* lo, double* hi);
+int sb_interval_invariant_step(sb_interval_invariant* observer, const double* y, const double* u, double* xhat,
+                               double* lo, double* hi);
+/* ==== end thesis Ch. 4 ==== */

@@ -1,0 +1,397 @@
+"""Thesis Chapter 4: interval observers with an explicit error enclosure (thesis.md §6).
+
+* :func:`interval_error_recursion` — the error boxes of ``e⁺ = A_o e + E w`` (§6.2):
+  ``"tight"`` (exact interval hull ``A_o^k[e_0] + Σ (A_o^i E)[w]``, attained), ``"wrapped"``
+  (the thesis's formula, ``[g_0] = E[w]`` boxed first) or ``"naive"`` (4.15, wraps every step).
+* :func:`interval_error_limit` — the limit box ``[g] = Σ_{i≥0} A_o^i E[w]``.
+* :class:`IntervalLuenbergerObserver` — §6.2 online observer ``x̂_k + [e_k]``.
+* :func:`offline_error_sequence` + :class:`IntervalInvariantObserver` — §6.3: a precomputed
+  box sequence ``[s_0..s_k*]`` with a polyhedral-invariant-set tail; online only the point
+  observer runs.
+* :class:`NonlinearIntervalObserver` — §6.6: ``x⁺ = A x + h(p, x, k) + B u`` with an inclusion
+  box of ``h`` per step (a callable, or a constant :class:`~setbound.Box`).
+
+All observers are one-step predictors: ``run(y, u)`` returns a :class:`~setbound.Trajectory`
+whose row ``k`` bounds ``x_k`` having used ``y_0 … y_{k−1}`` (row 0 is the initial box), with
+one :class:`~setbound.Box` per row in ``sets``. Every box is guaranteed in floating point
+(docs/thesis_interval.md). A gain ``L=None`` means the H∞ gain of LMI (4.13) (``Q = I``;
+for the nonlinear observer LMI (4.46), i.e. ``F = I``).
+"""
+from __future__ import annotations
+
+from typing import Callable, Union
+
+import numpy as np
+
+from ._native import as_f64, check, dptr, ffi, lib
+from .errors import DimensionError, InvalidArgumentError
+from .interval import Box
+from .plant import Plant
+from .trajectory import Trajectory
+
+__all__ = [
+    "interval_error_recursion",
+    "interval_error_limit",
+    "IntervalLuenbergerObserver",
+    "NonlinearIntervalObserver",
+    "InvariantObserverDesign",
+    "offline_error_sequence",
+    "IntervalInvariantObserver",
+]
+
+_VARIANTS = {"tight": 0, "wrapped": 1, "naive": 2}
+
+
+def _variant(v: str, allow_naive: bool = True) -> int:
+    key = str(v).lower()
+    if key not in _VARIANTS or (key == "naive" and not allow_naive):
+        allowed = "'tight', 'wrapped'" + (", 'naive'" if allow_naive else "")
+        raise InvalidArgumentError(f"variant: expected one of {allowed}, got {v!r}")
+    return _VARIANTS[key]
+
+
+def _box(b, n: int, name: str) -> Box:
+    """A Box of n components (a Box, or a (lo, hi) pair)."""
+    if not isinstance(b, Box):
+        try:
+            lo, hi = b
+        except (TypeError, ValueError):
+            raise InvalidArgumentError(f"{name}: expected a setbound.Box or a (lo, hi) pair") from None
+        b = Box(np.atleast_1d(np.asarray(lo, dtype=float)), np.atleast_1d(np.asarray(hi, dtype=float)), name=name)
+    if len(b) != n:
+        raise DimensionError(f"{name}: expected a box with {n} components, got {len(b)}")
+    return b
+
+
+def _lohi(b: Box):
+    lo = np.ascontiguousarray(b.lo, dtype=np.float64)
+    hi = np.ascontiguousarray(b.hi, dtype=np.float64)
+    return lo, hi
+
+
+def _plant(plant) -> Plant:
+    if not isinstance(plant, Plant):
+        raise InvalidArgumentError("plant: expected a setbound.Plant")
+    return plant
+
+
+def _plant_args(p: Plant):
+    arrs = [np.ascontiguousarray(m, dtype=np.float64) for m in (p.A, p.B, p.C, p.F, p.Z)]
+    return arrs, [dptr(a) for a in arrs]
+
+
+def interval_error_recursion(Ao, E, e0, w, steps: int, variant: str = "tight") -> list[Box]:
+    """The boxes ``[e_0] … [e_steps]`` of ``e⁺ = A_o e + E w`` for every ``e_0 ∈ e0`` and
+    ``w_k ∈ w`` (§6.2). ``variant``: ``"tight"`` (default, the exact hull), ``"wrapped"``
+    (the thesis's numbers) or ``"naive"`` (4.15)."""
+    Ao = as_f64(Ao, "Ao", ndim=2)
+    n = Ao.shape[0]
+    E = as_f64(E, "E", ndim=2)
+    if E.shape[0] != n:
+        raise DimensionError(f"E: expected {n} rows, got {E.shape[0]}")
+    m = E.shape[1]
+    e0, w = _box(e0, n, "e0"), _box(w, m, "w")
+    steps = int(steps)
+    if steps < 0:
+        raise InvalidArgumentError(f"steps: must be >= 0, got {steps}")
+    lo, hi = np.empty((steps + 1, n)), np.empty((steps + 1, n))
+    (elo, ehi), (wlo, whi) = _lohi(e0), _lohi(w)
+    check(lib.sb_interval_error_recursion(n, m, dptr(Ao), dptr(E), dptr(elo), dptr(ehi), dptr(wlo), dptr(whi),
+                                          steps, _variant(variant), dptr(lo), dptr(hi)))
+    return [Box(lo[k], hi[k]) for k in range(steps + 1)]
+
+
+def interval_error_limit(Ao, E, w, variant: str = "tight") -> Box:
+    """The limit box ``[g] = Σ_{i≥0} A_o^i E [w]`` (tight) or ``Σ A_o^i (E[w])`` (wrapped)."""
+    Ao = as_f64(Ao, "Ao", ndim=2)
+    n = Ao.shape[0]
+    E = as_f64(E, "E", ndim=2)
+    if E.shape[0] != n:
+        raise DimensionError(f"E: expected {n} rows, got {E.shape[0]}")
+    w = _box(w, E.shape[1], "w")
+    lo, hi = np.empty(n), np.empty(n)
+    wlo, whi = _lohi(w)
+    check(lib.sb_interval_error_limit(n, E.shape[1], dptr(Ao), dptr(E), dptr(wlo), dptr(whi), _variant(variant),
+                                      dptr(lo), dptr(hi)))
+    return Box(lo, hi)
+
+
+class _OnlineObserver:
+    """Shared step/run logic (one-step predictors)."""
+
+    _prefix = ""
+
+    def _io(self):
+        n = self.plant.nx
+        return np.empty(n), np.empty(n), np.empty(n)
+
+    def _u(self, u):
+        p = self.plant
+        if p.nu > 0:
+            if u is None:
+                raise InvalidArgumentError(f"u: the plant has {p.nu} inputs; an input is required")
+            u = as_f64(np.atleast_1d(u), "u", shape=(p.nu,))
+            return u, dptr(u)
+        if u is not None and np.size(u) != 0:
+            raise DimensionError("u: the plant has no input")
+        return None, ffi.NULL
+
+    def current(self) -> Box:
+        """The box of ``x_k`` (k = steps taken)."""
+        xh, lo, hi = self._io()
+        check(getattr(lib, self._prefix + "_current")(self._handle, dptr(xh), dptr(lo), dptr(hi)))
+        return Box(lo, hi)
+
+    @property
+    def xhat(self) -> np.ndarray:
+        """The point observer's state ``x̂_k``."""
+        xh, lo, hi = self._io()
+        check(getattr(lib, self._prefix + "_current")(self._handle, dptr(xh), dptr(lo), dptr(hi)))
+        return xh
+
+    def run(self, y, u=None, **kw) -> Trajectory:
+        """Processes rows ``y[k]`` (and ``u[k]``); row ``k`` of the result bounds ``x_k`` having
+        used ``y_0 … y_{k−1}`` (row 0 is the initial box)."""
+        p = self.plant
+        y = as_f64(y, "y", ndim=2)
+        N = y.shape[0]
+        if y.shape[1] != p.ny:
+            raise DimensionError(f"y: expected shape (N, {p.ny}), got {y.shape}")
+        if p.nu > 0:
+            u = as_f64(u, "u", shape=(N, p.nu))
+        elif u is not None and np.size(u) != 0:
+            raise DimensionError("u: the plant has no input")
+        lows, highs, sets = np.empty((N, p.nx)), np.empty((N, p.nx)), []
+        for k in range(N):
+            b = self.current()
+            lows[k], highs[k] = b.lo, b.hi
+            sets.append(b)
+            self.step(y[k], u[k] if p.nu > 0 else None, **kw)
+        return Trajectory(0.5 * (lows + highs), lows, highs, sets)
+
+
+class IntervalLuenbergerObserver(_OnlineObserver):
+    """§6.2: ``x̂⁺ = A x̂ + B u + L (y − C x̂)`` (4.9) and ``[x_k] = x̂_k + [e_k]`` (4.12) with the
+    tight (default) or wrapped error recursion. ``L=None``: the H∞ gain of LMI (4.13)
+    (then ``gamma`` and ``P`` are the design's). ``x0`` box, ``xhat0`` in it, ``d``/``v`` the
+    disturbance boxes (``setbound.Box`` or ``(lo, hi)``)."""
+
+    _prefix = "sb_interval_luenberger"
+
+    def __init__(self, plant: Plant, x0, xhat0, d=None, v=None, *, L=None, variant: str = "tight"):
+        p = self.plant = _plant(plant)
+        x0 = _box(x0, p.nx, "x0")
+        d = _box(d if d is not None else (np.zeros(0), np.zeros(0)), p.nd, "d")
+        v = _box(v if v is not None else (np.zeros(0), np.zeros(0)), p.nv, "v")
+        xh = as_f64(xhat0, "xhat0", shape=(p.nx,))
+        Lp = ffi.NULL
+        if L is not None:
+            L = as_f64(L, "L", shape=(p.nx, p.ny))
+            Lp = dptr(L)
+        arrs, ptrs = _plant_args(p)
+        (x0lo, x0hi), (dlo, dhi), (vlo, vhi) = _lohi(x0), _lohi(d), _lohi(v)
+        h = ffi.new("sb_interval_luenberger**")
+        check(lib.sb_interval_luenberger_create(p.nx, p.nu, p.ny, p.nd, p.nv, *ptrs, Lp, dptr(x0lo), dptr(x0hi),
+                                                dptr(xh), dptr(dlo), dptr(dhi), dptr(vlo), dptr(vhi),
+                                                _variant(variant, False), h))
+        self._handle = ffi.gc(h[0], lib.sb_interval_luenberger_free)
+        self.variant = variant
+        Lo, Po = np.empty((p.nx, p.ny)), np.full((p.nx, p.nx), np.nan)
+        check(lib.sb_interval_luenberger_gain(self._handle, dptr(Lo), dptr(Po)))
+        g, fi, c = ffi.new("double*"), ffi.new("int*"), ffi.new("double*")
+        check(lib.sb_interval_luenberger_info(self._handle, ffi.NULL, fi, c, g))
+        #: the gain used; ``P``/``gamma``: the H∞ design (None/NaN for a user gain)
+        self.L = Lo
+        self.P = None if L is not None else Po
+        self.gamma = float(g[0])
+        self.freeze_index = int(fi[0])
+        self.contraction = float(c[0])
+
+    @property
+    def steps(self) -> int:
+        s = ffi.new("int*")
+        check(lib.sb_interval_luenberger_info(self._handle, s, ffi.NULL, ffi.NULL, ffi.NULL))
+        return int(s[0])
+
+    def step(self, y, u=None) -> Box:
+        """Uses ``y_k`` (and ``u_k``); returns the box of ``x_{k+1}``. On error the observer is
+        unchanged."""
+        y = as_f64(np.atleast_1d(y), "y", shape=(self.plant.ny,))
+        _, up = self._u(u)
+        xh, lo, hi = self._io()
+        check(lib.sb_interval_luenberger_step(self._handle, dptr(y), up, dptr(xh), dptr(lo), dptr(hi)))
+        return Box(lo, hi)
+
+
+HBox = Union[Box, Callable[[Box, int], Box]]
+
+
+class NonlinearIntervalObserver(_OnlineObserver):
+    """§6.6: ``x⁺ = A x + h(p, x, k) + B u``, ``y = C x + Z v``; the plant's ``F`` must be
+    ``I`` (``E = [I, −LZ]``). ``h`` is a :class:`~setbound.Box` (the thesis's constant
+    ``[h]``) or a callable ``h(x_box, k) -> Box`` returning an inclusion of ``h(p, x_k, k)``
+    for every ``x_k ∈ x_box`` and every admissible parameter. The error box stays the exact
+    tight hull when ``[h]_k`` varies: the last ``window`` radii are convolved with the powers
+    of ``A_o``; older ones are bounded by a certified geometric tail."""
+
+    _prefix = "sb_interval_nonlinear"
+
+    def __init__(self, plant: Plant, x0, xhat0, v=None, h: HBox | None = None, *, L=None, window: int = 256):
+        p = self.plant = _plant(plant)
+        if p.nd != p.nx or not np.array_equal(p.F, np.eye(p.nx)):
+            raise InvalidArgumentError("plant.F: the nonlinear observer needs F = I (h enters the state directly, "
+                                       "E = [I, -L Z], thesis.md §6.6)")
+        x0 = _box(x0, p.nx, "x0")
+        v = _box(v if v is not None else (np.zeros(0), np.zeros(0)), p.nv, "v")
+        xh = as_f64(xhat0, "xhat0", shape=(p.nx,))
+        if h is not None and not isinstance(h, Box) and not callable(h):
+            raise InvalidArgumentError("h: expected a setbound.Box or a callable (x_box, k) -> Box")
+        if isinstance(h, Box):
+            _box(h, p.nx, "h")
+        self.h = h
+        Lp = ffi.NULL
+        if L is not None:
+            L = as_f64(L, "L", shape=(p.nx, p.ny))
+            Lp = dptr(L)
+        A, B, C, Z = (np.ascontiguousarray(m, dtype=np.float64) for m in (p.A, p.B, p.C, p.Z))
+        (x0lo, x0hi), (vlo, vhi) = _lohi(x0), _lohi(v)
+        hh = ffi.new("sb_interval_nonlinear**")
+        check(lib.sb_interval_nonlinear_create(p.nx, p.nu, p.ny, p.nv, dptr(A), dptr(B), dptr(C), dptr(Z), Lp,
+                                               dptr(x0lo), dptr(x0hi), dptr(xh), dptr(vlo), dptr(vhi), int(window),
+                                               hh))
+        self._handle = ffi.gc(hh[0], lib.sb_interval_nonlinear_free)
+        Lo, Po = np.empty((p.nx, p.ny)), np.full((p.nx, p.nx), np.nan)
+        check(lib.sb_interval_nonlinear_gain(self._handle, dptr(Lo), dptr(Po)))
+        g, wi = ffi.new("double*"), ffi.new("int*")
+        check(lib.sb_interval_nonlinear_info(self._handle, ffi.NULL, wi, g))
+        self.L = Lo
+        self.P = None if L is not None else Po
+        self.gamma = float(g[0])
+        self.window = int(wi[0])
+
+    @property
+    def steps(self) -> int:
+        s = ffi.new("int*")
+        check(lib.sb_interval_nonlinear_info(self._handle, s, ffi.NULL, ffi.NULL))
+        return int(s[0])
+
+    def step(self, y, u=None, h: HBox | None = None) -> Box:
+        """Uses ``y_k``, ``u_k`` and the inclusion box of ``h`` at step k (``h`` argument, else
+        the one given at construction: a Box or ``h(current_box, k)``). Returns the box of
+        ``x_{k+1}``; on error the observer is unchanged."""
+        p = self.plant
+        y = as_f64(np.atleast_1d(y), "y", shape=(p.ny,))
+        _, up = self._u(u)
+        src = h if h is not None else self.h
+        if src is None:
+            raise InvalidArgumentError("h: no nonlinearity box given (pass h to the constructor or to step)")
+        hb = src if isinstance(src, Box) else src(self.current(), self.steps)
+        if not isinstance(hb, Box):
+            hb = _box(hb, p.nx, "h")
+        if len(hb) != p.nx:
+            raise DimensionError(f"h: expected a box with {p.nx} components, got {len(hb)}")
+        hlo, hhi = _lohi(hb)
+        xh, lo, hi = self._io()
+        check(lib.sb_interval_nonlinear_step(self._handle, dptr(y), up, dptr(hlo), dptr(hhi), dptr(xh), dptr(lo),
+                                             dptr(hi)))
+        return Box(lo, hi)
+
+
+class InvariantObserverDesign:
+    """The offline design of §6.3 (from :func:`offline_error_sequence`). Attributes: ``L``,
+    ``P``, ``E``, ``gamma`` (LMI 4.13), ``beta`` (A_oᵀPA_o ⪯ β²P), ``mu``, ``inflation``
+    (λ used), ``inflation_min`` (smallest λ with [e_0] ⊆ λΦ_0), ``epsilon`` (a radius),
+    ``k_star``, ``c_in``/``c_out`` (levels of Ψ̄⁺(μ), Ψ̄(μ)), ``sequence`` (list of the error
+    boxes [s_0..s_k*]; [s_k] = [s_k*] for k ≥ k*), ``lower``/``upper`` ((k*+1) × n arrays of
+    the same), ``shrinking_index`` (ρ(k), k = 0..k*) and ``phi0_vertices`` (n × p),
+    ``phi0_H``, ``phi0_b`` (Φ_0 = {x : Hx ≤ b})."""
+
+    def __init__(self, handle, plant: Plant, x0: Box, xhat0: np.ndarray):
+        self._handle = handle
+        self.plant, self.x0, self.xhat0 = plant, x0, xhat0
+        n = plant.nx
+        ks, nv, nf = ffi.new("int*"), ffi.new("int*"), ffi.new("int*")
+        d = [ffi.new("double*") for _ in range(8)]
+        check(lib.sb_interval_invariant_design_info(handle, ks, nv, nf, *d))
+        self.k_star = int(ks[0])
+        (self.gamma, self.beta, self.mu, self.inflation, self.inflation_min, self.epsilon, self.c_in,
+         self.c_out) = (float(x[0]) for x in d)
+        self.L, self.P, self.E = np.empty((n, plant.ny)), np.empty((n, n)), np.empty((n, plant.m))
+        check(lib.sb_interval_invariant_design_matrices(handle, dptr(self.L), dptr(self.P), dptr(self.E)))
+        K = self.k_star + 1
+        self.lower, self.upper, self.shrinking_index = np.empty((K, n)), np.empty((K, n)), np.empty(K)
+        check(lib.sb_interval_invariant_design_sequence(handle, dptr(self.lower), dptr(self.upper),
+                                                        dptr(self.shrinking_index)))
+        self.sequence = [Box(self.lower[k], self.upper[k]) for k in range(K)]
+        self.phi0_vertices = np.empty((n, int(nv[0])))
+        self.phi0_H, self.phi0_b = np.empty((int(nf[0]), n)), np.empty(int(nf[0]))
+        check(lib.sb_interval_invariant_design_phi0(handle, dptr(self.phi0_vertices), dptr(self.phi0_H),
+                                                    dptr(self.phi0_b)))
+
+    def box_at(self, k: int) -> Box:
+        """The error box [s_k] (constant for k ≥ k*)."""
+        return self.sequence[min(int(k), self.k_star)]
+
+    def __repr__(self) -> str:
+        return (f"InvariantObserverDesign(gamma={self.gamma:.6g}, beta={self.beta:.6g}, k_star={self.k_star}, "
+                f"inflation={self.inflation:.6g}, mu={self.mu}, epsilon={self.epsilon})")
+
+
+def offline_error_sequence(plant: Plant, x0, xhat0, d=None, v=None, *, L=None, P=None, gamma=None, mu: float = 2.0,
+                           inflation: float | None = None, epsilon: float = 0.01,
+                           variant: str = "tight") -> InvariantObserverDesign:
+    """§6.3 offline design. ``L=None``: the H∞ gain of LMI (4.13); otherwise ``L``, ``P`` and
+    ``gamma`` must satisfy (4.13) (checked). ``inflation=None``: the smallest λ ≥ 1 with
+    ``[e_0] ⊆ λΦ_0``. ``epsilon`` is a radius. ``variant``: interval part, ``"tight"`` or
+    ``"wrapped"`` (the thesis's Table 4.1 rows 1–2)."""
+    p = _plant(plant)
+    x0 = _box(x0, p.nx, "x0")
+    d = _box(d if d is not None else (np.zeros(0), np.zeros(0)), p.nd, "d")
+    v = _box(v if v is not None else (np.zeros(0), np.zeros(0)), p.nv, "v")
+    xh = as_f64(xhat0, "xhat0", shape=(p.nx,)).copy()
+    Lp = Pp = ffi.NULL
+    g = float("nan")
+    if L is not None:
+        if P is None or gamma is None:
+            raise InvalidArgumentError("P: a user gain L needs the matching P and gamma of LMI (4.13)")
+        L = as_f64(L, "L", shape=(p.nx, p.ny))
+        P = as_f64(P, "P", shape=(p.nx, p.nx))
+        Lp, Pp, g = dptr(L), dptr(P), float(gamma)
+    arrs, ptrs = _plant_args(p)
+    (x0lo, x0hi), (dlo, dhi), (vlo, vhi) = _lohi(x0), _lohi(d), _lohi(v)
+    h = ffi.new("sb_interval_invariant_design**")
+    check(lib.sb_interval_invariant_design_create(p.nx, p.nu, p.ny, p.nd, p.nv, *ptrs, Lp, Pp, g, dptr(x0lo),
+                                                  dptr(x0hi), dptr(xh), dptr(dlo), dptr(dhi), dptr(vlo), dptr(vhi),
+                                                  float(mu), 0.0 if inflation is None else float(inflation),
+                                                  float(epsilon), _variant(variant, False), h))
+    return InvariantObserverDesign(ffi.gc(h[0], lib.sb_interval_invariant_design_free), p, x0, xh)
+
+
+class IntervalInvariantObserver(_OnlineObserver):
+    """§6.3 online: ``x̂⁺ = A x̂ + B u + L (y − C x̂) + E w_c`` (4.34) and the table look-up
+    ``[x_k] = x̂_k + [s_min(k, k*)]``."""
+
+    _prefix = "sb_interval_invariant"
+
+    def __init__(self, design: InvariantObserverDesign):
+        if not isinstance(design, InvariantObserverDesign):
+            raise InvalidArgumentError("design: expected the result of offline_error_sequence")
+        self.design = design
+        self.plant = design.plant
+        h = ffi.new("sb_interval_invariant**")
+        check(lib.sb_interval_invariant_create(design._handle, h))
+        self._handle = ffi.gc(h[0], lib.sb_interval_invariant_free)
+
+    @property
+    def steps(self) -> int:
+        s = ffi.new("int*")
+        check(lib.sb_interval_invariant_info(self._handle, s))
+        return int(s[0])
+
+    def step(self, y, u=None) -> Box:
+        """Uses ``y_k`` (and ``u_k``); returns the box of ``x_{k+1}``."""
+        y = as_f64(np.atleast_1d(y), "y", shape=(self.plant.ny,))
+        _, up = self._u(u)
+        xh, lo, hi = self._io()
+        check(lib.sb_interval_invariant_step(self._handle, dptr(y), up, dptr(xh), dptr(lo), dptr(hi)))
+        return Box(lo, hi)
