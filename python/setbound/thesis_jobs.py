@@ -714,6 +714,52 @@ def _build_lpv_sm(job, o):
     return _JobRunner(hinf.LPVEllipsoidalSMObserver(design, xh, mu0), s.nu, rho=rho), design
 
 
+class _InvariantTube:
+    """Ex 1.5 as an open-loop estimator (no measurement is used): for ``x⁺ = A x + F d``,
+    ``d ∈ [−d̄, d̄]`` and ``[x_0] ⊆ Φ_0`` (the polyhedral RPI set of Algorithm 1),
+    ``x_k ∈ Φ_k`` for every k (Φ_{k+1} = AΦ_k ⊕ FΔ) and ``Φ_k ⊆ Φ_{k*}`` for k ≥ k*;
+    the boxes are the exact, outward-rounded interval hulls of Φ_k."""
+
+    def __init__(self, design, n: int):
+        self.design, self.n, self.k = design, n, 0
+
+    def run(self, y, u=None):
+        from .trajectory import Trajectory
+
+        T = len(y)
+        boxes = self.design.boxes
+        ks = [min(self.k + j, self.design.k_star) for j in range(T)]
+        lo = np.array([np.asarray(boxes[k].lo, float) for k in ks]).reshape(T, self.n)
+        hi = np.array([np.asarray(boxes[k].hi, float) for k in ks]).reshape(T, self.n)
+        self.k += T
+        return Trajectory((lo + hi) / 2, lo, hi, [Box(lo[j], hi[j]) for j in range(T)])
+
+
+def _build_invariant_tube(job, o):
+    from . import invariant
+
+    s = _view(job)
+    p = s.plant
+    if p.nu:
+        raise InvalidArgumentError("system.B: the invariant tube (Algorithm 1) is for the autonomous "
+                                   "x+ = A x + F d (no input)")
+    if p.nd == 0:
+        raise InvalidArgumentError("system.F: the invariant tube needs the state disturbance F d")
+    if not (np.all(s.dhi == -s.dlo)):
+        raise InvalidArgumentError("system.d: the invariant tube needs a centred box |d| <= d̄")
+    key = ("invariant_tube", o["mu"], o["epsilon"], o["stop"], o["max_iterations"])
+    design, _ = job.cached_design(key, lambda: invariant.mrpi_outer_shrinking(
+        p.A, p.F, s.dhi, eps=float(o["epsilon"]), mu=float(o["mu"]), stop=o["stop"],
+        max_iterations=int(o["max_iterations"])))
+    x0 = _initial_box(job.initial)
+    lo, hi = np.asarray(x0.lo, float), np.asarray(x0.hi, float)
+    corners = np.array(np.meshgrid(*[[a, b] for a, b in zip(lo, hi)], indexing="ij")).reshape(p.nx, -1).T
+    if not np.all(design.phi0.contains(corners, tol=0.0)):
+        raise InvalidArgumentError("initial: [x_0] is not inside the invariant set Phi_0 of Algorithm 1 (choose a "
+                                   "smaller initial box or a larger mu)")
+    return _InvariantTube(design, p.nx), design
+
+
 def _is_pos(v):
     return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0
 
@@ -763,3 +809,12 @@ _cfg.register_estimator("ellipsoidal_sm", "thesis-ellipsoidal", dict(_SM), _buil
 _cfg.register_estimator("lpv_sm", "thesis-ellipsoidal", dict(_SM), _build_lpv_sm, systems=("lpv",),
                         checks=_SM_CHECKS,
                         description="thesis Ch. 3 LPV ellipsoidal-invariant-set observer, Algorithm 3 (thesis.md §5)")
+_cfg.register_estimator("invariant_tube", "invariant", {"mu": 1.05, "epsilon": 4.4e-3, "stop": "shrinking_index",
+                                                        "max_iterations": 1000},
+                        _build_invariant_tube, systems=("thesis",),
+                        checks={"mu": ((lambda v: _is_pos(v) and v > 1), "a number > 1"),
+                                "epsilon": ((lambda v: _is_pos(v)), "a positive number"),
+                                "stop": _cfg._one_of("radius", "shrinking_index", "vertex_norm"),
+                                "max_iterations": _cfg._POS_INT},
+                        description="thesis Ch. 1 Algorithm 1 as an open-loop tube x_k in Phi_k for the "
+                                    "autonomous x+ = A x + F d (thesis.md §3.6, Ex 1.5)")
