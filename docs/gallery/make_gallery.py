@@ -250,6 +250,7 @@ def fig_thesis_naive(out: Path):
 
     doc = tomllib.loads((ROOT / "examples" / "thesis_ex4_5_1.toml").read_text())
     doc["simulation"]["horizon"] = 30
+    doc.pop("plots", None)
     doc["estimator"] = [{"method": "interval_luenberger", "variant": v, "name": v, "xhat0": [0, 0]}
                         for v in ("naive", "wrapped", "tight")]
     job = config.from_dict(doc)
@@ -353,7 +354,7 @@ def main(argv=None) -> int:
     head, rest = text.split(BEGIN, 1)
     tail = rest.split(END, 1)[1]
     index.write_text(f"{head}{BEGIN}\n{body}\n{END}{tail}")
-    total = sum((out / n).stat().st_size for n, _ in entries)
+    total = sum((out / n).stat().st_size for n, _ in entries if (out / n).exists())
     print(f"{len(entries)} figures, {total / 1e6:.2f} MB; index {index}")
     return 0
 
