@@ -504,3 +504,89 @@ int sb_interval_invariant_current(const sb_interval_invariant* observer, double*
 int sb_interval_invariant_step(sb_interval_invariant* observer, const double* y, const double* u, double* xhat,
                                double* lo, double* hi);
 /* ==== end thesis Ch. 4 ==== */
+
+/* ==== thesis Ch. 1-3: H-infinity set-membership observers (thesis.md §3.4, §4, §5) ====
+ * Vertex data is stacked: A is nvert blocks of nx x nx (row-major each, one after the other),
+ * B nvert blocks of nx x nu, F nvert blocks of nx x nd, L/U nvert blocks of nx x ny. The LTI
+ * case is nvert = 1. C (ny x nx) and Z (ny x nv) are common. wbar (m = nd + nv) are the
+ * half-widths of the centred disturbance box (the bound is w'w <= wbar'wbar). */
+typedef struct sb_hinf_design sb_hinf_design;
+typedef struct sb_hinf_observer sb_hinf_observer;
+
+#define SB_LAMBDA_DEFAULT -1
+#define SB_LAMBDA_LOGDET 0
+#define SB_LAMBDA_DIRECT 1
+#define SB_LAMBDA_INPUT_OR_LOGDET 2
+#define SB_LAMBDA_LARGEST 3
+
+/* LMI (2.35) (nvert = 1) or the vertex LMIs (3.13) with a common P: minimise g = gamma^2.
+ * Q (nx x nx) is the dissipation matrix, NULL = identity. Outputs (NULL skipped): P (nx x nx),
+ * U and L = P^-1 U (nvert blocks of nx x ny), gamma, g. */
+int sb_hinf_observer_gain(int nvert, int nx, int ny, int nd, int nv, const double* A, const double* C,
+                          const double* F, const double* Z, const double* Q, double* P, double* U,
+                          double* L, double* gamma, double* g);
+/* LMI (1.48) for x+ = A x + E w, |w| <= wbar: P (nx x nx), gamma, g, level of
+ * Psi = {x'Px <= level} (1.55). */
+int sb_brl_ellipsoidal_rpi(int nx, int m, const double* A, const double* E, const double* wbar, double* P,
+                           double* gamma, double* g, double* level);
+/* Prop 2.2/2.3: lambda = lambda_min(Q, P), cbar = g wbar'wbar / lambda, e_inf (nx). */
+int sb_ellipsoidal_error_rpi(int nx, const double* P, const double* Q, double g, int m, const double* wbar,
+                             double* lambda, double* cbar, double* e_inf);
+/* (2.36)/(3.20) with P, L (nvert blocks) and g fixed: route SB_LAMBDA_LOGDET writes the
+ * log-det-refined Q_ref (nx x nx) and lambda = lambda_min(Q_ref, P); SB_LAMBDA_DIRECT writes
+ * lambda = max lambda with Q = lambda P (Q_ref = lambda P). */
+int sb_refine_dissipation_matrix(int nvert, int nx, int ny, int nd, int nv, const double* A, const double* C,
+                                 const double* F, const double* Z, const double* P, const double* L, double g,
+                                 int route, double* Q_ref, double* lambda);
+/* (2.43)/(3.60-3.61): V = mean_i V_i with Ao_i V_i Ao_i' - V_i = -E_i W E_i', Q = V^-1.
+ * Ao: nvert blocks nx x nx, E: nvert blocks nx x m, W (m x m). */
+int sb_covariance_dissipation_matrix(int nvert, int nx, int m, const double* Ao, const double* E,
+                                     const double* W, double* V, double* Q);
+/* (2.41): shape V^-1, level t^2, probability lower bound 1 - n/t^2. */
+int sb_chebyshev_error_ellipsoid(int nx, const double* V, double t, double* shape, double* level,
+                                 double* probability);
+/* (3.2): alpha (nvert) with alpha >= 0, sum 1, theta' alpha = rho; theta is nvert x nrho (one
+ * vertex per row). Box polytopes (any vertex order): closed form; otherwise an LP. */
+int sb_polytopic_weights(int nvert, int nrho, const double* theta, const double* rho, double* alpha);
+
+/* Algorithm 2 (nrho = 0, nvert = 1) or Algorithm 3 (theta nvert x nrho given). W (m x m) is the
+ * covariance of w for (2.44), NULL = uniform on [-wbar, wbar]. lambda_route: SB_LAMBDA_*.
+ * passes: 2 in the thesis (<= 0 means 2). */
+int sb_hinf_design_create(int nvert, int nx, int nu, int ny, int nd, int nv, int nrho, const double* A,
+                          const double* B, const double* C, const double* F, const double* Z,
+                          const double* theta, const double* wbar, const double* W, int lambda_route,
+                          int passes, sb_hinf_design** out);
+int sb_hinf_design_free(sb_hinf_design* design);
+int sb_hinf_design_dims(const sb_hinf_design* design, int* nvert, int* nx, int* nu, int* ny, int* nd,
+                        int* nv, int* nrho, int* npasses);
+/* P, Q_input, Q_refined, V (nx x nx), L (nvert blocks nx x ny), e_inf (nx), scalars (9):
+ * gamma, g, lambda, lambda_input, lambda_refined, cbar, wbar'wbar, lambda_max(P) bound,
+ * design time [s]. */
+int sb_hinf_design_get(const sb_hinf_design* design, double* P, double* L, double* Q_input,
+                       double* Q_refined, double* V, double* e_inf, double* scalars);
+/* Pass `pass` (0-based): P, L, Q_input, Q_refined, scalars (7): g, gamma, lambda_input,
+ * lambda_refined, lambda_direct (NaN unless computed), lambda, refinement_failed. */
+int sb_hinf_design_pass(const sb_hinf_design* design, int pass, double* P, double* L, double* Q_input,
+                        double* Q_refined, double* scalars);
+/* mu0 from a ball ||e0|| <= radius (2.65-2.67), from vertices of a polytope containing
+ * e0 = x0 - xhat0 (npoints x nx, one per row; 3.73-3.74), or from the box [lo, hi] of e0. */
+int sb_hinf_design_mu0_ball(const sb_hinf_design* design, double radius, double* mu0);
+int sb_hinf_design_mu0_vertices(const sb_hinf_design* design, int npoints, const double* vertices, double* mu0);
+int sb_hinf_design_mu0_box(const sb_hinf_design* design, const double* lo, const double* hi, double* mu0);
+
+/* Online observer (2.68-2.71) or (3.63-3.66), a one-step predictor: after k steps the box
+ * bounds x_k. rho (nrho) is required for LPV designs and ignored (may be NULL) for LTI. */
+int sb_hinf_observer_create(const sb_hinf_design* design, const double* xhat0, double mu0,
+                            sb_hinf_observer** out);
+int sb_hinf_observer_free(sb_hinf_observer* observer);
+int sb_hinf_observer_current(const sb_hinf_observer* observer, double* center, double* lower,
+                             double* upper, double* mu, int* steps);
+/* One step with y_k, u_k (NULL when nu = 0), rho_k; writes the bounds of x_{k+1}. On error
+ * the observer is unchanged. */
+int sb_hinf_observer_step(sb_hinf_observer* observer, const double* y, const double* u, const double* rho,
+                          double* center, double* lower, double* upper, double* mu);
+/* T steps: Y (T x ny), U (T x nu or NULL), R (T x nrho or NULL); outputs have T + 1 rows
+ * (row 0 = the current set). On error the observer is unchanged. */
+int sb_hinf_observer_run(sb_hinf_observer* observer, int T, const double* Y, const double* U, const double* R,
+                         double* centers, double* lowers, double* uppers, double* mus);
+/* ==== end thesis H-infinity observers ==== */

@@ -18,6 +18,8 @@ from .trajectory import Trajectory
 from . import zonotopic  # noqa: E402  (needs the classes above)
 from .zonotopic import exact_hull  # noqa: E402
 from . import ellipsoidal  # noqa: E402
+from . import hinf  # noqa: E402  (thesis Ch. 1-3 H-infinity observers)
+from .hinf import LpvPlant  # noqa: E402
 
 __version__ = version()
 
@@ -29,6 +31,7 @@ __all__ = [
     "Interval",
     "IntervalMatrix",
     "LinearSystem",
+    "LpvPlant",
     "Plant",
     "Strip",
     "Trajectory",
@@ -38,6 +41,7 @@ __all__ = [
     "ellipsoidal",
     "errors",
     "exact_hull",
+    "hinf",
     "lmi",
     "zonotopic",
     "version",

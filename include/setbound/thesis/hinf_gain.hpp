@@ -145,10 +145,26 @@ inline Eigen::MatrixXd dissipation_block(const Eigen::MatrixXd& P, const Eigen::
   return M;
 }
 
+/// certify_psd after an exact diagonal scaling D M D by powers of two (D_ii ≈ 1/√M_ii): the
+/// scaling does not change definiteness and is exact in floating point, and it keeps the
+/// certificate's slack (relative to the trace) from swamping the small eigenvalues of badly
+/// scaled matrices (P with a large condition number).
+inline bool certify_psd_scaled(const Eigen::MatrixXd& M, double slack) {
+  const Eigen::Index n = M.rows();
+  if (M.cols() != n || !M.allFinite()) return false;
+  Eigen::VectorXd d(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!(M(i, i) > 0)) return false;
+    d(i) = std::ldexp(1.0, -static_cast<int>(std::lround(0.5 * std::log2(M(i, i)))));
+  }
+  const Eigen::MatrixXd S = d.asDiagonal() * M * d.asDiagonal();
+  return certify_psd(S, 0.0, slack);
+}
+
 /// True when the dissipation inequality with (P, Q, A_o, E, g) is certified (Cholesky).
 inline bool certify_dissipation(const Eigen::MatrixXd& P, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& Ao,
                                 const Eigen::MatrixXd& E, double g, double slack) {
-  return certify_psd(dissipation_block(P, Q, Ao, E, g), 0.0, slack);
+  return certify_psd_scaled(dissipation_block(P, Q, Ao, E, g), slack);
 }
 
 struct VertexGainResult {

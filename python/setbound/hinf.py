@@ -1,0 +1,457 @@
+"""H∞ set-membership observers of the thesis, Chapters 1–3 (thesis.md §3.4, §4, §5).
+
+* :func:`brl_ellipsoidal_rpi` — Bounded-Real-Lemma RPI ellipsoid (1.48, 1.55);
+* :func:`hinf_observer_gain` — LMI (2.35) (a :class:`~setbound.Plant`) or the vertex LMIs
+  (3.13) with a common P (an :class:`LpvPlant`);
+* :func:`ellipsoidal_error_rpi`, :func:`refine_dissipation_matrix`,
+  :func:`covariance_dissipation_matrix`, :func:`chebyshev_error_ellipsoid`;
+* :func:`design_ellipsoidal_sm_observer` (Algorithm 2) and
+  :func:`design_ellipsoidal_sm_observer_lpv` (Algorithm 3) → :class:`EllipsoidalSMDesign`;
+* :class:`EllipsoidalSMObserver` and :class:`LPVEllipsoidalSMObserver` (online, a one-step
+  predictor: row k of a run bounds x_k using y_0..y_{k-1}), with :func:`mu0_from_ball`,
+  :func:`mu0_from_vertices` and :func:`mu0_from_box`;
+* :func:`polytopic_weights` (closed form for a box in any vertex order, LP otherwise).
+
+Every design is certified in floating point by the C++ library (see docs/thesis_hinf.md).
+The optimal γ is unique, L and P are not (thesis.md §4.2).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._native import as_f64, check, dptr, ffi, lib
+from .errors import DimensionError, InvalidArgumentError
+from .interval import Box
+from .plant import Plant
+from .trajectory import Trajectory
+
+__all__ = [
+    "LpvPlant", "HinfGain", "BrlRpi", "ErrorRpi", "EllipsoidalSMDesign", "EllipsoidalSMObserver",
+    "LPVEllipsoidalSMObserver", "brl_ellipsoidal_rpi", "hinf_observer_gain", "ellipsoidal_error_rpi",
+    "refine_dissipation_matrix", "covariance_dissipation_matrix", "chebyshev_error_ellipsoid",
+    "polytopic_weights", "design_ellipsoidal_sm_observer", "design_ellipsoidal_sm_observer_lpv",
+    "mu0_from_ball", "mu0_from_vertices", "mu0_from_box", "box_corners",
+]
+
+_ROUTES = {None: -1, "default": -1, "logdet": 0, "direct": 1, "input_or_logdet": 2, "largest": 3}
+
+
+def _route(r) -> int:
+    if r not in _ROUTES:
+        raise InvalidArgumentError(f"lambda_route: expected one of {sorted(k for k in _ROUTES if k)}, got {r!r}")
+    return _ROUTES[r]
+
+
+class LpvPlant:
+    """Polytopic LPV plant (3.5): ``x⁺ = A(ρ)x + B(ρ)u + F(ρ)d``, ``y = Cx + Zv`` with
+    ``M(ρ) = Σ α_i(ρ) M_i`` and ``ρ ∈ conv{θ_i}``. ``A``, ``B``, ``F`` are lists of vertex
+    matrices (one per row θ_i of ``theta``, in the same order); ``C`` and ``Z`` are common."""
+
+    def __init__(self, A, C, theta, *, B=None, F=None, Z=None):
+        A = [as_f64(a, f"A[{i}]", ndim=2) for i, a in enumerate(A)]
+        if not A:
+            raise DimensionError("A: at least one vertex matrix is required")
+        N = len(A)
+        theta = as_f64(theta, "theta")
+        if theta.ndim == 1:
+            theta = theta.reshape(-1, 1)
+        if theta.ndim != 2 or theta.shape[0] != N:
+            raise DimensionError(f"theta: expected shape ({N}, n_rho) (one vertex per A_i), got {theta.shape}")
+        n = A[0].shape[0]
+        B = [None] * N if B is None else list(B)
+        F = [None] * N if F is None else list(F)
+        if len(B) != N:
+            raise DimensionError(f"B: expected {N} vertex matrices, got {len(B)}")
+        if len(F) != N:
+            raise DimensionError(f"F: expected {N} vertex matrices, got {len(F)}")
+        self.vertices = [Plant(A[i], C, B=B[i], F=F[i], Z=Z) for i in range(N)]
+        for i, p in enumerate(self.vertices):
+            for name, M, M0 in (("A", p.A, self.vertices[0].A), ("B", p.B, self.vertices[0].B),
+                                ("F", p.F, self.vertices[0].F)):
+                if M.shape != M0.shape:
+                    raise DimensionError(f"{name}[{i}]: expected shape {M0.shape} (as vertex 0), got {M.shape}")
+        self.theta = np.ascontiguousarray(theta)
+        self.C, self.Z = self.vertices[0].C, self.vertices[0].Z
+        del n
+
+    A = property(lambda self: [p.A for p in self.vertices])
+    B = property(lambda self: [p.B for p in self.vertices])
+    F = property(lambda self: [p.F for p in self.vertices])
+    N = property(lambda self: len(self.vertices))
+    nx = property(lambda self: self.vertices[0].nx)
+    nu = property(lambda self: self.vertices[0].nu)
+    ny = property(lambda self: self.vertices[0].ny)
+    nd = property(lambda self: self.vertices[0].nd)
+    nv = property(lambda self: self.vertices[0].nv)
+    m = property(lambda self: self.vertices[0].m)
+    n_rho = property(lambda self: self.theta.shape[1])
+
+    def weights(self, rho) -> np.ndarray:
+        return polytopic_weights(self.theta, rho)
+
+    def at(self, rho) -> Plant:
+        """The frozen plant at ρ: ``Σ α_i(ρ)·(A_i, B_i, F_i)``."""
+        a = self.weights(rho)
+        return Plant(sum(w * p.A for w, p in zip(a, self.vertices)), self.C,
+                     B=sum(w * p.B for w, p in zip(a, self.vertices)),
+                     F=sum(w * p.F for w, p in zip(a, self.vertices)), Z=self.Z)
+
+    def __repr__(self) -> str:
+        return f"LpvPlant(N={self.N}, n_rho={self.n_rho}, n_x={self.nx}, n_u={self.nu}, n_y={self.ny})"
+
+
+def _stack(ms, rows, cols) -> np.ndarray:
+    return np.ascontiguousarray(np.stack([np.asarray(m, dtype=np.float64).reshape(rows, cols) for m in ms]))
+
+
+def _vertex_data(plant):
+    if isinstance(plant, Plant):
+        return 1, plant, [plant.A], [plant.F]
+    if isinstance(plant, LpvPlant):
+        return plant.N, plant.vertices[0], plant.A, plant.F
+    raise InvalidArgumentError(f"plant: expected a setbound.Plant or a setbound.hinf.LpvPlant, got {type(plant).__name__}")
+
+
+@dataclass
+class HinfGain:
+    P: np.ndarray
+    U: np.ndarray  # (n_x, n_y) for a Plant, (N, n_x, n_y) for an LpvPlant
+    L: np.ndarray  # P⁻¹U, same shape as U
+    Q: np.ndarray
+    gamma: float
+    g: float
+
+
+def hinf_observer_gain(plant, Q=None) -> HinfGain:
+    """LMI (2.35) for a Plant (or (3.13) for an LpvPlant): minimise g = γ²; L = P⁻¹U."""
+    N, p0, As, Fs = _vertex_data(plant)
+    n, ny = p0.nx, p0.ny
+    Qa = None if Q is None else as_f64(Q, "Q", shape=(n, n))
+    A, F = _stack(As, n, n), _stack(Fs, n, p0.nd)
+    P, U, L = np.empty((n, n)), np.empty((N, n, ny)), np.empty((N, n, ny))
+    gam, g = ffi.new("double*"), ffi.new("double*")
+    check(lib.sb_hinf_observer_gain(N, n, ny, p0.nd, p0.nv, dptr(A), dptr(p0.C), dptr(F), dptr(p0.Z),
+                                    dptr(Qa) if Qa is not None else ffi.NULL, dptr(P), dptr(U), dptr(L), gam, g))
+    if N == 1 and isinstance(plant, Plant):
+        U, L = U[0], L[0]
+    return HinfGain(P, U, L, np.eye(n) if Qa is None else Qa.copy(), gam[0], g[0])
+
+
+@dataclass
+class BrlRpi:
+    P: np.ndarray
+    gamma: float
+    g: float
+    level: float  # Ψ = {xᵀPx ≤ level}
+
+
+def brl_ellipsoidal_rpi(A, E, wbar) -> BrlRpi:
+    """LMI (1.48) for x⁺ = Ax + Ew, |w| ≤ w̄: minimal γ, Ψ = {xᵀPx ≤ λ_max(P)γ²w̄ᵀw̄} (1.55)."""
+    A = as_f64(A, "A", ndim=2)
+    n = A.shape[0]
+    E = as_f64(E, "E", shape=(n, None))
+    wbar = as_f64(wbar, "wbar", shape=(E.shape[1],))
+    P = np.empty((n, n))
+    gam, g, lvl = ffi.new("double*"), ffi.new("double*"), ffi.new("double*")
+    check(lib.sb_brl_ellipsoidal_rpi(n, E.shape[1], dptr(A), dptr(E), dptr(wbar), dptr(P), gam, g, lvl))
+    return BrlRpi(P, gam[0], g[0], lvl[0])
+
+
+@dataclass
+class ErrorRpi:
+    lambda_: float
+    cbar: float
+    e_inf: np.ndarray
+
+
+def ellipsoidal_error_rpi(P, Q, g, wbar) -> ErrorRpi:
+    """Prop 2.2/2.3: λ = λ_min(Q, P), c̄ = γ²w̄ᵀw̄/λ, ē∞ = sqrt(diag(c̄P⁻¹))."""
+    P = as_f64(P, "P", ndim=2)
+    n = P.shape[0]
+    Q = as_f64(Q, "Q", shape=(n, n))
+    wbar = as_f64(wbar, "wbar", ndim=1)
+    lam, cb, e = ffi.new("double*"), ffi.new("double*"), np.empty(n)
+    check(lib.sb_ellipsoidal_error_rpi(n, dptr(P), dptr(Q), float(g), wbar.size, dptr(wbar), lam, cb, dptr(e)))
+    return ErrorRpi(lam[0], cb[0], e)
+
+
+def refine_dissipation_matrix(plant, P, L, g, route: str = "logdet"):
+    """(2.36)/(3.20) with P, L, g fixed. ``route="logdet"``: maximise log det Q → (Q_ref,
+    λ_min(Q_ref, P)); ``route="direct"`` [proposed]: the largest λ with Q = λP → (λP, λ)."""
+    N, p0, As, Fs = _vertex_data(plant)
+    n, ny = p0.nx, p0.ny
+    r = {"logdet": 0, "direct": 1}.get(route)
+    if r is None:
+        raise InvalidArgumentError(f"route: expected 'logdet' or 'direct', got {route!r}")
+    P = as_f64(P, "P", shape=(n, n))
+    L = np.ascontiguousarray(np.asarray(L, dtype=np.float64).reshape(N, n, ny)) if np.size(L) == N * n * ny else \
+        as_f64(L, "L", shape=(n, ny))
+    A, F = _stack(As, n, n), _stack(Fs, n, p0.nd)
+    Q, lam = np.empty((n, n)), ffi.new("double*")
+    check(lib.sb_refine_dissipation_matrix(N, n, ny, p0.nd, p0.nv, dptr(A), dptr(p0.C), dptr(F), dptr(p0.Z),
+                                           dptr(P), dptr(L), float(g), r, dptr(Q), lam))
+    return Q, lam[0]
+
+
+def covariance_dissipation_matrix(Ao, E, W):
+    """(2.43)/(3.60–3.61): V = mean V_i with A_o,i V_i A_o,iᵀ − V_i = −E_i W E_iᵀ; returns (V, Q = V⁻¹).
+    ``Ao`` and ``E`` may be single matrices or lists of vertex matrices."""
+    Aos = [Ao] if np.ndim(Ao) == 2 else list(Ao)
+    Es = [E] if np.ndim(E) == 2 else list(E)
+    if len(Aos) != len(Es):
+        raise DimensionError(f"E: expected {len(Aos)} vertex matrices (as Ao), got {len(Es)}")
+    n = np.shape(Aos[0])[0]
+    m = np.shape(Es[0])[1]
+    W = as_f64(W, "W", shape=(m, m))
+    A, Em = _stack(Aos, n, n), _stack(Es, n, m)
+    V, Q = np.empty((n, n)), np.empty((n, n))
+    check(lib.sb_covariance_dissipation_matrix(len(Aos), n, m, dptr(A), dptr(Em), dptr(W), dptr(V), dptr(Q)))
+    return V, Q
+
+
+def chebyshev_error_ellipsoid(V, t):
+    """(2.41): returns (V⁻¹, t², 1 − n/t²): P(eᵀV⁻¹e ≤ t²) ≥ 1 − n/t² (reporting only)."""
+    V = as_f64(V, "V", ndim=2)
+    n = V.shape[0]
+    S, lvl, pr = np.empty((n, n)), ffi.new("double*"), ffi.new("double*")
+    check(lib.sb_chebyshev_error_ellipsoid(n, dptr(V), float(t), dptr(S), lvl, pr))
+    return S, lvl[0], pr[0]
+
+
+def polytopic_weights(theta, rho) -> np.ndarray:
+    """α ≥ 0, Σα = 1, Σ α_i θ_i = ρ (3.2); ``theta`` has one vertex per row."""
+    theta = as_f64(theta, "theta")
+    if theta.ndim == 1:
+        theta = theta.reshape(-1, 1)
+    rho = np.atleast_1d(as_f64(rho, "rho"))
+    a = np.empty(theta.shape[0])
+    check(lib.sb_polytopic_weights(theta.shape[0], theta.shape[1], dptr(theta), dptr(rho), dptr(a)))
+    return a
+
+
+@dataclass
+class DesignPass:
+    P: np.ndarray
+    L: np.ndarray
+    Q_input: np.ndarray
+    Q_refined: np.ndarray
+    g: float
+    gamma: float
+    lambda_input: float
+    lambda_refined: float
+    lambda_direct: float
+    lambda_: float
+    refinement_failed: bool
+
+
+@dataclass
+class EllipsoidalSMDesign:
+    """Output of Algorithm 2/3. ``L`` is (n_x, n_y) for a Plant and (N, n_x, n_y) for an LpvPlant."""
+    plant: object
+    L: np.ndarray
+    P: np.ndarray
+    Q_input: np.ndarray
+    Q_refined: np.ndarray
+    V: np.ndarray
+    e_inf: np.ndarray
+    gamma: float
+    g: float
+    lambda_: float
+    lambda_input: float
+    lambda_refined: float
+    cbar: float
+    wtw: float
+    lambda_max_P: float
+    design_time: float
+    passes: list = field(default_factory=list)
+    _handle: object = field(default=None, repr=False)
+
+    @property
+    def L_vertices(self) -> np.ndarray:
+        return self.L if self.L.ndim == 3 else self.L[None]
+
+
+def _design(plant, wbar, W, lambda_route, passes, lpv: bool) -> EllipsoidalSMDesign:
+    N, p0, As, Fs = _vertex_data(plant)
+    n, nu, ny, nd, nv = p0.nx, p0.nu, p0.ny, p0.nd, p0.nv
+    m = nd + nv
+    wbar = as_f64(wbar, "wbar", shape=(m,))
+    Wa = None if W is None else as_f64(W, "W", shape=(m, m))
+    A, F = _stack(As, n, n), _stack(Fs, n, nd)
+    if lpv:
+        B = _stack(plant.B, n, nu)
+        theta, nrho = plant.theta, plant.n_rho
+    else:
+        B, theta, nrho = p0.B, None, 0
+    h = ffi.new("sb_hinf_design**")
+    check(lib.sb_hinf_design_create(N, n, nu, ny, nd, nv, nrho, dptr(A), dptr(np.ascontiguousarray(B)), dptr(p0.C),
+                                    dptr(F), dptr(p0.Z), dptr(theta) if theta is not None else ffi.NULL, dptr(wbar),
+                                    dptr(Wa) if Wa is not None else ffi.NULL, _route(lambda_route), int(passes), h))
+    handle = ffi.gc(h[0], lib.sb_hinf_design_free)
+    npass = ffi.new("int*")
+    check(lib.sb_hinf_design_dims(handle, ffi.NULL, ffi.NULL, ffi.NULL, ffi.NULL, ffi.NULL, ffi.NULL, ffi.NULL, npass))
+    P, L, Qi, Qr, V, e, s = (np.empty((n, n)), np.empty((N, n, ny)), np.empty((n, n)), np.empty((n, n)),
+                             np.empty((n, n)), np.empty(n), np.empty(9))
+    check(lib.sb_hinf_design_get(handle, dptr(P), dptr(L), dptr(Qi), dptr(Qr), dptr(V), dptr(e), dptr(s)))
+    ps = []
+    for k in range(npass[0]):
+        pP, pL, pQi, pQr, ss = np.empty((n, n)), np.empty((N, n, ny)), np.empty((n, n)), np.empty((n, n)), np.empty(7)
+        check(lib.sb_hinf_design_pass(handle, k, dptr(pP), dptr(pL), dptr(pQi), dptr(pQr), dptr(ss)))
+        ps.append(DesignPass(pP, pL if lpv else pL[0], pQi, pQr, ss[0], ss[1], ss[2], ss[3], ss[4], ss[5], bool(ss[6])))
+    return EllipsoidalSMDesign(plant, L if lpv else L[0], P, Qi, Qr, V, e, s[0], s[1], s[2], s[3], s[4], s[5], s[6],
+                               s[7], s[8], ps, handle)
+
+
+def design_ellipsoidal_sm_observer(plant: Plant, wbar, *, W=None, lambda_route=None, passes: int = 2):
+    """Algorithm 2 (two passes). ``wbar``: half-widths of the centred box of w = (d, v).
+    ``W``: covariance of w for (2.44) (default uniform on [−w̄, w̄]). ``lambda_route``:
+    "logdet" (default, as printed), "direct", "input_or_logdet" or "largest"."""
+    if not isinstance(plant, Plant):
+        raise InvalidArgumentError("plant: expected a setbound.Plant (use design_ellipsoidal_sm_observer_lpv for LPV)")
+    return _design(plant, wbar, W, lambda_route, passes, False)
+
+
+def design_ellipsoidal_sm_observer_lpv(plant: LpvPlant, wbar, *, W=None, lambda_route=None, passes: int = 2):
+    """Algorithm 3: vertex LMIs with a common P; λ defaults to the larger of λ_min(Q_input, P)
+    and λ_min(Q_refined, P) (thesis.md §5.8)."""
+    if not isinstance(plant, LpvPlant):
+        raise InvalidArgumentError("plant: expected a setbound.hinf.LpvPlant")
+    return _design(plant, wbar, W, lambda_route, passes, True)
+
+
+def mu0_from_ball(design: EllipsoidalSMDesign, radius: float) -> float:
+    """μ0 = max(1, λ_max(P)·radius²/c̄) for ‖x0 − x̂0‖ ≤ radius (2.65–2.67)."""
+    out = ffi.new("double*")
+    check(lib.sb_hinf_design_mu0_ball(design._handle, float(radius), out))
+    return out[0]
+
+
+def mu0_from_vertices(design: EllipsoidalSMDesign, vertices) -> float:
+    """μ0 = max(1, max_j v_jᵀPv_j/c̄) for e0 ∈ conv{v_j} (rows of ``vertices``) (3.73–3.74)."""
+    n = design.P.shape[0]
+    V = as_f64(vertices, "vertices", shape=(None, n))
+    out = ffi.new("double*")
+    check(lib.sb_hinf_design_mu0_vertices(design._handle, V.shape[0], dptr(V), out))
+    return out[0]
+
+
+def mu0_from_box(design: EllipsoidalSMDesign, lo, hi) -> float:
+    """μ0 from the box [lo, hi] ∋ e0 = x0 − x̂0 (its 2ⁿ corners)."""
+    n = design.P.shape[0]
+    lo, hi = as_f64(lo, "lo", shape=(n,)), as_f64(hi, "hi", shape=(n,))
+    out = ffi.new("double*")
+    check(lib.sb_hinf_design_mu0_box(design._handle, dptr(lo), dptr(hi), out))
+    return out[0]
+
+
+def box_corners(lo, hi) -> np.ndarray:
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    n = lo.size
+    return np.array([[hi[i] if (j >> i) & 1 else lo[i] for i in range(n)] for j in range(1 << n)])
+
+
+class _Observer:
+    _lpv = False
+
+    def __init__(self, design: EllipsoidalSMDesign, xhat0, mu0: float):
+        if not isinstance(design, EllipsoidalSMDesign):
+            raise InvalidArgumentError("design: expected an EllipsoidalSMDesign")
+        if isinstance(design.plant, LpvPlant) != self._lpv:
+            raise InvalidArgumentError("design: " + ("an LPV design needs LPVEllipsoidalSMObserver" if not self._lpv
+                                                     else "LPVEllipsoidalSMObserver needs an LPV design"))
+        self.design = design
+        p = design.plant
+        self.nx, self.nu, self.ny = p.nx, p.nu, p.ny
+        self.n_rho = p.n_rho if self._lpv else 0
+        x0 = as_f64(xhat0, "xhat0", shape=(self.nx,))
+        h = ffi.new("sb_hinf_observer**")
+        check(lib.sb_hinf_observer_create(design._handle, dptr(x0), float(mu0), h))
+        self._h = ffi.gc(h[0], lib.sb_hinf_observer_free)
+        self._c, self._lo, self._hi, self._mu = np.empty(self.nx), np.empty(self.nx), np.empty(self.nx), ffi.new("double*")
+        check(lib.sb_hinf_observer_current(self._h, dptr(self._c), dptr(self._lo), dptr(self._hi), self._mu, ffi.NULL))
+
+    @property
+    def center(self) -> np.ndarray:
+        return self._c.copy()
+
+    @property
+    def mu(self) -> float:
+        return self._mu[0]
+
+    @property
+    def box(self) -> Box:
+        return Box(self._lo, self._hi)
+
+    @property
+    def steps(self) -> int:
+        s = ffi.new("int*")
+        check(lib.sb_hinf_observer_current(self._h, ffi.NULL, ffi.NULL, ffi.NULL, ffi.NULL, s))
+        return s[0]
+
+    def _step(self, y, u, rho) -> Box:
+        y = as_f64(np.atleast_1d(y), "y", shape=(self.ny,))
+        u = as_f64(np.zeros(0) if u is None else np.atleast_1d(u), "u", shape=(self.nu,))
+        r = ffi.NULL
+        if self._lpv:
+            ra = as_f64(np.atleast_1d(rho), "rho", shape=(self.n_rho,))
+            r = dptr(ra)
+        check(lib.sb_hinf_observer_step(self._h, dptr(y), dptr(u), r, dptr(self._c), dptr(self._lo), dptr(self._hi),
+                                        self._mu))
+        return Box(self._lo, self._hi)
+
+    def _run(self, y, u, rho) -> Trajectory:
+        y = np.asarray(y, dtype=np.float64)
+        if y.ndim == 1 and self.ny == 1:
+            y = y.reshape(-1, 1)
+        y = as_f64(y, "y", shape=(None, self.ny))
+        T = y.shape[0]
+        if u is None:
+            if self.nu:
+                raise InvalidArgumentError(f"u: the plant has {self.nu} inputs; give u with shape ({T}, {self.nu})")
+            u = np.zeros((T, 0))
+        u = np.asarray(u, dtype=np.float64)
+        if u.ndim == 1 and self.nu == 1:
+            u = u.reshape(-1, 1)
+        u = as_f64(u, "u", shape=(T, self.nu))
+        R = ffi.NULL
+        if self._lpv:
+            if rho is None:
+                raise InvalidArgumentError(f"rho: the LPV observer needs the scheduling signal, shape ({T}, {self.n_rho})")
+            rho = np.asarray(rho, dtype=np.float64)
+            if rho.ndim == 1 and self.n_rho == 1:
+                rho = rho.reshape(-1, 1)
+            rho = as_f64(rho, "rho", shape=(T, self.n_rho))
+            R = dptr(rho)
+        C, Lo, Hi, M = np.empty((T + 1, self.nx)), np.empty((T + 1, self.nx)), np.empty((T + 1, self.nx)), np.empty(T + 1)
+        check(lib.sb_hinf_observer_run(self._h, T, dptr(y), dptr(u), R, dptr(C), dptr(Lo), dptr(Hi), dptr(M)))
+        self._c[:], self._lo[:], self._hi[:], self._mu[0] = C[-1], Lo[-1], Hi[-1], M[-1]
+        traj = Trajectory(C, Lo, Hi, sets=[Box(Lo[k], Hi[k]) for k in range(T + 1)], guaranteed=True)
+        traj.mu = M
+        return traj
+
+
+class EllipsoidalSMObserver(_Observer):
+    """Online observer (2.68–2.71): x̂⁺ = (A − LC)x̂ + Bu + Ly, μ⁺ = (1 − λ)μ + λ, box x̂ ± ē∞√μ.
+    ``step(y_k, u_k)`` returns the box of x_{k+1}; ``run(y, u)`` returns a Trajectory with
+    T + 1 rows (row 0 = the initial box) and ``traj.mu``."""
+
+    def step(self, y, u=None) -> Box:
+        return self._step(y, u, None)
+
+    def run(self, y, u=None) -> Trajectory:
+        return self._run(y, u, None)
+
+
+class LPVEllipsoidalSMObserver(_Observer):
+    """Online LPV observer (3.63–3.66) with the scheduling signal ρ_k per step."""
+    _lpv = True
+
+    def step(self, y, u=None, rho=None) -> Box:
+        if rho is None:
+            raise InvalidArgumentError("rho: the LPV observer needs the scheduling value of this step")
+        return self._step(y, u, rho)
+
+    def run(self, y, u=None, rho=None) -> Trajectory:
+        return self._run(y, u, rho)
