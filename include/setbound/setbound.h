@@ -590,3 +590,66 @@ int sb_hinf_observer_step(sb_hinf_observer* observer, const double* y, const dou
 int sb_hinf_observer_run(sb_hinf_observer* observer, int T, const double* Y, const double* U, const double* R,
                          double* centers, double* lowers, double* uppers, double* mus);
 /* ==== end thesis H-infinity observers ==== */
+
+/* ==== thesis Chapter 1: polytopes and invariant sets (thesis.md §3.3–3.6) ====
+ * Polytopes are full-dimensional, held in both representations: vertices (nvertices x n,
+ * row-major, one vertex per row) and {x : H x <= b} (H nfacets x n with unit-norm rows).
+ * Query the sizes with sb_polytope_sizes, then fill caller-allocated arrays. */
+typedef struct sb_polytope sb_polytope;
+/* conv of npoints points (npoints x n, one per row); they must span R^n. */
+int sb_polytope_from_vertices(int n, int npoints, const double* points, sb_polytope** out);
+/* {x : H x <= b} (H m x n), bounded, with `interior` (n) strictly inside. */
+int sb_polytope_from_halfspaces(int n, int m, const double* H, const double* b, const double* interior,
+                                sb_polytope** out);
+int sb_polytope_free(sb_polytope* polytope);
+int sb_polytope_sizes(const sb_polytope* polytope, int* n, int* nvertices, int* nfacets);
+/* vertices (nvertices x n), H (nfacets x n), b (nfacets); NULL outputs are skipped. */
+int sb_polytope_get(const sb_polytope* polytope, double* vertices, double* H, double* b);
+/* inside[i] = 1 when H p_i <= b + tol (points npoints x n). */
+int sb_polytope_contains(const sb_polytope* polytope, int npoints, const double* points, double tol, int* inside);
+/* M P (M rows x n; the image must be full-dimensional). */
+int sb_polytope_linear_map(const sb_polytope* polytope, int rows, const double* M, sb_polytope** out);
+int sb_polytope_minkowski_sum(const sb_polytope* a, const sb_polytope* b, sb_polytope** out);
+/* P + [lo, hi] (n each; zero widths allowed). */
+int sb_polytope_minkowski_box(const sb_polytope* polytope, const double* lo, const double* hi, sb_polytope** out);
+/* a P (a > 0). */
+int sb_polytope_scale(const sb_polytope* polytope, double a, sb_polytope** out);
+int sb_polytope_bounding_box(const sb_polytope* polytope, double* lo, double* hi);
+int sb_polytope_max_vertex_norm(const sb_polytope* polytope, double* radius);
+
+/* (1.40), the ellipsoid projection box: sb_ellipsoid_bounding_box (sets section above). */
+/* (1.57)-(1.58): c_out = mu lmax(P) gamma^2 wbar_sq, c_in = (mu lmax(P) - mu + 1) gamma^2 wbar_sq. */
+int sb_expanded_ellipsoid_levels(int n, const double* P, double gamma, double wbar_sq, double mu, double* c_in,
+                                 double* c_out);
+/* §3.5: polytope with {x'Px <= c_in} in it and it in {x'Px <= c_out}; max_vertices <= 0 = default. */
+int sb_polyhedral_rpi(int n, const double* P, double c_in, double c_out, int max_vertices, sb_polytope** out);
+/* beta = smallest beta with A'PA <= beta^2 P. */
+int sb_contraction_rate(int n, const double* A, const double* P, double* beta);
+
+/* Algorithm 1 (mRPI outer shrinking). eps is a RADIUS. Stop rules: */
+#define SB_MRPI_STOP_RADIUS 0          /* beta^k sqrt(c_out / lmin(P)) <= eps (rigorous) */
+#define SB_MRPI_STOP_SHRINKING_INDEX 1 /* beta^k sqrt(mu lmax(P) / lmin(P)) <= eps (Ex 1.5) */
+#define SB_MRPI_STOP_VERTEX_NORM 2     /* max over vertices v of Phi_0 of |A^k v| <= eps */
+typedef struct sb_mrpi sb_mrpi;
+/* From a given Phi_0 inside {x'Px <= c_out}: x+ = A x + E w, w in [dlo, dhi] (m each, contains
+ * 0), A n x n, E n x m. mu: of the shrinking index (>= 1); max_iterations <= 0 = default;
+ * boxes_only = 1 skips the polytopes Phi_k (k >= 1). */
+int sb_mrpi_shrinking(int n, int m, const double* A, const double* E, const double* dlo, const double* dhi,
+                      const sb_polytope* phi0, const double* P, double c_out, double eps, int stop_rule, double mu,
+                      int max_iterations, int boxes_only, sb_mrpi** out);
+/* Algorithm 1 from the data: BRL (1.48), Phi_v between the ellipsoids of mu (> 1), shrinking with
+ * w in [-wbar, wbar]. */
+int sb_mrpi_algorithm1(int n, int m, const double* A, const double* E, const double* wbar, double mu, double eps,
+                       int stop_rule, int max_iterations, int boxes_only, sb_mrpi** out);
+int sb_mrpi_free(sb_mrpi* mrpi);
+/* *has_sets = 0 for boxes_only results; *has_design = 1 for sb_mrpi_algorithm1 results. */
+int sb_mrpi_info(const sb_mrpi* mrpi, int* n, int* k_star, double* beta, int* has_sets, int* has_design);
+/* Arrays of length k_star + 1; NULL outputs are skipped. */
+int sb_mrpi_sequences(const sb_mrpi* mrpi, double* radius_bound, double* vertex_radius, double* shrinking_index);
+/* Exact (outward-rounded) boxes of Phi_0..Phi_k*: lo, hi (k_star + 1) x n row-major. */
+int sb_mrpi_boxes(const sb_mrpi* mrpi, double* lo, double* hi);
+/* A new handle with a copy of Phi_k (0 <= k <= k_star; k = 0 always available). */
+int sb_mrpi_set(const sb_mrpi* mrpi, int k, sb_polytope** out);
+/* Algorithm 1 results only: P (n x n), gamma, c_in, c_out. */
+int sb_mrpi_design(const sb_mrpi* mrpi, double* P, double* gamma, double* c_in, double* c_out);
+/* ==== end thesis Chapter 1 ==== */

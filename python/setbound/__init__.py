@@ -20,6 +20,8 @@ from .zonotopic import exact_hull  # noqa: E402
 from . import ellipsoidal  # noqa: E402
 from . import hinf  # noqa: E402  (thesis Ch. 1-3 H-infinity observers)
 from .hinf import LpvPlant  # noqa: E402
+from . import inclusion, invariant  # noqa: E402  (thesis Chapter 1)
+from .invariant import Polytope  # noqa: E402
 
 __version__ = version()
 
@@ -32,6 +34,7 @@ __all__ = [
     "IntervalMatrix",
     "LinearSystem",
     "LpvPlant",
+    "Polytope",
     "Plant",
     "Strip",
     "Trajectory",
@@ -42,6 +45,8 @@ __all__ = [
     "errors",
     "exact_hull",
     "hinf",
+    "inclusion",
+    "invariant",
     "lmi",
     "zonotopic",
     "version",

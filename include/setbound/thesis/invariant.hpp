@@ -24,6 +24,7 @@
 #include "setbound/sets/ellipsoid.hpp"
 #include "setbound/sets/interval_matrix.hpp"
 #include "setbound/sets/polytope.hpp"
+#include "setbound/thesis/hinf_gain.hpp"
 
 namespace setbound::thesis {
 
@@ -422,6 +423,41 @@ inline MrpiShrinking mrpi_outer_shrinking_boxes(const Eigen::MatrixXd& A, const 
   MrpiShrinking r = detail::mrpi_schedule(A, Phi0, P, c_out, eps, opt);
   r.boxes = detail::mrpi_boxes(A, E, delta, Phi0, r.k_star);
   return r;
+}
+
+/// Everything Algorithm 1 computes from the data.
+struct MrpiDesign {
+  BrlRpi brl;              // step 1: P and the minimum γ of LMI (1.48)
+  EllipsoidLevels levels;  // c_in, c_out of Ψ̄⁺(μ), Ψ̄(μ) (1.57–1.58)
+  double mu = 0;
+  Polytope phi_v;          // step 2: Ψ̄⁺ ⊆ Φ_v ⊆ Ψ̄
+  MrpiShrinking shrinking; // steps 3–5 (shrinking.sets.back() = Φ_{k*})
+};
+
+/// Algorithm 1 from the data: x⁺ = A x + E w with |w_i| ≤ wbar_i (Δ = [−w̄, w̄]); BRL (1.48),
+/// Φ_v between Ψ̄⁺(μ) and Ψ̄(μ) (μ > 1), then the shrinking iteration with stop radius eps.
+/// opt.mu is overwritten by mu (the shrinking index uses the μ of the construction). With
+/// boxes_only = true the polytopes Φ_k (k ≥ 1) are not built.
+inline MrpiDesign mrpi_outer_shrinking(const Eigen::MatrixXd& A, const Eigen::MatrixXd& E,
+                                       const Eigen::VectorXd& wbar, double mu, double eps,
+                                       MrpiOptions opt = {}, bool boxes_only = false,
+                                       const PolyhedralRpiOptions& popt = {},
+                                       const HinfOptions& hopt = {}) {
+  require_finite(mu, "mu");
+  if (!(mu > 1)) throw InvalidArgumentError("mu: must be > 1 (for mu = 1 the two ellipsoids coincide), got " + std::to_string(mu));
+  require_finite(eps, "eps");
+  if (!(eps > 0)) throw InvalidArgumentError("eps: the stop radius must be > 0, got " + std::to_string(eps));
+  MrpiDesign d;
+  d.brl = brl_ellipsoidal_rpi(A, E, wbar, hopt);
+  if (!(d.brl.g > 0)) throw InvalidArgumentError("wbar: gamma is 0 (E w is identically zero)");
+  d.mu = mu;
+  d.levels = expanded_ellipsoid_levels(d.brl.P, std::sqrt(d.brl.g), wbar.squaredNorm(), mu);
+  d.phi_v = polyhedral_rpi_between_ellipsoids(d.brl.P, d.levels.c_in, d.levels.c_out, popt);
+  opt.mu = mu;
+  const Box delta(-wbar, wbar, "wbar");
+  d.shrinking = boxes_only ? mrpi_outer_shrinking_boxes(A, E, delta, d.phi_v, d.brl.P, d.levels.c_out, eps, opt)
+                           : mrpi_outer_shrinking(A, E, delta, d.phi_v, d.brl.P, d.levels.c_out, eps, opt);
+  return d;
 }
 
 }  // namespace setbound::thesis
