@@ -163,12 +163,11 @@ def fig_thesis_ex1_5(out: Path):
     _ellipse(ax, d.P, d.c_out, color="C0", lw=1, ls="--", label=r"$\bar\Psi(\mu)$")
     _ellipse(ax, d.P, d.c_in, color="C0", lw=1, ls=":", label=r"$\bar\Psi^+(\mu)$")
     for k, S in enumerate(d.sets):
-        V = np.asarray(S.vertices if hasattr(S, "vertices") else S.plot_data())
-        V = V.T if V.shape[0] == 2 and V.shape[1] != 2 else V
+        V = S.plot_data()  # closed polygon
         style = dict(color="C1", lw=1.5, label=r"$\Phi_0 = \Phi_v$") if k == 0 else \
             dict(color="C3", lw=1.5, label=rf"$\Phi_{{k^*}}$, $k^*={d.k_star}$") if k == d.k_star else \
             dict(color="0.6", lw=0.5)
-        _poly(ax, V, **style)
+        ax.plot(V[:, 0], V[:, 1], **style)
     ax.plot(job.x_true[:, 0], job.x_true[:, 1], ".", color="k", ms=3, label="x_k (simulation)")
     ax.set(xlabel="x1", ylabel="x2", title="Thesis Ex 1.5: Algorithm 1 (Fig 1.11)")
     ax.legend(fontsize=7, loc="upper right")

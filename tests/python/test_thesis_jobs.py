@@ -230,3 +230,27 @@ def test_lpv_observer_through_the_job_contains_the_truth():
     res = config.run(config.from_dict(doc), quiet=True)
     assert res[0].ok and res[0].contained
     assert len(res[0].trajectory) == 40
+
+
+def test_failed_designs_are_reported_not_raised():
+    """An undetectable pair (an unstable mode C does not see), a user gain that does not stabilise
+    and non-centred boxes for the Ch. 2 observer: run(keep_going=True) reports each error."""
+    doc = {
+        "system": {"kind": "thesis", "A": [[2.0, 0], [0, 0.5]], "C": [[0, 1]], "F": [[1], [1]], "Z": [[0.1]],
+                   "d": {"lower": [0.0], "upper": [1.0]}, "v": [1.0]},
+        "initial": {"lower": [-1, -1], "upper": [1, 1]},
+        "simulation": {"horizon": 5, "seed": 1},
+        "estimator": [{"method": "interval_luenberger"},
+                      {"method": "interval_luenberger", "name": "user-gain", "L": [[0], [0.5]]}],
+    }
+    if HAVE_HINF:
+        doc["estimator"].append({"method": "ellipsoidal_sm"})
+    job = config.from_dict(doc)
+    res = {r.name: r for r in config.run(job, keep_going=True, quiet=True)}
+    assert not res["interval_luenberger"].ok and res["interval_luenberger"].error
+    # a user gain that does not stabilise A - L C is refused with the reason
+    assert not res["user-gain"].ok and "stabilising" in res["user-gain"].error
+    if HAVE_HINF:
+        assert not res["ellipsoidal_sm"].ok and "centred" in res["ellipsoidal_sm"].error
+    with pytest.raises(Exception):
+        config.run(job, quiet=True)
