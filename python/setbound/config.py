@@ -58,6 +58,14 @@ method or model is added in one place:
   final volume. Registered: ``offline``, ``online``, ``scaled``, ``improved``, ``descriptor``
   (ellipsoidal), ``segment_min``, ``volume_min``, ``pradius`` (zonotopic), ``kalman``.
 
+The thesis kinds (system kinds ``thesis``, ``lpv``, ``nonlinear``; estimators
+``interval_luenberger``, ``interval_invariant``, ``nonlinear_interval``, ``ellipsoidal_sm``,
+``lpv_sm``, ``invariant_tube``) live in :mod:`setbound.thesis_jobs`, imported at the end of this
+module. A system object may bring its own simulation (``simulate_job``, plus extra
+``[simulation]`` keys in ``simulation_keys``) and per-step data for its estimators
+(``job.extra``, e.g. the LPV scheduling signal); :func:`compile_expression` evaluates the
+whitelisted expressions with extra variables (``k``, the state ``x1 … xn``, a parameter ``p``).
+
 Every error is a :class:`ConfigError` (a ``ValueError``) whose message starts with the key
 (``system.A``, ``estimator[2].option``…) and says what is wrong.
 """
