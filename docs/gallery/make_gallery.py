@@ -200,7 +200,7 @@ def fig_thesis_ch2(out: Path):
         "Thesis Fig 2.3 (§2.5, thesis.md §4.8): bounds x̂_k ± ē∞·√μ_k of the Ch. 2 ellipsoidal-invariant-set " \
         "observer (Algorithm 2, γ and L from LMI 2.35, λ from the refinement 2.36) and, for comparison, of the Ch. 4 " \
         "interval Luenberger observer on the same data; uniform random d, v (the thesis does not give its profiles)."
-    tr = trajs["ellipsoidal-sm"]
+    tr = res["ellipsoidal-sm"].trajectory  # a quiet run is one call: it keeps the mu_k of the observer
     fig, axes = _fig()
     ax = axes[0, 0]
     ax.plot(np.arange(len(tr.mu)), tr.mu, "o-", ms=3)
