@@ -59,7 +59,6 @@ class LpvPlant:
             theta = theta.reshape(-1, 1)
         if theta.ndim != 2 or theta.shape[0] != N:
             raise DimensionError(f"theta: expected shape ({N}, n_rho) (one vertex per A_i), got {theta.shape}")
-        n = A[0].shape[0]
         B = [None] * N if B is None else list(B)
         F = [None] * N if F is None else list(F)
         if len(B) != N:
@@ -74,7 +73,6 @@ class LpvPlant:
                     raise DimensionError(f"{name}[{i}]: expected shape {M0.shape} (as vertex 0), got {M.shape}")
         self.theta = np.ascontiguousarray(theta)
         self.C, self.Z = self.vertices[0].C, self.vertices[0].Z
-        del n
 
     A = property(lambda self: [p.A for p in self.vertices])
     B = property(lambda self: [p.B for p in self.vertices])

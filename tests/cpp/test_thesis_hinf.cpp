@@ -7,6 +7,36 @@
 #include <random>
 
 #include "setbound/thesis/hinf_gain.hpp"
+#include "c_api_common.hpp"  // the C ABI (setbound.h) through the library's objects
+
+#include <atomic>
+#include <cstdlib>
+
+// Counting malloc (as in test_zonotopic_alloc.cpp): the online observers' step() must not
+// allocate. Eigen allocates with malloc.
+namespace {
+std::atomic<long> g_allocations{0};
+}
+#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_UNDEFINED__)
+#define SETBOUND_COUNT_MALLOC 1
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void* malloc(std::size_t n) {
+  ++g_allocations;
+  return __libc_malloc(n);
+}
+void* calloc(std::size_t a, std::size_t b) {
+  ++g_allocations;
+  return __libc_calloc(a, b);
+}
+void* realloc(void* p, std::size_t n) {
+  ++g_allocations;
+  return __libc_realloc(p, n);
+}
+}
+#endif
 
 using namespace setbound;
 using namespace setbound::thesis;
@@ -415,4 +445,73 @@ TEST(ThesisLpv, Ex1DesignAndContainment) {
     }
     EXPECT_EQ(obs.center(), c);
   }
+}
+
+TEST(ThesisHinfObservers, StepDoesNotAllocate) {
+#ifndef SETBOUND_COUNT_MALLOC
+  GTEST_SKIP() << "malloc cannot be counted here";
+#endif
+  const Plant p = ch2_plant();
+  const EllipsoidalSMDesign d = design_ellipsoidal_sm_observer(p, VectorXd::Ones(2));
+  EllipsoidalSMObserver obs(p, d, VectorXd::Zero(2), 2.0);
+  const LpvSystem sys = ch3_ex1();
+  const EllipsoidalSMDesign dl = design_ellipsoidal_sm_observer_lpv(sys, VectorXd::Ones(2));
+  LPVEllipsoidalSMObserver ol(sys, dl, VectorXd::Zero(2), 2.0);
+  VectorXd y = VectorXd::Constant(1, 0.3), u = VectorXd::Ones(1), rho = VectorXd::Constant(1, 0.07);
+  obs.step(y, u);
+  ol.step(y, u, rho);
+  {
+    const long c0 = g_allocations.load();
+    VectorXd probe = VectorXd::Random(64);  // the counter sees Eigen's heap allocations
+    EXPECT_GT(g_allocations.load(), c0);
+    EXPECT_TRUE(probe.allFinite());
+  }
+  const long before = g_allocations.load();
+  for (int k = 0; k < 100; ++k) {
+    obs.step(y, u);
+    ol.step(y, u, rho);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+TEST(ThesisHinfCapi, DesignObserverAndErrors) {
+  // Ch. 2 through the C ABI: design, μ0 from the box, a few steps; then bad input.
+  const double A[] = {0.2, 0.2, 0, 0.5}, B[] = {1, 1}, C[] = {1, 0}, F[] = {0, 0.1}, Z[] = {0.1}, wbar[] = {1, 1};
+  sb_hinf_design* d = nullptr;
+  ASSERT_EQ(sb_hinf_design_create(1, 2, 1, 1, 1, 1, 0, A, B, C, F, Z, nullptr, wbar, nullptr, SB_LAMBDA_DEFAULT, 2, &d),
+            SB_OK)
+      << sb_last_error();
+  double sc[9];
+  ASSERT_EQ(sb_hinf_design_get(d, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, sc), SB_OK);
+  const EllipsoidalSMDesign ref = design_ellipsoidal_sm_observer(ch2_plant(), VectorXd::Ones(2));
+  EXPECT_NEAR(sc[0], ref.gamma, 1e-9 * ref.gamma);
+  EXPECT_NEAR(sc[2], ref.lambda, 1e-9);
+  const double lo[] = {-1, 0}, hi[] = {1, 0};
+  double mu0 = 0;
+  ASSERT_EQ(sb_hinf_design_mu0_box(d, lo, hi, &mu0), SB_OK);
+  sb_hinf_observer* o = nullptr;
+  const double x0[] = {0, 0};
+  ASSERT_EQ(sb_hinf_observer_create(d, x0, mu0, &o), SB_OK);
+  double c[2], l[2], h[2], mu = 0;
+  const double y[] = {0.2}, u[] = {1};
+  ASSERT_EQ(sb_hinf_observer_step(o, y, u, nullptr, c, l, h, &mu), SB_OK);
+  const double ynan[] = {NAN};
+  EXPECT_EQ(sb_hinf_observer_step(o, ynan, u, nullptr, c, l, h, &mu), SB_ERR_NOT_FINITE);
+  EXPECT_EQ(std::string(sb_last_error()).rfind("sb_hinf_observer_step: y:", 0), 0u) << sb_last_error();
+  int steps = 0;
+  ASSERT_EQ(sb_hinf_observer_current(o, nullptr, nullptr, nullptr, nullptr, &steps), SB_OK);
+  EXPECT_EQ(steps, 1);
+  sb_hinf_observer_free(o);
+  sb_hinf_design_free(d);
+  // Not detectable: x2 unstable and unobserved.
+  const double Abad[] = {0.2, 0, 0, 1.2};
+  EXPECT_EQ(sb_hinf_design_create(1, 2, 1, 1, 1, 1, 0, Abad, B, C, F, Z, nullptr, wbar, nullptr, -1, 2, &d),
+            SB_ERR_NOT_DETECTABLE);
+  EXPECT_NE(std::string(sb_last_error()).find("A, C: the pair (A, C) is not detectable"), std::string::npos);
+  // ρ outside the polytope.
+  const double theta[] = {0, 0, 2, 0, 0, 2}, rho[] = {1.5, 1.5};
+  double alpha[3];
+  EXPECT_EQ(sb_polytopic_weights(3, 2, theta, rho, alpha), SB_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(sb_last_error()).find("rho: (1.5, 1.5) is outside"), std::string::npos) << sb_last_error();
+  EXPECT_EQ(sb_brl_ellipsoidal_rpi(2, 1, Abad, F, wbar, nullptr, nullptr, nullptr, nullptr), SB_ERR_INFEASIBLE);
 }

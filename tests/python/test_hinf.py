@@ -211,6 +211,19 @@ def test_lpv_gain_and_algorithm3_ex2_against_cvxpy():
     assert np.allclose(np.linalg.inv(np.mean(Vs, axis=0)), d.passes[1].Q_input, rtol=1e-7)
 
 
+def test_lpv_refine_ex1_against_cvxpy():
+    lp = ch3_ex1()
+    d = hinf.design_ellipsoidal_sm_observer_lpv(lp, [1.0, 1.0])
+    for ps in d.passes:
+        assert ps.g == pytest.approx(cvx_gain(lp.A, lp.F, lp.C, lp.Z, ps.Q_input), rel=1e-4)
+        Aos = [lp.A[i] - ps.L[i] @ lp.C for i in range(2)]
+        Es = [np.hstack([lp.F[i], -ps.L[i] @ lp.Z]) for i in range(2)]
+        Qc = cvx_refine(ps.P, Aos, Es, ps.g)
+        assert np.linalg.slogdet(ps.Q_refined)[1] == pytest.approx(np.linalg.slogdet(Qc)[1], abs=1e-3)
+        Qr, lam = hinf.refine_dissipation_matrix(lp, ps.P, ps.L, ps.g)
+        assert lam == pytest.approx(ps.lambda_refined, rel=1e-6)
+
+
 def test_lpv_gain_random_against_cvxpy():
     rng = np.random.default_rng(4)
     for _ in range(3):
