@@ -17,6 +17,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
@@ -63,6 +64,14 @@ inline QhullFacets qhull_facets(const Eigen::MatrixXd& pts, const std::string& n
       << " (need at least " << n + 1 << ")";
     throw InvalidArgumentError(s.str());
   }
+  {  // flat (or single-point) input: Qhull reports it in several ways, some as internal errors
+    const Eigen::MatrixXd X = pts.colwise() - pts.rowwise().mean();
+    const Eigen::VectorXd ev =
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(X * X.transpose(), Eigen::EigenvaluesOnly).eigenvalues();
+    if (!(ev(0) > 1e-20 * ev(n - 1)))
+      throw InvalidArgumentError(name + ": the points do not span R^" + std::to_string(n) +
+                                 " (the polytope would not be full-dimensional)");
+  }
   std::vector<double> coords(pts.data(), pts.data() + pts.size());  // column-major = point-major
   char* errbuf = nullptr;
   std::size_t errlen = 0;
@@ -107,7 +116,7 @@ inline QhullFacets qhull_facets(const Eigen::MatrixXd& pts, const std::string& n
   std::free(errbuf);
   if (code != 0) {
     if (message.find("QH6154") != std::string::npos || message.find("flat") != std::string::npos ||
-        message.find("QH6214") != std::string::npos || message.find("QH6271") != std::string::npos)
+        message.find("QH6214") != std::string::npos || message.find("QH6271") != std::string::npos || message.find("QH6421") != std::string::npos)
       throw InvalidArgumentError(name + ": the points do not span R^" + std::to_string(n) +
                                  " (the polytope would not be full-dimensional)");
     const auto cut = message.find('\n');
