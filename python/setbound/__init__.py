@@ -22,6 +22,15 @@ from . import hinf  # noqa: E402  (thesis Ch. 1-3 H-infinity observers)
 from .hinf import LpvPlant  # noqa: E402
 from . import inclusion, invariant  # noqa: E402  (thesis Chapter 1)
 from .invariant import Polytope  # noqa: E402
+from . import interval_observers  # noqa: E402
+from .interval_observers import (  # noqa: E402
+    IntervalInvariantObserver,
+    IntervalLuenbergerObserver,
+    NonlinearIntervalObserver,
+    interval_error_limit,
+    interval_error_recursion,
+    offline_error_sequence,
+)
 
 __version__ = version()
 
@@ -42,6 +51,13 @@ __all__ = [
     "is_detectable",
     "__version__",
     "ellipsoidal",
+    "interval_observers",
+    "IntervalInvariantObserver",
+    "IntervalLuenbergerObserver",
+    "NonlinearIntervalObserver",
+    "interval_error_limit",
+    "interval_error_recursion",
+    "offline_error_sequence",
     "errors",
     "exact_hull",
     "hinf",

@@ -15,13 +15,6 @@
 #include "setbound/thesis/interval_observer.hpp"
 #include "test_helpers.hpp"
 
-#ifdef SETBOUND_HAVE_HINF_GAIN
-#include "setbound/thesis/hinf_gain.hpp"
-#endif
-#ifdef SETBOUND_HAVE_INVARIANT_OBSERVER
-#include "setbound/thesis/interval_invariant_observer.hpp"
-#endif
-
 using namespace setbound;
 using namespace setbound::thesis;
 using setbound::testing::expect_error_naming;
@@ -194,6 +187,15 @@ int run_containment(Obs& obs, const Plant& p, const LVec& x0, const Box& d, cons
 // interval_error_recursion
 // ---------------------------------------------------------------------------------------------
 
+// a ⊆ b up to 1e-12·(1 + |b|): the variants carry different rounding allowances (~1e-15 relative).
+bool inflated_subset(const Box& a, const Box& b, double rel = 1e-12) {
+  for (Eigen::Index i = 0; i < a.size(); ++i) {
+    const double tol = rel * (1 + std::fabs(b.lo()(i)) + std::fabs(b.hi()(i)));
+    if (a.lo()(i) < b.lo()(i) - tol || a.hi()(i) > b.hi()(i) + tol) return false;
+  }
+  return true;
+}
+
 // The error of the sign-pattern trajectory that maximises coordinate j of e_k (thesis.md §6.2):
 // e_0 = c_0 + sign((A^k)_{j,:})∘r_0, w_{k−1−i} = c_w + sign((A^iE)_{j,:})∘r_w; sign = −1 for the
 // minimiser. Computed in long double.
@@ -235,10 +237,13 @@ TEST(IntervalErrorRecursion, TightIsAttainedAndInsideWrappedInsideNaive) {
     const auto wrapped = interval_error_recursion(Ao, E, e0, w, steps, ErrorRecursion::Wrapped);
     const auto naive = interval_error_recursion(Ao, E, e0, w, steps, ErrorRecursion::Naive);
     ASSERT_EQ(tight.size(), std::size_t(steps + 1));
-    EXPECT_TRUE(tight[0].subset(e0) && e0.subset(tight[0].hull(e0)));
+    // [e_0] is returned as given (rounding allowances only)
+    EXPECT_TRUE(e0.subset(tight[0]));
+    EXPECT_LT((tight[0].hi() - e0.hi()).cwiseAbs().maxCoeff(), 1e-14 * (1 + e0.norm()));
     for (int k = 0; k <= steps; ++k) {
-      EXPECT_TRUE(tight[std::size_t(k)].subset(wrapped[std::size_t(k)])) << "trial " << trial << " k " << k;
-      EXPECT_TRUE(wrapped[std::size_t(k)].subset(naive[std::size_t(k)])) << "trial " << trial << " k " << k;
+      // inclusions up to the rounding allowances each variant carries (≤ 1e-12 relative)
+      EXPECT_TRUE(inflated_subset(tight[std::size_t(k)], wrapped[std::size_t(k)])) << "trial " << trial << " k " << k;
+      EXPECT_TRUE(inflated_subset(wrapped[std::size_t(k)], naive[std::size_t(k)])) << "trial " << trial << " k " << k;
       for (Eigen::Index j = 0; j < n; ++j) {
         const long double emax = sign_pattern_error(Ao, E, e0, w, k, j, +1);
         const long double emin = sign_pattern_error(Ao, E, e0, w, k, j, -1);
@@ -267,9 +272,9 @@ TEST(IntervalErrorRecursion, RotationShowsWrappingEffect) {
   const auto tight = interval_error_recursion(Ao, E, e0, w, steps);
   const auto naive = interval_error_recursion(Ao, E, e0, w, steps, ErrorRecursion::Naive);
   for (int k = 0; k <= steps; ++k) {
-    EXPECT_TRUE(tight[std::size_t(k)].subset(naive[std::size_t(k)]));
-    if (k >= 1) {
-      // strictly tighter from the first re-boxing on, in every component
+    EXPECT_TRUE(inflated_subset(tight[std::size_t(k)], naive[std::size_t(k)]));
+    if (k >= 2) {
+      // equal at k = 1 (one product); strictly tighter from the first re-boxing on
       EXPECT_LT(tight[std::size_t(k)].width()(0), naive[std::size_t(k)].width()(0) * (1 - 1e-3)) << k;
       EXPECT_LT(tight[std::size_t(k)].width()(1), naive[std::size_t(k)].width()(1) * (1 - 1e-3)) << k;
     }
@@ -292,7 +297,7 @@ TEST(IntervalErrorRecursion, ConvergesToTheLimitBox) {
       const Box glim = interval_error_limit(Ao, E, w, variant);
       // from e_0 = 0 the boxes grow inside the limit …
       const auto from0 = interval_error_recursion(Ao, E, Box::point(VectorXd::Zero(n)), w, 300, variant);
-      for (const Box& b : from0) EXPECT_TRUE(b.subset(glim));
+      for (const Box& b : from0) EXPECT_TRUE(inflated_subset(b, glim, 1e-11));
       // … and from any e_0 they converge to it
       const auto fromx = interval_error_recursion(Ao, E, box_sym(n, 5.0), w, 300, variant);
       EXPECT_LT((fromx.back().hi() - glim.hi()).cwiseAbs().maxCoeff(), 1e-9);
@@ -358,9 +363,9 @@ TEST(IntervalLuenbergerObserver, TightBoxIsXhatPlusTheRecursion) {
   for (int k = 0; k < 40; ++k) {
     const VectorXd y = VectorXd::Constant(1, std::cos(0.1 * k)), u = VectorXd::Constant(1, 1.0);
     const VectorXd lo = tight.lower() - tight.xhat(), hi = tight.upper() - tight.xhat();
-    EXPECT_LT((lo - rec[std::size_t(k)].lo()).cwiseAbs().maxCoeff(), 1e-11);
-    EXPECT_LT((hi - rec[std::size_t(k)].hi()).cwiseAbs().maxCoeff(), 1e-11);
-    EXPECT_TRUE(tight.current().subset(wrapped.current()));
+    EXPECT_LT((lo - rec[std::size_t(k)].lo()).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_LT((hi - rec[std::size_t(k)].hi()).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_TRUE(inflated_subset(tight.current(), wrapped.current()));
     tight.step(y, u);
     wrapped.step(y, u);
   }
@@ -387,7 +392,7 @@ TEST(IntervalLuenbergerObserver, BadConstructionNamesTheArgument) {
   const VectorXd xh = VectorXd::Zero(2);
   // a gain that does not stabilise A − LC
   expect_error_naming<InvalidArgumentError>(
-      [&] { IntervalLuenbergerObserver(p, MatrixXd::Zero(2, 1), x0, xh, d, v); }, "L");
+      [&] { IntervalLuenbergerObserver(p, MatrixXd::Constant(2, 1, 20.0), x0, xh, d, v); }, "L");
   expect_error_naming<DimensionError>([&] { IntervalLuenbergerObserver(p, MatrixXd::Zero(2, 2), x0, xh, d, v); },
                                       "L");
   MatrixXd Ln = L;
@@ -480,8 +485,8 @@ TEST(NonlinearIntervalObserver, ConstantBoxMatchesTheTightRecursion) {
   const MatrixXd Ao = p.A - L * p.C, E = p.error_input(L);
   const auto rec = interval_error_recursion(Ao, E, x0 - Box::point(xh), iobs_detail::stack_boxes(hb, v), 60);
   for (int k = 0; k < 60; ++k) {
-    EXPECT_LT(((obs.lower() - obs.xhat()) - rec[std::size_t(k)].lo()).cwiseAbs().maxCoeff(), 1e-11) << k;
-    EXPECT_LT(((obs.upper() - obs.xhat()) - rec[std::size_t(k)].hi()).cwiseAbs().maxCoeff(), 1e-11) << k;
+    EXPECT_LT(((obs.lower() - obs.xhat()) - rec[std::size_t(k)].lo()).cwiseAbs().maxCoeff(), 1e-9) << k;
+    EXPECT_LT(((obs.upper() - obs.xhat()) - rec[std::size_t(k)].hi()).cwiseAbs().maxCoeff(), 1e-9) << k;
     VectorXd u(2);
     u << 0.1, -0.2;
     obs.step(VectorXd::Constant(1, 0.5), u);
@@ -495,7 +500,8 @@ TEST(NonlinearIntervalObserver, BadInput) {
   const VectorXd xh = VectorXd::Zero(2);
   expect_error_naming<InvalidArgumentError>([&] { NonlinearIntervalObserver(ex451(), MatrixXd::Zero(2, 1), box_sym(2, 1), xh, v); },
                                             "plant.F");
-  expect_error_naming<InvalidArgumentError>([&] { NonlinearIntervalObserver(p, MatrixXd::Zero(2, 1), x0, xh, v); }, "L");
+  expect_error_naming<InvalidArgumentError>([&] { NonlinearIntervalObserver(p, MatrixXd::Constant(2, 1, 5.0), x0, xh, v); },
+                                            "L");
   NonlinearIntervalObserver obs(p, L, x0, xh, v);
   const VectorXd y = VectorXd::Zero(1), u = VectorXd::Zero(2);
   expect_error_naming<InvalidArgumentError>([&] { obs.step(y, u); }, "h");
@@ -506,6 +512,264 @@ TEST(NonlinearIntervalObserver, BadInput) {
   EXPECT_EQ(obs.steps(), 0);
   obs.step(y, u, box_sym(2, 0.8));
   EXPECT_EQ(obs.steps(), 1);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// The thesis examples with the H∞ gain (4.13), and the invariant-set observer (§6.3)
+// ---------------------------------------------------------------------------------------------
+namespace {
+
+VectorXd u451(int k) { return (VectorXd(2) << 12 + std::sin(0.5 * k), 10 + std::cos(0.6 * k)).finished(); }
+VectorXd u452(int k) { return VectorXd::Constant(1, kPi / 8 * (std::sin(0.5 * k) + std::cos(2.0 * k)) + kPi / 4); }
+
+TEST(ThesisExamples, LuenbergerContainmentWithHinfGain) {
+  std::mt19937 g(45);
+  {
+    const Plant p = ex451();
+    HinfGain gain;
+    for (bool bb : {false, true}) {
+      auto obs = design_interval_luenberger(p, box_sym(2, 3), VectorXd::Zero(2), box_sym(1, 1), box_sym(1, 1), {}, {},
+                                            &gain);
+      EXPECT_EQ(run_containment(obs, p, ldv((VectorXd(2) << 1, 1).finished()), box_sym(1, 1), box_sym(1, 1), g, bb,
+                                200, u451),
+                200);
+      auto obs2 = design_interval_luenberger(p, box_sym(2, 3), VectorXd::Zero(2), box_sym(1, 1), box_sym(1, 1));
+      EXPECT_EQ(run_containment(obs2, p, ldv(sample(g, box_sym(2, 3), bb)), box_sym(1, 1), box_sym(1, 1), g, bb, 200,
+                                u451),
+                200);
+    }
+    EXPECT_GT(gain.gamma, 0);
+    // the naive recursion diverges on this example although A_o is Schur (thesis.md §6.2, Fig 4.1)
+    const MatrixXd Ao = p.A - gain.L * p.C;
+    const auto naive = interval_error_recursion(Ao, p.error_input(gain.L), box_sym(2, 3), box_sym(2, 1), 60,
+                                                ErrorRecursion::Naive);
+    EXPECT_LT(iobs_detail::spectral_radius(Ao), 1.0);
+    EXPECT_GT(naive.back().max_width(), 1e3 * naive[1].max_width());
+  }
+  {
+    const Plant p = ex452();
+    VectorXd xh(4), xt(4);
+    xh << -2.5, 2.5, -2.5, 2.5;
+    xt << 2.5, -2.5, 2.5, -2.5;
+    for (bool bb : {false, true}) {
+      auto obs = design_interval_luenberger(p, box_sym(4, 3), xh, box_sym(4, 2), box_sym(1, 1));
+      EXPECT_EQ(run_containment(obs, p, ldv(xt), box_sym(4, 2), box_sym(1, 1), g, bb, 150, u452), 150);
+    }
+  }
+}
+
+TEST(ThesisExamples, InvariantObserverEx451) {
+  const Plant p = ex451();
+  const HinfGain gain = hinf_observer_gain(p);
+  InvariantObserverOptions opt;
+  opt.inflation = 11;
+  opt.epsilon = 0.01;
+  const InvariantObserverDesign D = offline_error_sequence(p, gain, box_sym(2, 3), VectorXd::Zero(2), box_sym(1, 1),
+                                                           box_sym(1, 1), opt);
+  opt.variant = ErrorRecursion::Wrapped;
+  const InvariantObserverDesign Dw = offline_error_sequence(p, gain, box_sym(2, 3), VectorXd::Zero(2), box_sym(1, 1),
+                                                            box_sym(1, 1), opt);
+  ASSERT_GT(D.k_star, 0);
+  EXPECT_TRUE(D.beta > 0 && D.beta < 1);
+  EXPECT_LE(D.inflation_min, 11.0);
+  EXPECT_EQ(D.sequence.size(), std::size_t(D.k_star) + 1);
+  // k*: the rigorous stop rule holds at k* and fails at k* − 1
+  const double lmin = Eigen::SelfAdjointEigenSolver<MatrixXd>(D.P).eigenvalues().minCoeff();
+  const double R = D.inflation * std::sqrt(D.c_out / lmin);
+  EXPECT_LE(R * std::pow(D.beta, D.k_star), D.epsilon * (1 + 1e-12));
+  EXPECT_GT(R * std::pow(D.beta, D.k_star - 1), D.epsilon * (1 - 1e-12));
+  // constant tail, interval part tight ⊆ wrapped, tail ⊇ the mRPI hull
+  for (int k = D.k_star; k < D.k_star + 10; ++k) EXPECT_EIGEN_NEAR(D.box_at(k).hi(), D.sequence.back().hi(), 0.0);
+  for (int k = 0; k < D.k_star; ++k) EXPECT_TRUE(inflated_subset(D.sequence[std::size_t(k)], Dw.sequence[std::size_t(k)]));
+  const Box glim = interval_error_limit(p.A - gain.L * p.C, D.E, box_sym(2, 1));
+  EXPECT_TRUE(inflated_subset(glim, D.sequence.back()));
+  // containment: x_k ∈ x̂_k + [s_k] for uniform and bang-bang disturbances and random x_0
+  std::mt19937 g(451);
+  for (bool bb : {false, true})
+    for (int rep = 0; rep < 3; ++rep) {
+      IntervalInvariantObserver obs(D);
+      const VectorXd x0 = rep == 0 ? (VectorXd(2) << 1, 1).finished() : sample(g, box_sym(2, 3), bb);
+      EXPECT_EQ(run_containment(obs, p, ldv(x0), box_sym(1, 1), box_sym(1, 1), g, bb, D.k_star + 60, u451),
+                D.k_star + 60);
+    }
+  // e_k ∈ [s_k] directly, with the sign-pattern-free random runs above; bad input:
+  opt.variant = ErrorRecursion::Tight;
+  opt.epsilon = 0;
+  expect_error_naming<InvalidArgumentError>(
+      [&] { offline_error_sequence(p, gain, box_sym(2, 3), VectorXd::Zero(2), box_sym(1, 1), box_sym(1, 1), opt); },
+      "epsilon");
+  opt.epsilon = 0.01;
+  opt.inflation = 1.0;
+  expect_error_naming<InvalidArgumentError>(
+      [&] { offline_error_sequence(p, gain, box_sym(2, 3), VectorXd::Zero(2), box_sym(1, 1), box_sym(1, 1), opt); },
+      "inflation");
+  opt.inflation = 0;
+  opt.mu = 1;
+  expect_error_naming<InvalidArgumentError>(
+      [&] { offline_error_sequence(p, gain, box_sym(2, 3), VectorXd::Zero(2), box_sym(1, 1), box_sym(1, 1), opt); },
+      "mu");
+  opt.mu = 2;
+  HinfGain bad = gain;
+  bad.gamma *= 0.5;
+  bad.g = 0;
+  expect_error_naming<InvalidArgumentError>(
+      [&] { offline_error_sequence(p, bad, box_sym(2, 3), VectorXd::Zero(2), box_sym(1, 1), box_sym(1, 1), opt); },
+      "P");
+}
+
+TEST(ThesisExamples, InvariantObserverRandomSystems) {
+  std::mt19937 g(77);
+  int checked = 0;
+  int design_failures = 0;
+  for (int trial = 0; trial < 40 && checked < 20; ++trial) {
+    RandomCase rc = random_case(g, 2, 1, 1, 0.3 + 0.5 * double(trial % 4) / 3);
+    HinfGain gain;
+    try {
+      gain = hinf_observer_gain(rc.plant);
+    } catch (const NumericalError& e) {
+      // the H∞ design itself (hinf_gain.hpp) may fail to certify on a badly scaled random plant;
+      // that is not this observer's concern: take the next system (counted below)
+      ++design_failures;
+      continue;
+    }
+    InvariantObserverOptions opt;
+    opt.epsilon = 0.05;
+    const InvariantObserverDesign D =
+        offline_error_sequence(rc.plant, gain, box_sym(2, 1.5), VectorXd::Zero(2), rc.d, rc.v, opt);
+    IntervalInvariantObserver obs(D);
+    const bool bb = trial % 2 == 0;
+    checked += run_containment(obs, rc.plant, ldv(sample(g, box_sym(2, 1.5), bb)), rc.d, rc.v, g, bb, D.k_star + 30,
+                               [](int k) { return VectorXd::Constant(1, std::cos(0.2 * k)); }) > 0;
+  }
+  EXPECT_EQ(checked, 20);
+  EXPECT_LE(design_failures, 4);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// C ABI
+// ---------------------------------------------------------------------------------------------
+extern "C" {
+#include "setbound/setbound.h"
+}
+
+namespace {
+
+std::string last_error() { return sb_last_error(); }
+
+TEST(IntervalObserverCApi, LuenbergerRoundTripAndErrors) {
+  const Plant p = ex451();
+  const MatrixXd L = stabilising_gain(p, {0.4, -0.2});
+  using RM = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const RM A = p.A, B = p.B, C = p.C, F = p.F, Z = p.Z, Lr = L;
+  const double x0lo[2] = {-3, -3}, x0hi[2] = {3, 3}, xh[2] = {0, 0}, dlo[1] = {-1}, dhi[1] = {1};
+  sb_interval_luenberger* h = nullptr;
+  ASSERT_EQ(sb_interval_luenberger_create(2, 2, 1, 1, 1, A.data(), B.data(), C.data(), F.data(), Z.data(), Lr.data(),
+                                          x0lo, x0hi, xh, dlo, dhi, dlo, dhi, SB_IOBS_TIGHT, &h),
+            SB_OK)
+      << last_error();
+  IntervalLuenbergerObserver ref(p, L, box_sym(2, 3), VectorXd::Zero(2), box_sym(1, 1), box_sym(1, 1));
+  double lo[2], hi[2], xhat[2];
+  const double y[1] = {0.3}, u[2] = {12, 10};
+  ASSERT_EQ(sb_interval_luenberger_step(h, y, u, xhat, lo, hi), SB_OK) << last_error();
+  ref.step(VectorXd::Constant(1, 0.3), (VectorXd(2) << 12, 10).finished());
+  EXPECT_EQ(lo[0], ref.lower()(0));
+  EXPECT_EQ(hi[1], ref.upper()(1));
+  // bad input: NaN y leaves the observer unchanged; the message names y
+  const double ynan[1] = {std::nan("")};
+  EXPECT_EQ(sb_interval_luenberger_step(h, ynan, u, xhat, lo, hi), SB_ERR_NOT_FINITE);
+  EXPECT_NE(last_error().find("y:"), std::string::npos) << last_error();
+  int steps = -1;
+  ASSERT_EQ(sb_interval_luenberger_info(h, &steps, nullptr, nullptr, nullptr), SB_OK);
+  EXPECT_EQ(steps, 1);
+  sb_interval_luenberger_free(h);
+  // unstable user gain, empty box, bad variant
+  const double Lbad[2] = {20, 20};
+  sb_interval_luenberger* h2 = nullptr;
+  EXPECT_EQ(sb_interval_luenberger_create(2, 2, 1, 1, 1, A.data(), B.data(), C.data(), F.data(), Z.data(), Lbad, x0lo,
+                                          x0hi, xh, dlo, dhi, dlo, dhi, SB_IOBS_TIGHT, &h2),
+            SB_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(last_error().find("L: A_o = A - L C is not Schur"), std::string::npos) << last_error();
+  EXPECT_EQ(h2, nullptr);
+  EXPECT_EQ(sb_interval_luenberger_create(2, 2, 1, 1, 1, A.data(), B.data(), C.data(), F.data(), Z.data(), Lr.data(),
+                                          x0hi, x0lo, xh, dlo, dhi, dlo, dhi, SB_IOBS_TIGHT, &h2),
+            SB_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(last_error().find("x0"), std::string::npos) << last_error();
+  EXPECT_EQ(sb_interval_luenberger_create(2, 2, 1, 1, 1, A.data(), B.data(), C.data(), F.data(), Z.data(), Lr.data(),
+                                          x0lo, x0hi, xh, dlo, dhi, dlo, dhi, SB_IOBS_NAIVE, &h2),
+            SB_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(last_error().find("variant:"), std::string::npos) << last_error();
+  // the recursion through the C ABI
+  const RM Ao = p.A - L * p.C;
+  const RM E = p.error_input(L);
+  const double wlo[2] = {-1, -1}, whi[2] = {1, 1};
+  std::vector<double> rlo(2 * 6), rhi(2 * 6);
+  ASSERT_EQ(sb_interval_error_recursion(2, 2, Ao.data(), E.data(), x0lo, x0hi, wlo, whi, 5, SB_IOBS_TIGHT, rlo.data(),
+                                        rhi.data()),
+            SB_OK)
+      << last_error();
+  const auto rec = interval_error_recursion(Ao, E, box_sym(2, 3), box_sym(2, 1), 5);
+  EXPECT_EQ(rhi[10], rec[5].hi()(0));
+  EXPECT_EQ(sb_interval_error_recursion(2, 2, Ao.data(), E.data(), x0lo, x0hi, wlo, whi, -1, SB_IOBS_TIGHT,
+                                        rlo.data(), rhi.data()),
+            SB_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(last_error().find("steps:"), std::string::npos) << last_error();
+}
+
+TEST(IntervalObserverCApi, InvariantDesignEpsilonAndNonlinearH) {
+  const Plant p = ex451();
+  using RM = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const RM A = p.A, B = p.B, C = p.C, F = p.F, Z = p.Z;
+  const double x0lo[2] = {-3, -3}, x0hi[2] = {3, 3}, xh[2] = {0, 0}, dlo[1] = {-1}, dhi[1] = {1};
+  sb_interval_invariant_design* D = nullptr;
+  EXPECT_EQ(sb_interval_invariant_design_create(2, 2, 1, 1, 1, A.data(), B.data(), C.data(), F.data(), Z.data(), nullptr,
+                                                nullptr, 0, x0lo, x0hi, xh, dlo, dhi, dlo, dhi, 2.0, 11.0, 0.0,
+                                                SB_IOBS_TIGHT, &D),
+            SB_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(last_error().find("epsilon: must be > 0"), std::string::npos) << last_error();
+  ASSERT_EQ(sb_interval_invariant_design_create(2, 2, 1, 1, 1, A.data(), B.data(), C.data(), F.data(), Z.data(),
+                                                nullptr, nullptr, 0, x0lo, x0hi, xh, dlo, dhi, dlo, dhi, 2.0, 11.0,
+                                                0.01, SB_IOBS_TIGHT, &D),
+            SB_OK)
+      << last_error();
+  int kstar = -1;
+  double beta = 0, lam = 0;
+  ASSERT_EQ(sb_interval_invariant_design_info(D, &kstar, nullptr, nullptr, nullptr, &beta, nullptr, &lam, nullptr,
+                                              nullptr, nullptr, nullptr),
+            SB_OK);
+  EXPECT_GT(kstar, 0);
+  EXPECT_TRUE(beta > 0 && beta < 1);
+  EXPECT_EQ(lam, 11.0);
+  sb_interval_invariant* obs = nullptr;
+  ASSERT_EQ(sb_interval_invariant_create(D, &obs), SB_OK);
+  sb_interval_invariant_design_free(D);  // the observer keeps its own copy
+  double lo[2], hi[2];
+  const double y[1] = {0.1}, u[2] = {12, 10};
+  EXPECT_EQ(sb_interval_invariant_step(obs, y, u, nullptr, lo, hi), SB_OK) << last_error();
+  EXPECT_EQ(sb_interval_invariant_step(obs, nullptr, u, nullptr, lo, hi), SB_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(last_error().find("y:"), std::string::npos) << last_error();
+  sb_interval_invariant_free(obs);
+
+  const Plant q = ex463();
+  const RM A3 = q.A, B3 = q.B, C3 = q.C, Z3 = q.Z;
+  const double vlo[1] = {-0.2}, vhi[1] = {0.2};
+  sb_interval_nonlinear* nl = nullptr;
+  ASSERT_EQ(sb_interval_nonlinear_create(2, 2, 1, 1, A3.data(), B3.data(), C3.data(), Z3.data(), nullptr, x0lo, x0hi,
+                                         xh, vlo, vhi, 0, &nl),
+            SB_OK)
+      << last_error();
+  double gamma = 0;
+  ASSERT_EQ(sb_interval_nonlinear_info(nl, nullptr, nullptr, &gamma), SB_OK);
+  EXPECT_GT(gamma, 0);
+  const double hlo[2] = {0.8, -0.8}, hhi[2] = {-0.8, 0.8};  // first component empty
+  EXPECT_EQ(sb_interval_nonlinear_step(nl, y, u, hlo, hhi, nullptr, lo, hi), SB_ERR_INVALID_ARGUMENT);
+  EXPECT_NE(last_error().find("h"), std::string::npos) << last_error();
+  const double glo[2] = {-0.8, -0.8}, ghi[2] = {0.8, 0.8};
+  EXPECT_EQ(sb_interval_nonlinear_step(nl, y, u, glo, ghi, nullptr, lo, hi), SB_OK) << last_error();
+  sb_interval_nonlinear_free(nl);
 }
 
 }  // namespace

@@ -269,7 +269,8 @@ inline ErrorBoxTable error_box_table(const ErrorPowers& p, const Eigen::VectorXd
     const double rs = up(up(resid) * c.inv_sqrt_lmin);
     Eigen::VectorXd lo(n), hi(n);
     for (Eigen::Index j = 0; j < n; ++j) {
-      const double r = add_up(add_up(add_up(rad(j), S(j)), up(gam(n) * cabs(j))), rs);
+      const double cr = k == 0 ? 0.0 : up(gam(n) * cabs(j));  // M_0 = I: the centre is exact
+      const double r = add_up(add_up(add_up(rad(j), S(j)), cr), rs);
       lo(j) = sub_down(ck(j), r);
       hi(j) = add_up(ck(j), r);
     }
@@ -1002,8 +1003,8 @@ inline InvariantObserverDesign offline_error_sequence(const Plant& plant, const 
   const Eigen::MatrixXd Ao = plant.A - gain.L * plant.C;
   D.E = plant.error_input(gain.L);
   // the dissipation inequality (4.13) must hold for the values used (Q = I)
-  const double g = gain.gamma * gain.gamma;
-  if (!hinf_detail::certify_dissipation(D.P, Eigen::MatrixXd::Identity(n, n), Ao, D.E, up(g * (1 + 1e-9)), 1e-10))
+  const double g = std::max(gain.g, gain.gamma * gain.gamma);
+  if (!hinf_detail::certify_dissipation(D.P, Eigen::MatrixXd::Identity(n, n), Ao, D.E, g, HinfOptions{}.certificate_slack))
     throw InvalidArgumentError("P: (L, P, gamma) do not satisfy the dissipation LMI (4.13); use hinf_observer_gain");
   D.beta = certified_rate(Ao, D.P, "L");
   if (!(D.beta < 1)) throw InvalidArgumentError("L: A - L C is not contractive in the P norm (beta >= 1)");
