@@ -160,8 +160,8 @@ def fig_thesis_ex1_5(out: Path):
     d = res.design
     fig, axes = _fig(1, 1, (5.2, 4.4))
     ax = axes[0, 0]
-    _ellipse(ax, d.P, d.c_out, color="C0", lw=1, ls="--", label=r"$\bar\Psi(\mu)$")
-    _ellipse(ax, d.P, d.c_in, color="C0", lw=1, ls=":", label=r"$\bar\Psi^+(\mu)$")
+    _ellipse(ax, d.P, d.c_out, color="C0", lw=1.2, ls="--", zorder=3, label=r"$\bar\Psi(\mu)$")
+    _ellipse(ax, d.P, d.c_in, color="C2", lw=1.2, ls=":", zorder=3, label=r"$\bar\Psi^+(\mu)$")
     for k, S in enumerate(d.sets):
         V = S.plot_data()  # closed polygon
         style = dict(color="C1", lw=1.5, label=r"$\Phi_0 = \Phi_v$") if k == 0 else \
@@ -216,7 +216,9 @@ def fig_thesis_ch2(out: Path):
     fig, axes = _fig(1, 1, (5.2, 4.4))
     ax = axes[0, 0]
     e = job.x_true - tr.center
-    ax.plot(e[:, 0], e[:, 1], ".", color="k", ms=3, label=r"$e_k = x_k - \hat x_k$")
+    late = np.asarray(tr.mu) <= 1.01
+    ax.plot(e[late, 0], e[late, 1], ".", color="k", ms=3, label=r"$e_k = x_k - \hat x_k$, $\mu_k \leq 1.01$")
+    ax.plot(e[~late, 0], e[~late, 1], "x", color="0.5", ms=4, label=r"$e_k$ in the transient ($\mu_k > 1.01$)")
     _ellipse(ax, design.P, design.cbar, color="C0", label=r"invariant $\{e^TPe \leq \bar c\}$")
     Vi, t2, prob = hinf.chebyshev_error_ellipsoid(design.V, 3.0)
     _ellipse(ax, Vi, t2, color="C3", ls="--", label=f"Chebyshev, t = 3 (P ≥ {prob:.2f})")
@@ -224,7 +226,8 @@ def fig_thesis_ch2(out: Path):
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
     yield "thesis_ch2_ellipses.png", fig, \
-        "Thesis Fig 2.5: the estimation errors of the simulation, the guaranteed invariant ellipsoid {eᵀPe ≤ c̄} " \
+        "Thesis Fig 2.5: the estimation errors of the simulation (crosses: the transient, while μ_k > 1.01 and the " \
+        "guaranteed set is the larger {eᵀPe ≤ μ_k c̄}), the invariant ellipsoid {eᵀPe ≤ c̄} " \
         "and the Chebyshev ellipsoid {eᵀV⁻¹e ≤ t²}, t = 3 (2.41, probabilistic: it holds with probability ≥ " \
         "1 − n/t², reporting only)."
 
