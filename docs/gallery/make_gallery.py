@@ -281,20 +281,21 @@ def fig_thesis_ex4_5_1(out: Path):
         "sequence [s_k] up to k*, then Φ_k*'s box), with the true state from x_0 = (1, 1); uniform random d, v."
     res = {r.name: r for r in config.run(job, keep_going=True, quiet=True)}
     D = res["invariant"].design
-    fig, axes = _fig(1, 1, (5.2, 4.4))
-    ax = axes[0, 0]
-    _ellipse(ax, D.P, D.c_out, color="C0", ls="--", lw=1, label=r"$\bar\Psi(\mu)$")
-    _ellipse(ax, D.P, D.c_in, color="C0", ls=":", lw=1, label=r"$\bar\Psi^+(\mu)$")
+    fig, axes = _fig(1, 2, (9.6, 4.4))
     V = D.phi0_vertices.T
-    _poly(ax, V, color="C1", lw=1.5, label=r"$\Phi_0$")
-    _poly(ax, D.inflation * V, color="C2", lw=1, label=rf"$\lambda\Phi_0$, $\lambda = {D.inflation:g}$")
-    lo, hi = D.lower[0], D.upper[0]
-    _box(ax, lo, hi, color="k", lw=0.8, ls="-.", label="[e_0]")
-    lo, hi = D.lower[-1], D.upper[-1]
-    _box(ax, lo, hi, color="C3", lw=1.5, label=rf"$[s_{{k^*}}]$, $k^* = {D.k_star}$")
-    ax.set(xlabel="e1", ylabel="e2", title="Thesis Ex 4.5.1: error sets (Fig 4.6)")
-    ax.legend(fontsize=7, loc="upper right")
-    ax.grid(alpha=0.3)
+    for j, ax in enumerate(axes[0]):
+        _ellipse(ax, D.P, D.c_out, color="C0", ls="--", lw=1.2, zorder=3, label=r"$\bar\Psi(\mu)$")
+        _ellipse(ax, D.P, D.c_in, color="C2", ls=":", lw=1.2, zorder=3, label=r"$\bar\Psi^+(\mu)$")
+        _poly(ax, V, color="C1", lw=1.5, label=r"$\Phi_0$")
+        _poly(ax, D.inflation * V, color="C4", lw=1, label=rf"$\lambda\Phi_0$, $\lambda = {D.inflation:g}$")
+        _box(ax, D.lower[0], D.upper[0], color="k", lw=0.8, ls="-.", label="[e_0]")
+        _box(ax, D.lower[-1], D.upper[-1], color="C3", lw=1.5, label=rf"$[s_{{k^*}}]$, $k^* = {D.k_star}$")
+        ax.set(xlabel="e1", ylabel="e2")
+        ax.grid(alpha=0.3)
+    r = 1.3 * np.abs(V).max(axis=0)
+    axes[0, 1].set(xlim=(-r[0], r[0]), ylim=(-r[1], r[1]), title="zoom on Φ_0")
+    axes[0, 0].set(title="Thesis Ex 4.5.1: error sets (Fig 4.6)")
+    axes[0, 0].legend(fontsize=7, loc="upper right")
     yield "thesis_ex4_5_1_sets.png", fig, \
         "Thesis Fig 4.6: the polyhedral invariant set Φ_0 between the ellipsoids Ψ̄⁺(μ) and Ψ̄(μ) (μ = 2) of the " \
         "H∞ design (LMI 4.13), the inflated set λΦ_0 ⊇ [e_0] (λ = 11) and the box of the error at k*, the first k " \
