@@ -236,10 +236,12 @@ class ThesisSystem(LinearSystem):
 
     @property
     def d(self) -> Box | None:
+        """The box of the state disturbance d (None without F)."""
         return Box(self.dlo, self.dhi) if self.dlo.size else None
 
     @property
     def v(self) -> Box | None:
+        """The box of the measurement noise v (None without Z)."""
         return Box(self.vlo, self.vhi) if self.vlo.size else None
 
     @property
@@ -249,13 +251,17 @@ class ThesisSystem(LinearSystem):
 
     @property
     def centred(self) -> bool:
+        """True when both boxes are centred at 0."""
         return not self.offset
 
     def fingerprint(self):
+        """Bytes identifying the plant and the boxes (the key of the shared design cache)."""
         p = self.plant
         return tuple(a.tobytes() for a in (p.A, p.B, p.C, p.F, p.Z, self.dlo, self.dhi, self.vlo, self.vhi))
 
     def simulate_job(self, sim, initial, N, t, u, x0, seed) -> ThesisSimulation:
+        """The ``[simulation]`` of a job in the thesis letters (d, v sampled in their boxes or
+        given as expressions of t, k); ``u`` includes the constant offset column, if any."""
         p = self.plant
         rng, src, xt = _sim_common(sim, initial, x0, seed, p.nd, p.nv, self.dlo, self.dhi, self.vlo, self.vhi)
         _check_x0_inside(initial, xt)
@@ -354,23 +360,27 @@ class LpvSystem(_OutputModel):
         self._set_output(C, Z, vlo, vhi, B[0].shape[1])
         self.rho_lo, self.rho_hi = theta.min(axis=0), theta.max(axis=0)
 
-    nu = property(lambda self: self.B[0].shape[1])
-    n_rho = property(lambda self: self.theta.shape[1])
+    nu = property(lambda self: self.B[0].shape[1], doc="Number of known inputs.")
+    n_rho = property(lambda self: self.theta.shape[1], doc="Number of scheduling parameters.")
 
     def lpv_plant(self):
+        """The :class:`setbound.hinf.LpvPlant` of the vertex matrices (for the Ch. 3 design)."""
         from .hinf import LpvPlant
 
         return LpvPlant(self.A, self.C, self.theta, B=self.B, F=self.Fd, Z=self.Z)
 
     @property
     def wbar(self):
+        """Half-widths of w = (d, v) (the thesis's w̄)."""
         return np.concatenate([(self.dhi - self.dlo) / 2, (self.vhi - self.vlo) / 2])
 
     @property
     def centred(self) -> bool:
+        """True when both boxes are centred at 0."""
         return bool(np.all(self.dhi == -self.dlo) and np.all(self.vhi == -self.vlo))
 
     def fingerprint(self):
+        """Bytes identifying the model (the key of the shared design cache)."""
         return tuple(a.tobytes() for a in (*self.A, *self.B, *self.Fd, self.C, self.Z, self.theta, self.dlo, self.dhi,
                                            self.vlo, self.vhi))
 
@@ -387,6 +397,8 @@ class LpvSystem(_OutputModel):
         return rho, M(self.A), M(self.B), M(self.Fd)
 
     def simulate_job(self, sim, initial, N, t, u, x0, seed) -> ThesisSimulation:
+        """Simulates with the state-dependent scheduling ρ_k (validated or clipped, see
+        :meth:`matrices_at`); ``extra["rho"]`` is the N × n_ρ signal."""
         n, nu = self.nx, self.nu
         rng, src, xt = _sim_common(sim, initial, x0, seed, self.dlo.size, self.vlo.size, self.dlo, self.dhi,
                                    self.vlo, self.vhi)
@@ -455,20 +467,25 @@ class NonlinearSystem(_OutputModel):
         self._set_output(C, Z, vlo, vhi, B.shape[1])
         self.plant = Plant(A, C, B=B if B.shape[1] else None, F=np.eye(A.shape[0]), Z=Z if Z.shape[1] else None)
 
-    nu = property(lambda self: self.B.shape[1])
+    nu = property(lambda self: self.B.shape[1], doc="Number of known inputs.")
 
     @property
     def h_box(self) -> Box:
+        """The inclusion box [h] of the nonlinearity."""
         return Box(self.hlo, self.hhi)
 
     @property
     def v(self) -> Box | None:
+        """The box of the measurement noise v (None without Z)."""
         return Box(self.vlo, self.vhi) if self.vlo.size else None
 
     def fingerprint(self):
+        """Bytes identifying the model (the key of the shared design cache)."""
         return tuple(a.tobytes() for a in (self.A, self.B, self.C, self.Z, self.hlo, self.hhi, self.vlo, self.vhi))
 
     def simulate_job(self, sim, initial, N, t, u, x0, seed) -> ThesisSimulation:
+        """Simulates with the parameter ``[simulation] parameter``; every h(p, x_k, k) is
+        checked against [h]; ``extra["h"]`` holds the values."""
         n = self.nx
         p = sim.get("parameter", float(self.phi))
         if not (isinstance(p, (int, float)) and not isinstance(p, bool) and math.isfinite(p)):
