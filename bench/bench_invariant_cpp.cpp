@@ -85,5 +85,19 @@ int main(int argc, char** argv) {
     const double s = median_seconds([&] { thesis::polyhedral_rpi_between_ellipsoids(P, 1.0, 1.5); }, std::max(3, repeats / 3));
     std::printf("| %d | %d | %d | %.3f ms |\n", n, int(p.num_vertices()), int(p.num_facets()), s * 1e3);
   }
+  // the size that Chapter 4's Ex 4.5.2 asks for: μ = 2 and λ_max(P) ≈ 22.6 give c_out/c_in ≈ 1.0226
+  std::printf("\nΦ_v alone, n = 4, c_out/c_in = 1.0226 (Ex 4.5.2's levels with μ = 2)\n\n");
+  {
+    const Eigen::MatrixXd P = Eigen::MatrixXd::Identity(4, 4);
+    const auto a = std::chrono::steady_clock::now();
+    try {
+      const Polytope p = thesis::polyhedral_rpi_between_ellipsoids(P, 1.0, 1.0226);
+      const auto b = std::chrono::steady_clock::now();
+      std::printf("%d vertices, %d facets, %.1f ms (one run)\n", int(p.num_vertices()), int(p.num_facets()),
+                  std::chrono::duration<double>(b - a).count() * 1e3);
+    } catch (const std::exception& e) {
+      std::printf("failed: %s\n", e.what());
+    }
+  }
   return 0;
 }
