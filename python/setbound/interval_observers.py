@@ -209,6 +209,7 @@ class IntervalLuenbergerObserver(_OnlineObserver):
 
     @property
     def steps(self) -> int:
+        """Number of steps taken (k of the current box)."""
         s = ffi.new("int*")
         check(lib.sb_interval_luenberger_info(self._handle, s, ffi.NULL, ffi.NULL, ffi.NULL))
         return int(s[0])
@@ -271,6 +272,7 @@ class NonlinearIntervalObserver(_OnlineObserver):
 
     @property
     def steps(self) -> int:
+        """Number of steps taken (k of the current box)."""
         s = ffi.new("int*")
         check(lib.sb_interval_nonlinear_info(self._handle, s, ffi.NULL, ffi.NULL))
         return int(s[0])
@@ -384,6 +386,7 @@ class IntervalInvariantObserver(_OnlineObserver):
 
     @property
     def steps(self) -> int:
+        """Number of steps taken (k of the current box)."""
         s = ffi.new("int*")
         check(lib.sb_interval_invariant_info(self._handle, s))
         return int(s[0])
