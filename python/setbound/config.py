@@ -58,6 +58,14 @@ method or model is added in one place:
   final volume. Registered: ``offline``, ``online``, ``scaled``, ``improved``, ``descriptor``
   (ellipsoidal), ``segment_min``, ``volume_min``, ``pradius`` (zonotopic), ``kalman``.
 
+The thesis kinds (system kinds ``thesis``, ``lpv``, ``nonlinear``; estimators
+``interval_luenberger``, ``interval_invariant``, ``nonlinear_interval``, ``ellipsoidal_sm``,
+``lpv_sm``, ``invariant_tube``) live in :mod:`setbound.thesis_jobs`, imported at the end of this
+module. A system object may bring its own simulation (``simulate_job``, plus extra
+``[simulation]`` keys in ``simulation_keys``) and per-step data for its estimators
+(``job.extra``, e.g. the LPV scheduling signal); :func:`compile_expression` evaluates the
+whitelisted expressions with extra variables (``k``, the state ``x1 … xn``, a parameter ``p``).
+
 Every error is a :class:`ConfigError` (a ``ValueError``) whose message starts with the key
 (``system.A``, ``estimator[2].option``…) and says what is wrong.
 """
@@ -204,6 +212,9 @@ class Job:
     system_kind: str = "linear"
     #: True when ``[system.omega]`` had an offset: the last column of ``u`` is then the constant 1
     constant_input: bool = False
+    #: per-step data besides y/u from a system kind's own simulation (e.g. ``"rho"``: the LPV
+    #: scheduling signal, N × n_ρ), or from a data file
+    extra: dict = field(default_factory=dict)
     #: offline designs used by the estimators of the job (key -> (design, seconds to compute))
     designs: dict = field(default_factory=dict, repr=False)
 
@@ -227,6 +238,8 @@ _DESIGN_CACHE: dict = {}
 
 
 def _fingerprint(system) -> tuple:
+    if hasattr(system, "fingerprint"):  # a system kind with more data than the matrices below
+        return (type(system).__qualname__, system.fingerprint())
     parts = [type(system).__qualname__]
     for name in ("E", "A", "A_rad", "B", "C", "D", "F"):
         a = getattr(system, name, None)
@@ -282,38 +295,67 @@ _FUNCS = {"sin": np.sin, "cos": np.cos, "tan": np.tan, "exp": np.exp, "sqrt": np
 _CONSTS = {"pi": math.pi, "e": math.e}
 
 
-def eval_expression(expr: str, t: np.ndarray, key: str) -> np.ndarray:
-    """Evaluates a simple expression of ``t`` (numbers, + − * / **, sin cos tan exp sqrt abs log
-    sign floor tanh, pi, e) on the array ``t``; nothing else is allowed."""
+def compile_expression(expr: str, key: str, names=("t",)) -> Callable[[dict], Any]:
+    """Parses a simple expression once and returns ``f(env)`` evaluating it with the variables of
+    ``env`` (a dict name -> number or array). Allowed: numbers, the variables ``names``, + − * /
+    **, sin cos tan exp sqrt abs log sign floor tanh, pi, e; nothing else (an AST whitelist, no
+    attribute access, no other calls). Errors are :class:`ConfigError` naming ``key``."""
+    if not isinstance(expr, str):
+        raise ConfigError(f"{key}: expected an expression (a string), got {expr!r}")
     try:
         tree = ast.parse(expr, mode="eval")
     except SyntaxError as exc:
         raise ConfigError(f"{key}: cannot parse the expression {expr!r} ({exc.msg})") from None
+    allowed = tuple(names)
 
-    def ev(node):
+    def check(node):  # validate once, so evaluation cannot meet an unsupported construct
         if isinstance(node, ast.Expression):
-            return ev(node.body)
-        if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):
-            return float(node.value)
+            return check(node.body)
+        if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
+            return
         if isinstance(node, ast.Name):
-            if node.id == "t":
-                return t
-            if node.id in _CONSTS:
-                return _CONSTS[node.id]
-            raise ConfigError(f"{key}: unknown name {node.id!r} in {expr!r} (only t, pi, e)")
+            if node.id in allowed or node.id in _CONSTS:
+                return
+            raise ConfigError(f"{key}: unknown name {node.id!r} in {expr!r} (only {', '.join(allowed)}, pi, e)")
         if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
-            return _BINOPS[type(node.op)](ev(node.left), ev(node.right))
+            check(node.left)
+            return check(node.right)
         if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
-            v = ev(node.operand)
-            return -v if isinstance(node.op, ast.USub) else v
+            return check(node.operand)
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in _FUNCS \
                 and len(node.args) == 1 and not node.keywords:
-            return _FUNCS[node.func.id](ev(node.args[0]))
-        raise ConfigError(f"{key}: unsupported construct in {expr!r} (numbers, t, + - * / **, "
+            return check(node.args[0])
+        raise ConfigError(f"{key}: unsupported construct in {expr!r} (numbers, {', '.join(allowed)}, + - * / **, "
                           f"{', '.join(sorted(_FUNCS))})")
 
-    with np.errstate(all="ignore"):
-        v = np.broadcast_to(np.asarray(ev(tree), dtype=float), t.shape).copy()
+    check(tree)
+
+    def ev(node, env):
+        if isinstance(node, ast.Expression):
+            return ev(node.body, env)
+        if isinstance(node, ast.Constant):
+            return float(node.value)
+        if isinstance(node, ast.Name):
+            return env[node.id] if node.id in allowed else _CONSTS[node.id]
+        if isinstance(node, ast.BinOp):
+            return _BINOPS[type(node.op)](ev(node.left, env), ev(node.right, env))
+        if isinstance(node, ast.UnaryOp):
+            v = ev(node.operand, env)
+            return -v if isinstance(node.op, ast.USub) else v
+        return _FUNCS[node.func.id](ev(node.args[0], env))
+
+    def f(env):
+        with np.errstate(all="ignore"):
+            return ev(tree, env)
+    f.names = frozenset(n.id for n in ast.walk(tree) if isinstance(n, ast.Name) and n.id in allowed)
+    return f
+
+
+def eval_expression(expr: str, t: np.ndarray, key: str) -> np.ndarray:
+    """Evaluates a simple expression of ``t`` (numbers, + − * / **, sin cos tan exp sqrt abs log
+    sign floor tanh, pi, e) on the array ``t``; nothing else is allowed."""
+    f = compile_expression(expr, key, ("t",))
+    v = np.broadcast_to(np.asarray(f({"t": t}), dtype=float), t.shape).copy()
     if not np.all(np.isfinite(v)):
         raise ConfigError(f"{key}: the expression {expr!r} is not finite for every t")
     return v
@@ -543,7 +585,9 @@ def from_dict(doc: dict, *, base=Path("."), source: str = "") -> Job:
         raise ConfigError("job: exactly one of [simulation] and [data] is required")
     if "simulation" in doc:
         sim = doc["simulation"]
-        _check_keys(sim, {"horizon", "seed", "disturbance", "inputs", "time", "x0", "A_choice"}, "simulation")
+        custom = getattr(system, "simulate_job", None)  # a system kind with its own simulation (thesis_jobs)
+        _check_keys(sim, {"horizon", "seed", "disturbance", "inputs", "time", "x0", "A_choice",
+                          *getattr(system, "simulation_keys", ())}, "simulation")
         N = _require(sim, "horizon", "simulation")
         if not isinstance(N, int) or isinstance(N, bool) or N < 1:
             raise ConfigError(f"simulation.horizon: must be a positive integer, got {N!r}")
@@ -558,11 +602,19 @@ def from_dict(doc: dict, *, base=Path("."), source: str = "") -> Job:
         if x0 != "sample":
             x0 = _matrix(x0, "simulation.x0", ndim=1, shape=(n,))
         kind = sim.get("disturbance", "uniform")
-        if kind not in ("uniform", "vertex", "gaussian", "zero"):
-            raise ConfigError(f"simulation.disturbance: expected uniform, vertex, gaussian or zero, got {kind!r}")
         seed = sim.get("seed", 0)
         if not isinstance(seed, int) or isinstance(seed, bool):
             raise ConfigError(f"simulation.seed: must be an integer, got {seed!r}")
+        if custom is not None:
+            # x_true, y and the extra per-step data (e.g. the LPV scheduling signal) from the system
+            s = custom(sim, initial, N, t, u, x0, seed)
+            job.y, job.u, job.x_true, job.t = s.y, (s.u if system.nu else None), s.x, t
+            job.extra = dict(getattr(s, "extra", {}) or {})
+            job.estimators = _estimators(doc.get("estimator"), system_kind)
+            job.plots = _plots(doc.get("plots", {}), n, len(job.y), [e.name for e in job.estimators])
+            return job
+        if kind not in ("uniform", "vertex", "gaussian", "zero"):
+            raise ConfigError(f"simulation.disturbance: expected uniform, vertex, gaussian or zero, got {kind!r}")
         try:
             s = simulate(system, initial if isinstance(x0, str) else x0, N, disturbance=kind, rng=seed, u=u,
                          A_choice=sim.get("A_choice", "vertex"))
@@ -833,3 +885,7 @@ def run_estimator(job: Job, spec: EstimatorSpec, *, keep_going: bool = False, qu
 def run(job: Job, *, keep_going: bool = False, quiet: bool = False) -> list[Result]:
     """Runs every estimator of ``job`` in order (see :func:`run_estimator`)."""
     return [run_estimator(job, spec, keep_going=keep_going, quiet=quiet) for spec in job.estimators]
+
+
+# the thesis system and estimator kinds (thesis.md): registered on import
+from . import thesis_jobs  # noqa: E402,F401

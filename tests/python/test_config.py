@@ -41,7 +41,7 @@ def test_base_is_valid(tmp_path):
     (lambda t: t.replace("C = [[1, 0]]\n", ""), r"system\.C: missing"),
     (lambda t: t.replace("F = [[0, 0.1]]", 'F = "zero"'), r"system\.F: expected a numeric"),
     (lambda t: t.replace("[system]", "[system]\nAA = 1"), r"system\.AA: unknown key"),
-    (lambda t: t.replace("[system]", '[system]\nkind = "nonlinear"'), r"system\.kind"),
+    (lambda t: t.replace("[system]", '[system]\nkind = "quadratic"'), r"system\.kind"),
     (lambda t: t.replace("rho = 1.0", "rho = -1.0"), r"initial\.rho: must be a positive"),
     (lambda t: t.replace("center = [0, 0]", "center = [0, 0, 0]"), r"initial\.center: expected shape"),
     (lambda t: t.replace("horizon = 5", "horizon = 0"), r"simulation\.horizon"),
@@ -179,7 +179,7 @@ method = "segment_min"
     assert res.ok and res.contained is True
     with pytest.raises(config.ConfigError, match=r"system\.a: must be a number"):
         load_text(tmp_path, text.replace("a = 0.9", "a = 'x'"))
-    with pytest.raises(config.ConfigError, match=r"system\.kind: expected one of 'linear', 'descriptor', 'scalar'"):
+    with pytest.raises(config.ConfigError, match=r"system\.kind: expected one of 'linear', 'descriptor', .*'scalar', got 'other'"):
         load_text(tmp_path, text.replace('kind = "scalar"', 'kind = "other"'))
     with pytest.raises(ValueError, match="already registered"):
         config.register_estimator("hold", "test", {}, lambda job, o: (Hold(), None))

@@ -39,3 +39,21 @@ def test_main_runs_the_main_job(tmp_path, capsys):
     assert "(4 steps)" in out
     assert (tmp_path / "summary.json").is_file()
     assert not list(tmp_path.glob("*.png"))
+
+
+def test_demo_runs_the_thesis_observers():
+    """The applicable thesis observers are in the demo job (through Plant.from_linear_system on
+    the papers' 3-state system) and contain the true state; the others are listed with a reason."""
+    from setbound import config
+
+    job, skipped = demo.demo_job(steps=25)
+    names = [e.method for e in job.estimators]
+    registered = [m for m in demo.THESIS_OBSERVERS if m in config.ESTIMATORS]
+    assert "interval_luenberger" in registered and "interval_invariant" in registered
+    assert set(registered) <= set(names) and set(skipped) == set(demo.THESIS_OBSERVERS) - set(registered)
+    for spec in job.estimators:
+        if spec.method in registered:
+            r = config.run_estimator(job, spec, quiet=True)
+            assert r.ok and r.contained is True, (spec.name, r.error)
+            assert r.trajectory.width.max() < 1e3  # bounded on the detectable demo system
+    assert set(demo.THESIS_NOT_APPLICABLE) & set(demo.THESIS_OBSERVERS) == set()
