@@ -9,6 +9,12 @@ PY       := $(VENV)/bin/python
 CPP_BUILD := build/cpp
 JOBS     ?= 2
 
+# One compiler name for every CMake build (the C++ tests in build/cpp, the Python package and the
+# wheel in build/<wheel tag>): ccache keys on the compiler's name, and CMake from PyPI picks g++
+# where Debian's picks c++, so without this the library was compiled twice from scratch.
+export CC
+export CXX
+
 .PHONY: all deps venv install build-cpp test test-cpp test-python test-wheel demo bench clean
 
 all: test
