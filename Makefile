@@ -14,6 +14,9 @@ JOBS     ?= 2
 # where Debian's picks c++, so without this the library was compiled twice from scratch.
 export CC
 export CXX
+# Paths under the checkout enter ccache's hash relative to it, so another clone of the project
+# (a CI checkout, a second worktree) reuses the same cache entries.
+export CCACHE_BASEDIR := $(CURDIR)
 
 .PHONY: all deps venv install build-cpp test test-cpp test-python test-wheel demo bench clean
 
