@@ -386,6 +386,18 @@ inline Eigen::MatrixXd mapped_corners(const Eigen::MatrixXd& E, const Box& delta
 
 }  // namespace detail
 
+/// The box-only variant (for Ch. 4): same schedule and k*, boxes [Φ_k] only (no polytope hulls;
+/// cost O(k*·(p + m)·n²) with p the vertex count of Φ_0).
+inline MrpiShrinking mrpi_outer_shrinking_boxes(const Eigen::MatrixXd& A, const Eigen::MatrixXd& E,
+                                                const Box& delta, const Polytope& Phi0,
+                                                const Eigen::MatrixXd& P, double c_out, double eps,
+                                                const MrpiOptions& opt = {}) {
+  detail::check_mrpi_inputs(A, E, delta, Phi0, P, c_out, eps, opt);
+  MrpiShrinking r = detail::mrpi_schedule(A, Phi0, P, c_out, eps, opt);
+  r.boxes = detail::mrpi_boxes(A, E, delta, Phi0, r.k_star);
+  return r;
+}
+
 /// Algorithm 1 (eqs 1.59–1.72) from a given Φ_0 (usually polyhedral_rpi_between_ellipsoids):
 ///   Φ_{k+1} = AΦ_k ⊕ EΔ (V-rep: all sums A v_i + E d_j over the corners d_j of Δ, then a Qhull
 ///   hull), until the stop rule holds (k* ≥ 1). P is the BRL matrix of A (§3.4), c_out the level
@@ -398,9 +410,7 @@ inline MrpiShrinking mrpi_outer_shrinking(const Eigen::MatrixXd& A, const Eigen:
                                           const Box& delta, const Polytope& Phi0,
                                           const Eigen::MatrixXd& P, double c_out, double eps,
                                           const MrpiOptions& opt = {}) {
-  detail::check_mrpi_inputs(A, E, delta, Phi0, P, c_out, eps, opt);
-  MrpiShrinking r = detail::mrpi_schedule(A, Phi0, P, c_out, eps, opt);
-  r.boxes = detail::mrpi_boxes(A, E, delta, Phi0, r.k_star);
+  MrpiShrinking r = mrpi_outer_shrinking_boxes(A, E, delta, Phi0, P, c_out, eps, opt);
   const Eigen::MatrixXd W = detail::mapped_corners(E, delta);
   r.sets.reserve(static_cast<std::size_t>(r.k_star) + 1);
   r.sets.push_back(Phi0);
@@ -410,18 +420,6 @@ inline MrpiShrinking mrpi_outer_shrinking(const Eigen::MatrixXd& A, const Eigen:
     for (Eigen::Index j = 0; j < W.cols(); ++j) S.middleCols(j * AV.cols(), AV.cols()) = AV.colwise() + W.col(j);
     r.sets.push_back(Polytope::from_vertices(S, "Phi_" + std::to_string(k)));
   }
-  return r;
-}
-
-/// The box-only variant (for Ch. 4): same schedule and k*, boxes [Φ_k] only (no polytope hulls;
-/// cost O(k*·(p + m)·n²) with p the vertex count of Φ_0).
-inline MrpiShrinking mrpi_outer_shrinking_boxes(const Eigen::MatrixXd& A, const Eigen::MatrixXd& E,
-                                                const Box& delta, const Polytope& Phi0,
-                                                const Eigen::MatrixXd& P, double c_out, double eps,
-                                                const MrpiOptions& opt = {}) {
-  detail::check_mrpi_inputs(A, E, delta, Phi0, P, c_out, eps, opt);
-  MrpiShrinking r = detail::mrpi_schedule(A, Phi0, P, c_out, eps, opt);
-  r.boxes = detail::mrpi_boxes(A, E, delta, Phi0, r.k_star);
   return r;
 }
 
