@@ -64,6 +64,7 @@ int posix_memalign(void** out, std::size_t al, std::size_t n) noexcept {
 #include <random>
 
 #include "setbound/lmi/classes.hpp"
+#include "setbound/lmi/kernels.hpp"
 #include "setbound/lmi/problem.hpp"
 #include "setbound/lmi/scalar_search.hpp"
 #include "setbound/lmi/solver.hpp"
@@ -123,7 +124,9 @@ TEST(LmiSolver, KnownOptimumSchurComplement) {
 TEST(LmiSolver, MaxEigenvalueOfRandomMatrices) {
   std::mt19937 rng(7);
   for (int trial = 0; trial < 20; ++trial) {
-    const int n = 1 + trial % 7;
+    // Sizes 1…7 (the kernels' loops) and two above InteriorPointSolver's large-block
+    // threshold (Eigen's blocked products).
+    const int n = trial < 18 ? 1 + trial % 7 : 30 + trial;
     const MatrixXd A = random_symmetric(rng, n);
     const LmiProblem p = max_eigenvalue_problem(A);
     const SolveResult r = solve_linear(p);
@@ -371,6 +374,134 @@ LmiProblem lyapunov(const MatrixXd& A) {
   return p;
 }
 }  // namespace
+
+// --- kernels.hpp: the solver's small dense routines, against Eigen's ---------------------
+
+namespace {
+
+/// Random symmetric test matrices of the kinds the solver meets: generic, clustered
+/// eigenvalues (a multiple of I plus a tiny perturbation, as near the central path), rank
+/// one, diagonal with a wide range, and exactly diagonal.
+MatrixXd kernel_test_matrix(std::mt19937& rng, int n, int kind) {
+  const MatrixXd X = random_symmetric(rng, n);
+  switch (kind % 5) {
+    case 0: return X;
+    case 1: return 3.0 * MatrixXd::Identity(n, n) + 1e-9 * X;
+    case 2: {
+      const VectorXd v = X.col(0);
+      return v * v.transpose();
+    }
+    case 3: {
+      VectorXd d(n);
+      for (int i = 0; i < n; ++i) d(i) = std::pow(10.0, -6.0 + 12.0 * i / std::max(1, n - 1));
+      return d.asDiagonal();
+    }
+    default: return MatrixXd(X.diagonal().asDiagonal());
+  }
+}
+
+}  // namespace
+
+TEST(LmiKernels, SymmetricEigenDecompositionMatchesEigen) {
+  std::mt19937 rng(31);
+  for (int trial = 0; trial < 400; ++trial) {
+    const int n = 1 + trial % 20;
+    const MatrixXd A = kernel_test_matrix(rng, n, trial / 20);
+    MatrixXd V = A;
+    VectorXd w(n), e(n);
+    ASSERT_TRUE(kernels::sym_eig(n, V.data(), w.data(), e.data())) << trial;
+    const double s = std::max(A.norm(), 1e-300);
+    EXPECT_LE((A * V - V * w.asDiagonal()).norm(), 1e-13 * s) << trial;
+    EXPECT_LE((V.transpose() * V - MatrixXd::Identity(n, n)).norm(), 1e-13 * n) << trial;
+    VectorXd ws = w;
+    std::sort(ws.data(), ws.data() + n);
+    const VectorXd ref = Eigen::SelfAdjointEigenSolver<MatrixXd>(A, Eigen::EigenvaluesOnly).eigenvalues();
+    EXPECT_LE((ws - ref).cwiseAbs().maxCoeff(), 1e-13 * s) << trial;
+    // Eigenvalues only, and the smallest one (used by the step lengths and the margin).
+    MatrixXd B = A;
+    VectorXd w2(n);
+    ASSERT_TRUE(kernels::sym_eigenvalues(n, B.data(), w2.data(), e.data()));
+    std::sort(w2.data(), w2.data() + n);
+    EXPECT_LE((w2 - ref).cwiseAbs().maxCoeff(), 1e-13 * s) << trial;
+    B = A;
+    const double lmin = kernels::sym_lambda_min(n, B.data(), w2.data(), e.data());
+    EXPECT_NEAR(lmin, ref(0), 1e-13 * s) << trial;
+  }
+}
+
+TEST(LmiKernels, LambdaMinApproachesFromTheLeft) {
+  // The step length α = −1/λ_min must not be overestimated: λ_min is never above the true
+  // value by more than rounding, also for clustered and repeated smallest eigenvalues.
+  std::mt19937 rng(32);
+  for (int trial = 0; trial < 300; ++trial) {
+    const int n = 2 + trial % 12;
+    const MatrixXd Qm = Eigen::HouseholderQR<MatrixXd>(random_symmetric(rng, n)).householderQ();
+    VectorXd d = VectorXd::Random(n);
+    const int rep = 1 + trial % n;  // the smallest eigenvalue repeated `rep` times
+    for (int i = 0; i < rep; ++i) d(i) = -1.5;
+    const MatrixXd A = Qm * d.asDiagonal() * Qm.transpose();
+    MatrixXd B = 0.5 * (A + A.transpose());
+    VectorXd w(n), e(n);
+    const double lmin = kernels::sym_lambda_min(n, B.data(), w.data(), e.data());
+    EXPECT_LE(lmin, -1.5 + 1e-13 * n) << trial;
+    EXPECT_GE(lmin, -1.5 - 1e-12 * n) << trial;
+  }
+}
+
+TEST(LmiKernels, OneSidedJacobiKeepsSmallSingularValuesAccurate) {
+  // Graded G = D₁ X D₂ (condition ~1e12): the one-sided Jacobi SVD (the NT scaling's fallback
+  // for badly centred pairs) must give singular values and an orthogonal V like Eigen's SVD.
+  std::mt19937 rng(33);
+  for (int trial = 0; trial < 60; ++trial) {
+    const int n = 1 + trial % 10;
+    VectorXd d1(n), d2(n);
+    for (int i = 0; i < n; ++i) {
+      d1(i) = std::pow(10.0, -3.0 + 6.0 * i / std::max(1, n - 1));
+      d2(i) = std::pow(10.0, 3.0 - 6.0 * ((i * 7) % n) / std::max(1, n - 1));
+    }
+    const MatrixXd G0 = d1.asDiagonal() * random_symmetric(rng, n) * d2.asDiagonal();
+    MatrixXd G = G0, V(n, n);
+    VectorXd sv(n);
+    ASSERT_TRUE(kernels::one_sided_jacobi(n, G.data(), V.data(), sv.data())) << trial;
+    EXPECT_LE((V.transpose() * V - MatrixXd::Identity(n, n)).norm(), 1e-13 * n) << trial;
+    EXPECT_LE((G0 * V - G).norm(), 1e-13 * G0.norm()) << trial;
+    VectorXd s1 = sv;
+    std::sort(s1.data(), s1.data() + n);
+    VectorXd s2 = Eigen::JacobiSVD<MatrixXd>(G0).singularValues();
+    std::sort(s2.data(), s2.data() + n);
+    for (int i = 0; i < n; ++i) EXPECT_NEAR(s1(i), s2(i), 1e-9 * s2(i) + 1e-15 * s2(n - 1)) << trial;
+  }
+}
+
+TEST(LmiKernels, CholeskyAndProducts) {
+  std::mt19937 rng(34);
+  for (int trial = 0; trial < 100; ++trial) {
+    const int n = 1 + trial % 12;
+    const MatrixXd X = random_symmetric(rng, n), Y = random_symmetric(rng, n) + MatrixXd::Random(n, n);
+    const MatrixXd P = X * X + MatrixXd::Identity(n, n);
+    MatrixXd L(n, n), C(n, n), T(n, n);
+    ASSERT_TRUE(kernels::cholesky(n, P.data(), L.data()));
+    EXPECT_LE((L * L.transpose() - P).norm(), 1e-13 * P.norm());
+    EXPECT_EQ(MatrixXd(L.triangularView<Eigen::StrictlyUpper>()).norm(), 0.0);
+    MatrixXd Ind = P;
+    Ind(n - 1, n - 1) = -1.0 - P.norm();  // indefinite
+    EXPECT_FALSE(kernels::cholesky(n, Ind.data(), L.data()));
+    MatrixXd Nan = P;
+    Nan(0, 0) = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_FALSE(kernels::cholesky(n, Nan.data(), L.data()));
+    const double tol = 1e-13 * (1.0 + X.norm() * Y.norm());
+    kernels::mul_nn(n, X.data(), Y.data(), C.data());
+    EXPECT_LE((C - X * Y).norm(), tol);
+    kernels::mul_tn(n, Y.data(), X.data(), C.data());
+    EXPECT_LE((C - Y.transpose() * X).norm(), tol);
+    kernels::mul_nt(n, X.data(), Y.data(), C.data());
+    EXPECT_LE((C - X * Y.transpose()).norm(), tol);
+    kernels::congruence_t(n, Y.data(), X.data(), T.data(), C.data());
+    EXPECT_LE((C - Y.transpose() * X * Y).norm(), tol * Y.norm());
+    kernels::congruence_n(n, Y.data(), X.data(), T.data(), C.data());
+    EXPECT_LE((C - Y * X * Y.transpose()).norm(), tol * Y.norm());
+  }
+}
 
 TEST(LmiClasses, FeasibilityStopsAtACertifiedPoint) {
   MatrixXd A(2, 2);

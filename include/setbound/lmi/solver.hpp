@@ -8,13 +8,20 @@
 //  * homogeneous self-dual embedding in (x, y, s, z, τ, κ), so that infeasibility
 //    (τ → 0, hᵀz + bᵀy < 0) and unboundedness (cᵀx < 0) come with certificates;
 //  * Nesterov–Todd scaling per block: R with RᵀZR = R⁻¹SR⁻ᵀ = Λ, computed from the
-//    Cholesky factors of S and Z and an SVD of L_zᵀL_s; Q = R⁻ᵀ;
+//    Cholesky factors of S and Z and the right singular vectors V of G = L_zᵀL_s (the
+//    eigenvectors of GᵀG = L_sᵀ Z L_s, whose eigenvalues Λ² stay within a modest ratio on the
+//    central path; when that ratio exceeds 1e10 a one-sided Jacobi SVD of G, accurate for
+//    tiny singular values, is used instead): R = L_s V Λ^{-1/2}, Q = R⁻ᵀ = L_s⁻ᵀ V Λ^{1/2};
 //  * Schur complement M_ij = Σ_b tr(F_bi T_b F_bj T_b), T_b = QQᵀ, assembled block by block
 //    as a Gram matrix of the scaled coefficients F̃_bi = QᵀF_biQ (only variables that touch a
 //    block contribute; sparse coefficients are scaled by rank-one updates); dense Cholesky;
-//  * Mehrotra predictor–corrector with σ = (1 − α_aff)³;
+//  * Mehrotra predictor–corrector with σ = (1 − α_aff)³; step lengths from λ_min of the
+//    scaled directions, skipped (one Cholesky factorisation) for blocks that do not limit it;
 //  * two-tier termination (full / reduced tolerances → "inaccurate"), best iterate kept.
-// All work arrays are allocated in setup(); solve() itself does not allocate.
+// All work arrays are allocated in setup(); solve() itself does not allocate. The per-block
+// dense work (blocks are small: 1…16 in the online problems) runs on the plain loops of
+// kernels.hpp, which at these sizes are several times faster than Eigen's dynamic-size
+// decompositions and need no per-size template instantiation.
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -26,6 +33,7 @@
 #include <limits>
 #include <vector>
 
+#include "setbound/lmi/kernels.hpp"
 #include "setbound/lmi/problem.hpp"
 
 namespace setbound::lmi {
@@ -103,14 +111,15 @@ class MarginChecker {
   void setup(const LmiProblem& p) {
     const size_t nb = static_cast<size_t>(p.num_blocks());
     F_.resize(nb);
-    llt_.clear();
-    eig_.clear();
+    int nmax = 0;
     for (size_t b = 0; b < nb; ++b) {
       const int n = p.block(static_cast<int>(b)).size;
       F_[b].resize(n, n);
-      llt_.emplace_back(n);
-      eig_.emplace_back(n);
+      nmax = std::max(nmax, n);
     }
+    work_.resize(static_cast<Eigen::Index>(nmax) * nmax);
+    wv_.resize(nmax);
+    ev_.resize(nmax);
   }
 
   /// Largest δ among a few candidates for which the Cholesky factorisation of F_b(x) − δI
@@ -125,8 +134,11 @@ class MarginChecker {
       const LmiBlock& blk = p.block(static_cast<int>(b));
       evaluate(p, blk, x, skip_var, F_[b]);
       if (!F_[b].allFinite()) return -std::numeric_limits<double>::infinity();
-      eig_[b].compute(F_[b], Eigen::EigenvaluesOnly);
-      lam = std::min(lam, eig_[b].eigenvalues()(0));
+      const int n = static_cast<int>(F_[b].rows());
+      std::copy(F_[b].data(), F_[b].data() + static_cast<long>(n) * n, work_.data());
+      const double lb = kernels::sym_lambda_min(n, work_.data(), wv_.data(), ev_.data());
+      if (!std::isfinite(lb)) return -std::numeric_limits<double>::infinity();
+      lam = std::min(lam, lb);
       scale = std::max(scale, F_[b].cwiseAbs().maxCoeff());
     }
     // Candidates δ = λ_min − 4^k·ε·n·scale: the eigenvalue estimate is only accurate to
@@ -136,10 +148,10 @@ class MarginChecker {
       const double delta = lam - slack;
       bool ok = true;
       for (size_t b = 0; b < nb && ok; ++b) {
-        F_[b].diagonal().array() -= delta;
-        llt_[b].compute(F_[b]);
-        ok = llt_[b].info() == Eigen::Success;
-        F_[b].diagonal().array() += delta;
+        const int n = static_cast<int>(F_[b].rows());
+        std::copy(F_[b].data(), F_[b].data() + static_cast<long>(n) * n, work_.data());
+        for (int i = 0; i < n; ++i) work_.data()[i * (n + 1)] -= delta;  // F_b − δI (leading dim n)
+        ok = kernels::cholesky(n, work_.data(), work_.data());
       }
       if (ok) return delta;
     }
@@ -158,8 +170,8 @@ class MarginChecker {
     (void)p;
   }
   std::vector<Eigen::MatrixXd> F_;
-  std::vector<Eigen::LLT<Eigen::MatrixXd>> llt_;
-  std::vector<Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>> eig_;
+  Eigen::VectorXd work_;  // nmax² storage, used as an n×n matrix with leading dimension n
+  Eigen::VectorXd wv_, ev_;
 };
 
 class InteriorPointSolver {
@@ -188,13 +200,9 @@ class InteriorPointSolver {
   struct BlockWork {
     int n = 0, k = 0;
     std::vector<int> vars;  // variables touching the block (coefficient order)
-    Eigen::MatrixXd S, Z, dS, dZ, rz, R, Q, LzLs, tmp, tmp2, F0t, Bt, Wds, Wdz, Wds_a, Wdz_a, U, best_Z;
+    Eigen::MatrixXd S, Z, dS, dZ, rz, R, Q, Qt, Ls, Lz, tmp, tmp2, F0t, rzt, Bt, Wds, Wdz, Wds_a, Wdz_a, U, best_Z;
     Eigen::MatrixXd Ft;     // n²×k, column j = vec(QᵀF_{vars[j]}Q)
-    Eigen::MatrixXd gram;   // k×k
-    Eigen::VectorXd lambda, isq;
-    Eigen::LLT<Eigen::MatrixXd> llt_s, llt_z;
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd;
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig;
+    Eigen::VectorXd lambda, isq, wv, ev;
   };
 
   // --- helpers (inline below) ---
@@ -204,25 +212,28 @@ class InteriorPointSolver {
   void solve_reduced(const Eigen::VectorXd& g, const Eigen::VectorXd& by, Eigen::VectorXd& dx, Eigen::VectorXd& dy);
   void kkt_solve(const Eigen::VectorXd& bx, const Eigen::VectorXd& by, bool use_F0, double eta_rz,
                  bool with_u, Eigen::VectorXd& dx, Eigen::VectorXd& dy);
-  double max_step_scaled(BlockWork& w, const Eigen::MatrixXd& X);
+  double max_step_scaled(BlockWork& w, const Eigen::MatrixXd& X, double cap);
   void direction(double eta, double sigma, double mu, bool corrector);
-  double step_length();
+  double step_length(double cap);
   void record_best(double merit);
   void finish(SolveStatus status);
 
-  // Small blocks (n ≤ 16, the online case) use coefficient-based products: Eigen's GEMM
-  // packing costs more than the arithmetic at these sizes.
-  template <class Out, class L, class R>
-  static void mul(Out&& out, const L& a, const R& b) {
-    if (a.rows() <= 16 && b.cols() <= 16 && a.cols() <= 16) out.noalias() = a.lazyProduct(b);
-    else out.noalias() = a * b;
+  // C = QᵀXQ and C = QXQᵀ (X symmetric) on the block's work array T: the kernels' loops for
+  // small blocks, Eigen's blocked products above kLargeBlock (no allocation up to Eigen's
+  // stack limit for its blocking workspace).
+  static constexpr int kLargeBlock = 24;
+  static void congruence_t(int n, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& X, Eigen::MatrixXd& T, double* C) {
+    if (n <= kLargeBlock) return kernels::congruence_t(n, Q.data(), X.data(), T.data(), C);
+    Eigen::Map<Eigen::MatrixXd> Cm(C, n, n);
+    T.noalias() = X * Q;
+    Cm.noalias() = Q.transpose() * T;
   }
-
-  static void sym_product(const Eigen::VectorXd& lam, const Eigen::MatrixXd& X, Eigen::MatrixXd& out) {
-    // Λ ∘ X = (ΛX + XΛ)/2 for diagonal Λ.
-    const Eigen::Index n = X.rows();
-    for (Eigen::Index j = 0; j < n; ++j)
-      for (Eigen::Index i = 0; i < n; ++i) out(i, j) = 0.5 * (lam(i) + lam(j)) * X(i, j);
+  static void congruence_n(int n, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& X, Eigen::MatrixXd& T, Eigen::MatrixXd& C) {
+    if (n <= kLargeBlock) return kernels::congruence_n(n, Q.data(), X.data(), T.data(), C.data());
+    T.noalias() = X * Q.transpose();
+    C.noalias() = Q * T;
+    T = 0.5 * (C + C.transpose());
+    C = T;
   }
 
   const LmiProblem* p_;
@@ -275,17 +286,11 @@ inline void InteriorPointSolver::setup() {
     w.k = static_cast<int>(blk.coefficients.size());
     w.vars.clear();
     for (const auto& co : blk.coefficients) w.vars.push_back(co.var);
-    for (Eigen::MatrixXd* M : {&w.S, &w.Z, &w.dS, &w.dZ, &w.rz, &w.R, &w.Q, &w.LzLs, &w.tmp, &w.tmp2, &w.F0t,
-                               &w.Bt, &w.Wds, &w.Wdz, &w.Wds_a, &w.Wdz_a, &w.U, &w.best_Z})
+    for (Eigen::MatrixXd* M : {&w.S, &w.Z, &w.dS, &w.dZ, &w.rz, &w.R, &w.Q, &w.Qt, &w.Ls, &w.Lz, &w.tmp, &w.tmp2,
+                               &w.F0t, &w.rzt, &w.Bt, &w.Wds, &w.Wdz, &w.Wds_a, &w.Wdz_a, &w.U, &w.best_Z})
       M->setZero(n, n);
     w.Ft.setZero(n * n, w.k);
-    w.gram.setZero(w.k, w.k);
-    w.lambda.setZero(n);
-    w.isq.setZero(n);
-    w.llt_s = Eigen::LLT<Eigen::MatrixXd>(n);
-    w.llt_z = Eigen::LLT<Eigen::MatrixXd>(n);
-    w.svd = Eigen::JacobiSVD<Eigen::MatrixXd>(n, n, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    w.eig = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(n);
+    for (Eigen::VectorXd* v : {&w.lambda, &w.isq, &w.wv, &w.ev}) v->setZero(n);
   }
   margin_.setup(p);
   for (Eigen::VectorXd* v : {&x_, &rx_, &g_, &t1_, &t2_, &r1_, &cdx_, &x1_, &dx_, &dx_a_, &bx_, &best_x_, &xhat_})
@@ -348,24 +353,49 @@ inline void InteriorPointSolver::residuals() {
 
 inline bool InteriorPointSolver::scaling() {
   for (auto& w : w_) {
-    w.llt_s.compute(w.S);
-    if (w.llt_s.info() != Eigen::Success) return false;
-    w.llt_z.compute(w.Z);
-    if (w.llt_z.info() != Eigen::Success) return false;
-    // L_zᵀ L_s = U Λ Vᵀ;  R = L_s V Λ^{-1/2};  Q = R⁻ᵀ = L_z U Λ^{-1/2}.
-    w.tmp = w.llt_s.matrixL();
-    w.tmp2 = w.llt_z.matrixL();
-    mul(w.LzLs, w.tmp2.transpose(), w.tmp);
-    // (A symmetric eigensolver on GᵀG would be cheaper but allocates a Householder
-    // workspace when eigenvectors are requested; JacobiSVD with preallocated storage does not.)
-    w.svd.compute(w.LzLs);
-    w.lambda = w.svd.singularValues();
-    if (!(w.lambda.minCoeff() > 0) || !w.lambda.allFinite()) return false;
-    w.isq = w.lambda.cwiseSqrt().cwiseInverse();
-    mul(w.R, w.tmp, w.svd.matrixV());
-    w.R.array().rowwise() *= w.isq.transpose().array();
-    mul(w.Q, w.tmp2, w.svd.matrixU());
-    w.Q.array().rowwise() *= w.isq.transpose().array();
+    const int n = w.n;
+    double* Ls = w.Ls.data();
+    double* Lz = w.Lz.data();
+    if (!kernels::cholesky(n, w.S.data(), Ls) || !kernels::cholesky(n, w.Z.data(), Lz)) return false;
+    // G = L_zᵀ L_s (in tmp), H = GᵀG = L_sᵀ Z L_s (in tmp2) = V Λ² Vᵀ.
+    double* G = w.tmp.data();
+    double* V = w.tmp2.data();
+    kernels::mul_tn(n, Lz, Ls, G);
+    kernels::mul_tn(n, G, G, V);
+    bool ok = kernels::sym_eig(n, V, w.wv.data(), w.ev.data());
+    if (ok) {
+      const double lo = w.wv.minCoeff(), hi = w.wv.maxCoeff();
+      ok = lo > 1e-10 * hi;
+      if (ok) w.lambda = w.wv.cwiseSqrt();
+    }
+    if (!ok) {
+      // Badly centred pair: the squared singular values lose the small ones; the one-sided
+      // Jacobi SVD of G itself keeps them accurate.
+      kernels::mul_tn(n, Lz, Ls, G);
+      if (!kernels::one_sided_jacobi(n, G, V, w.lambda.data())) return false;
+    }
+    for (int i = 0; i < n; ++i) {
+      const double l = w.lambda(i);
+      if (!(l > 0) || !std::isfinite(l)) return false;
+      w.isq(i) = 1.0 / std::sqrt(l);
+    }
+    // R = L_s V Λ^{-1/2}
+    if (n <= kLargeBlock) kernels::mul_nn(n, Ls, V, w.R.data());
+    else w.R.noalias() = w.Ls * w.tmp2;
+    for (int j = 0; j < n; ++j) w.R.col(j) *= w.isq(j);
+    // Q = L_s⁻ᵀ V Λ^{1/2}: back substitution with the upper triangular L_sᵀ.
+    for (int j = 0; j < n; ++j) {
+      const double sq = 1.0 / w.isq(j);
+      double* q = w.Q.data() + static_cast<long>(j) * n;
+      const double* v = V + static_cast<long>(j) * n;
+      for (int i = n - 1; i >= 0; --i) {
+        double acc = v[i] * sq;
+        const double* Li = Ls + static_cast<long>(i) * n;  // column i of L_s = row i of L_sᵀ
+        for (int k = i + 1; k < n; ++k) acc -= Li[k] * q[k];
+        q[i] = acc / Li[i];
+      }
+    }
+    w.Qt = w.Q.transpose();
   }
   return true;
 }
@@ -379,29 +409,44 @@ inline bool InteriorPointSolver::assemble_and_factor() {
     const int n = w.n;
     for (int j = 0; j < w.k; ++j) {
       const Coefficient& co = blk.coefficients[static_cast<size_t>(j)];
-      Eigen::Map<Eigen::MatrixXd> Fj(w.Ft.col(j).data(), n, n);
+      double* Fj = w.Ft.col(j).data();
       if (co.kind == CoefficientKind::Sparse) {
-        // QᵀFQ = Σ f_rc (q_r q_cᵀ + q_c q_rᵀ) over the upper-triangle entries (q_r = row r of Q).
-        Fj.setZero();
+        // QᵀFQ = Σ f_rc (q_r q_cᵀ + q_c q_rᵀ) over the upper-triangle entries (q_r = row r of Q
+        // = column r of Qᵀ).
+        std::fill(Fj, Fj + static_cast<long>(n) * n, 0.0);
         for (const auto& e : co.entries) {
+          const double* qr = w.Qt.data() + static_cast<long>(e.row) * n;
+          const double* qc = w.Qt.data() + static_cast<long>(e.col) * n;
           if (e.row == e.col) {
-            Fj.noalias() += e.value * w.Q.row(e.row).transpose() * w.Q.row(e.col);
+            for (int b2 = 0; b2 < n; ++b2) {
+              const double f = e.value * qr[b2];
+              double* col = Fj + static_cast<long>(b2) * n;
+              for (int a = 0; a < n; ++a) col[a] += qr[a] * f;
+            }
           } else {
-            Fj.noalias() += e.value * w.Q.row(e.row).transpose() * w.Q.row(e.col);
-            Fj.noalias() += e.value * w.Q.row(e.col).transpose() * w.Q.row(e.row);
+            for (int b2 = 0; b2 < n; ++b2) {
+              const double fc = e.value * qc[b2], fr = e.value * qr[b2];
+              double* col = Fj + static_cast<long>(b2) * n;
+              for (int a = 0; a < n; ++a) col[a] += qr[a] * fc + qc[a] * fr;
+            }
           }
         }
       } else {
-        mul(w.tmp, co.dense, w.Q);
-        mul(Fj, w.Q.transpose(), w.tmp);
+        congruence_t(n, w.Q, co.dense, w.tmp, Fj);
       }
     }
-    mul(w.tmp, blk.constant, w.Q);
-    mul(w.F0t, w.Q.transpose(), w.tmp);
-    if (w.k == 0) continue;
-    w.gram.noalias() = w.Ft.transpose() * w.Ft;
-    for (int j = 0; j < w.k; ++j)
-      for (int i = 0; i < w.k; ++i) M_(w.vars[static_cast<size_t>(i)], w.vars[static_cast<size_t>(j)]) += w.gram(i, j);
+    congruence_t(n, w.Q, blk.constant, w.tmp, w.F0t.data());
+    congruence_t(n, w.Q, w.rz, w.tmp, w.rzt.data());
+    // Schur complement: the Gram matrix of the scaled coefficients (upper half, mirrored).
+    for (int j = 0; j < w.k; ++j) {
+      const int vj = w.vars[static_cast<size_t>(j)];
+      for (int i = 0; i <= j; ++i) {
+        const int vi = w.vars[static_cast<size_t>(i)];
+        const double d = w.Ft.col(i).dot(w.Ft.col(j));
+        M_(vi, vj) += d;
+        if (vi != vj) M_(vj, vi) += d;
+      }
+    }
   }
   // Equalities: K = M + ρAᵀA keeps K positive definite when M is singular on ker A;
   // the reduced system is equivalent for any ρ > 0 (see solve_reduced).
@@ -470,9 +515,7 @@ inline void InteriorPointSolver::kkt_solve(const Eigen::VectorXd& bx, const Eige
     if (use_F0) {
       w.Bt = w.F0t;
     } else {
-      mul(w.tmp, w.rz, w.Q);
-      mul(w.Bt, w.Q.transpose(), w.tmp);
-      w.Bt *= -eta_rz;
+      w.Bt = -eta_rz * w.rzt;   // rzt = Qᵀ rz Q, formed once per iteration
       if (with_u) w.Bt -= w.U;  // QᵀR U RᵀQ = U since QᵀR = I
     }
     // g_i −= <F̃_i, B̃>
@@ -482,12 +525,21 @@ inline void InteriorPointSolver::kkt_solve(const Eigen::VectorXd& bx, const Eige
   solve_reduced(g_, by, dx, dy);
 }
 
-inline double InteriorPointSolver::max_step_scaled(BlockWork& w, const Eigen::MatrixXd& X) {
-  // Largest α with Λ + αX ⪰ 0: α = −1/λ_min(Λ^{-1/2} X Λ^{-1/2}) when that is negative.
-  for (int j = 0; j < w.n; ++j)
-    for (int i = 0; i < w.n; ++i) w.tmp(i, j) = X(i, j) * w.isq(i) * w.isq(j);
-  w.eig.compute(w.tmp, Eigen::EigenvaluesOnly);
-  const double e = w.eig.eigenvalues()(0);
+inline double InteriorPointSolver::max_step_scaled(BlockWork& w, const Eigen::MatrixXd& X, double cap) {
+  // Largest α with Λ + αX ⪰ 0: α = −1/λ_min(M), M = Λ^{-1/2} X Λ^{-1/2}, when that is negative.
+  // Only α < cap matters to the caller: if I + cap·M factorises, the block does not limit it.
+  const int n = w.n;
+  double* M = w.tmp.data();
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) M[i + static_cast<long>(j) * n] = X(i, j) * w.isq(i) * w.isq(j);
+  if (std::isfinite(cap)) {
+    double* T = w.tmp2.data();
+    for (int i = 0; i < n * n; ++i) T[i] = cap * M[i];
+    for (int i = 0; i < n; ++i) T[i + static_cast<long>(i) * n] += 1.0;
+    if (kernels::cholesky(n, T, T)) return cap;
+  }
+  const double e = kernels::sym_lambda_min(n, M, w.wv.data(), w.ev.data());
+  if (!std::isfinite(e)) return 0.0;  // no safe step: reported as a numerical error
   return e >= 0 ? std::numeric_limits<double>::infinity() : -1.0 / e;
 }
 
@@ -498,7 +550,7 @@ inline void InteriorPointSolver::direction(double eta, double sigma, double mu, 
   // ds_rhs = −λ∘λ + σμe − corr  ⇒  U = λ⁻¹◇ds_rhs: U_ij = 2 ds_rhs_ij / (λ_i + λ_j)
   for (auto& w : w_) {
     if (corrector) {
-      mul(w.tmp, w.Wds_a, w.Wdz_a);
+      kernels::mul_nn(w.n, w.Wds_a.data(), w.Wdz_a.data(), w.tmp.data());
       w.tmp2 = 0.5 * (w.tmp + w.tmp.transpose());  // (Wds_a)∘(Wdz_a)
     }
     for (int j = 0; j < w.n; ++j)
@@ -545,11 +597,12 @@ inline void InteriorPointSolver::direction(double eta, double sigma, double mu, 
   }
 }
 
-inline double InteriorPointSolver::step_length() {
-  double amax = std::numeric_limits<double>::infinity();
+// Largest step keeping every cone interior, capped at `cap` (the caller uses min(1, …)).
+inline double InteriorPointSolver::step_length(double cap) {
+  double amax = cap;
   for (auto& w : w_) {
-    amax = std::min(amax, max_step_scaled(w, w.Wds));
-    amax = std::min(amax, max_step_scaled(w, w.Wdz));
+    amax = std::min(amax, max_step_scaled(w, w.Wds, amax));
+    amax = std::min(amax, max_step_scaled(w, w.Wdz, amax));
   }
   if (dtau_ < 0) amax = std::min(amax, -tau_ / dtau_);
   if (dkappa_ < 0) amax = std::min(amax, -kappa_ / dkappa_);
@@ -702,7 +755,7 @@ inline const SolveResult& InteriorPointSolver::solve() {
     kkt_solve(bx_, by_, true, 0.0, false, x1_, y1_);
 
     direction(1.0, 0.0, mu, false);
-    double alpha_a = std::min(1.0, step_length());
+    double alpha_a = std::min(1.0, step_length(1.0));
     for (auto& w : w_) {
       w.Wds_a = w.Wds;
       w.Wdz_a = w.Wdz;
@@ -711,7 +764,7 @@ inline const SolveResult& InteriorPointSolver::solve() {
     dkappa_a_ = dkappa_;
     const double sigma = std::pow(1.0 - alpha_a, 3);
     direction(1.0 - sigma, sigma, mu, true);
-    const double amax = step_length();
+    const double amax = step_length(1.0 / opt_.step_fraction);
     const double alpha = std::min(1.0, opt_.step_fraction * amax);
     if (!(alpha > 1e-12) || !dx_.allFinite()) {
       status = SolveStatus::NumericalError;
@@ -721,16 +774,10 @@ inline const SolveResult& InteriorPointSolver::solve() {
     x_ += alpha * dx_;
     if (pe_ > 0) y_ += alpha * dy_;
     for (auto& w : w_) {
-      mul(w.tmp, w.R, w.Wds);
-      mul(w.dS, w.tmp, w.R.transpose());
-      mul(w.tmp, w.Q, w.Wdz);
-      mul(w.dZ, w.tmp, w.Q.transpose());
+      congruence_n(w.n, w.R, w.Wds, w.tmp, w.dS);  // symmetric by construction
+      congruence_n(w.n, w.Q, w.Wdz, w.tmp, w.dZ);
       w.S += alpha * w.dS;
       w.Z += alpha * w.dZ;
-      w.tmp = 0.5 * (w.S + w.S.transpose());
-      w.S = w.tmp;
-      w.tmp = 0.5 * (w.Z + w.Z.transpose());
-      w.Z = w.tmp;
     }
     tau_ += alpha * dtau_;
     kappa_ += alpha * dkappa_;

@@ -1,0 +1,413 @@
+// setbound — small dense kernels of the interior-point solver (solver.hpp).
+//
+// The solver's per-block work is on matrices of size 1…16 in the online problems (papers.md
+// §1.2–§1.3: 7×7 and 11×11 blocks). At these sizes Eigen's dynamic-size decompositions spend
+// most of their time in dispatch and generic code paths (a 7×7 JacobiSVD took ~45% of an online
+// step), and fixed-size instantiations per block size cost minutes of compile time in every
+// translation unit that includes the solver. These kernels are plain loops on column-major
+// arrays with a run-time size: no allocation, no templates, vectorisable by the compiler.
+//
+//  * cholesky: L Lᵀ = A, reports failure (A not numerically positive definite);
+//  * products of square matrices (Aᵀ/A × B/Bᵀ);
+//  * symmetric eigen-decomposition (Householder tridiagonalisation with accumulated
+//    reflections, then the implicit QL iteration with Wilkinson-type shifts — the classical
+//    tred2/tql2 scheme of Wilkinson & Reinsch, Handbook for Automatic Computation II), with or
+//    without eigenvectors.
+// All matrices are n×n, column-major, leading dimension n. Work arrays are supplied by the
+// caller (sizes stated per function).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace setbound::lmi::kernels {
+
+/// L (lower, strict upper part set to 0) with L Lᵀ = A; false if a pivot is not > 0 or not
+/// finite (A indefinite or too close to singular for the factorisation). L may alias A.
+inline bool cholesky(int n, const double* A, double* L) {
+  for (int j = 0; j < n; ++j) {
+    double* Lj = L + static_cast<long>(j) * n;
+    const double* Aj = A + static_cast<long>(j) * n;
+    for (int i = 0; i < j; ++i) Lj[i] = 0.0;
+    double d = Aj[j];
+    for (int k = 0; k < j; ++k) {
+      const double v = L[j + static_cast<long>(k) * n];
+      d -= v * v;
+    }
+    if (!(d > 0.0) || !std::isfinite(d)) return false;
+    d = std::sqrt(d);
+    Lj[j] = d;
+    const double inv = 1.0 / d;
+    for (int i = j + 1; i < n; ++i) Lj[i] = Aj[i];
+    for (int k = 0; k < j; ++k) {
+      const double* Lk = L + static_cast<long>(k) * n;
+      const double f = Lk[j];
+      if (f == 0.0) continue;
+      for (int i = j + 1; i < n; ++i) Lj[i] -= f * Lk[i];
+    }
+    for (int i = j + 1; i < n; ++i) Lj[i] *= inv;
+  }
+  return true;
+}
+
+/// C = A B.
+inline void mul_nn(int n, const double* A, const double* B, double* C) {
+  for (int j = 0; j < n; ++j) {
+    double* Cj = C + static_cast<long>(j) * n;
+    for (int i = 0; i < n; ++i) Cj[i] = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const double b = B[k + static_cast<long>(j) * n];
+      if (b == 0.0) continue;
+      const double* Ak = A + static_cast<long>(k) * n;
+      for (int i = 0; i < n; ++i) Cj[i] += Ak[i] * b;
+    }
+  }
+}
+
+/// C = Aᵀ B.
+inline void mul_tn(int n, const double* A, const double* B, double* C) {
+  for (int j = 0; j < n; ++j) {
+    const double* Bj = B + static_cast<long>(j) * n;
+    for (int i = 0; i < n; ++i) {
+      const double* Ai = A + static_cast<long>(i) * n;
+      double s = 0.0;
+      for (int k = 0; k < n; ++k) s += Ai[k] * Bj[k];
+      C[i + static_cast<long>(j) * n] = s;
+    }
+  }
+}
+
+/// C = A Bᵀ.
+inline void mul_nt(int n, const double* A, const double* B, double* C) {
+  for (int i = 0; i < n * n; ++i) C[i] = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const double* Ak = A + static_cast<long>(k) * n;
+    for (int j = 0; j < n; ++j) {
+      const double b = B[j + static_cast<long>(k) * n];
+      if (b == 0.0) continue;
+      double* Cj = C + static_cast<long>(j) * n;
+      for (int i = 0; i < n; ++i) Cj[i] += Ak[i] * b;
+    }
+  }
+}
+
+/// Symmetric C = Qᵀ X Q for symmetric X (only X's values are read, both triangles);
+/// T is n×n work.
+inline void congruence_t(int n, const double* Q, const double* X, double* T, double* C) {
+  mul_nn(n, X, Q, T);  // T = X Q
+  for (int j = 0; j < n; ++j) {
+    const double* Tj = T + static_cast<long>(j) * n;
+    for (int i = 0; i <= j; ++i) {
+      const double* Qi = Q + static_cast<long>(i) * n;
+      double s = 0.0;
+      for (int k = 0; k < n; ++k) s += Qi[k] * Tj[k];
+      C[i + static_cast<long>(j) * n] = s;
+      C[j + static_cast<long>(i) * n] = s;
+    }
+  }
+}
+
+/// Symmetric C = Q X Qᵀ for symmetric X; T is n×n work.
+inline void congruence_n(int n, const double* Q, const double* X, double* T, double* C) {
+  mul_nt(n, X, Q, T);  // T = X Qᵀ  (column j of T = X q_j, q_j = row j of Q)
+  // C(i, j) = Σ_k Q(i, k) T(k, j)
+  for (int j = 0; j < n; ++j) {
+    double* Cj = C + static_cast<long>(j) * n;
+    for (int i = 0; i < n; ++i) Cj[i] = 0.0;
+    const double* Tj = T + static_cast<long>(j) * n;
+    for (int k = 0; k < n; ++k) {
+      const double t = Tj[k];
+      if (t == 0.0) continue;
+      const double* Qk = Q + static_cast<long>(k) * n;
+      for (int i = 0; i < n; ++i) Cj[i] += Qk[i] * t;
+    }
+  }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < j; ++i) {
+      const double s = 0.5 * (C[i + static_cast<long>(j) * n] + C[j + static_cast<long>(i) * n]);
+      C[i + static_cast<long>(j) * n] = s;
+      C[j + static_cast<long>(i) * n] = s;
+    }
+}
+
+namespace detail {
+
+inline double hypot2(double a, double b) {
+  const double s2 = a * a + b * b;
+  if (s2 > 1e-250 && s2 < 1e250) return std::sqrt(s2);
+  const double x = std::abs(a), y = std::abs(b);
+  if (x > y) {
+    const double r = y / x;
+    return x * std::sqrt(1.0 + r * r);
+  }
+  if (y == 0.0) return 0.0;
+  const double r = x / y;
+  return y * std::sqrt(1.0 + r * r);
+}
+
+/// Householder reduction of the symmetric A (both triangles given) to tridiagonal form:
+/// d = diagonal, e[i] = the (i, i−1) element (e[0] = 0). With `vectors`, A is replaced by
+/// the orthogonal Z with Zᵀ A_in Z = T; otherwise A is destroyed.
+inline void tridiagonalize(int n, double* a, double* d, double* e, bool vectors) {
+  // The loops run along rows (k innermost in A(i, k)); a symmetric matrix stored by columns is
+  // the same array stored by rows, so A is addressed row-major here for contiguous access, and
+  // the accumulated Z is transposed back to column-major at the end.
+  auto A = [a, n](int i, int j) -> double& { return a[j + static_cast<long>(i) * n]; };
+  for (int i = n - 1; i > 0; --i) {
+    const int l = i - 1;
+    double h = 0.0;
+    if (l > 0) {
+      double scale = 0.0;
+      for (int k = 0; k <= l; ++k) scale += std::abs(A(i, k));
+      if (scale == 0.0) {
+        e[i] = A(i, l);
+      } else {
+        for (int k = 0; k <= l; ++k) {
+          A(i, k) /= scale;
+          h += A(i, k) * A(i, k);
+        }
+        double f = A(i, l);
+        double g = f >= 0.0 ? -std::sqrt(h) : std::sqrt(h);
+        e[i] = scale * g;
+        h -= f * g;
+        A(i, l) = f - g;
+        f = 0.0;
+        for (int j = 0; j <= l; ++j) {
+          if (vectors) A(j, i) = A(i, j) / h;
+          g = 0.0;
+          for (int k = 0; k <= j; ++k) g += A(j, k) * A(i, k);
+          for (int k = j + 1; k <= l; ++k) g += A(k, j) * A(i, k);
+          e[j] = g / h;
+          f += e[j] * A(i, j);
+        }
+        const double hh = f / (h + h);
+        for (int j = 0; j <= l; ++j) {
+          f = A(i, j);
+          e[j] = g = e[j] - hh * f;
+          for (int k = 0; k <= j; ++k) A(j, k) -= f * e[k] + g * A(i, k);
+        }
+      }
+    } else {
+      e[i] = A(i, l);
+    }
+    d[i] = h;
+  }
+  d[0] = 0.0;
+  e[0] = 0.0;
+  if (!vectors) {
+    for (int i = 0; i < n; ++i) d[i] = A(i, i);
+    return;
+  }
+  for (int i = 0; i < n; ++i) {
+    const int l = i - 1;
+    if (d[i] != 0.0) {
+      for (int j = 0; j <= l; ++j) {
+        double g = 0.0;
+        for (int k = 0; k <= l; ++k) g += A(i, k) * A(k, j);
+        for (int k = 0; k <= l; ++k) A(k, j) -= g * A(k, i);
+      }
+    }
+    d[i] = A(i, i);
+    A(i, i) = 1.0;
+    for (int j = 0; j <= l; ++j) A(j, i) = A(i, j) = 0.0;
+  }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < j; ++i) std::swap(a[i + static_cast<long>(j) * n], a[j + static_cast<long>(i) * n]);
+}
+
+/// Implicit QL iteration on the tridiagonal (d, e) of tridiagonalize(); eigenvalues into d,
+/// eigenvectors (columns) accumulated into z when z != nullptr. false if an eigenvalue did not
+/// converge in 60 iterations.
+inline bool tridiagonal_ql(int n, double* d, double* e, double* z) {
+  for (int i = 1; i < n; ++i) e[i - 1] = e[i];
+  e[n - 1] = 0.0;
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  for (int l = 0; l < n; ++l) {
+    int iter = 0;
+    int m;
+    do {
+      for (m = l; m < n - 1; ++m) {
+        const double dd = std::abs(d[m]) + std::abs(d[m + 1]);
+        if (std::abs(e[m]) <= eps * dd) break;
+      }
+      if (m != l) {
+        if (iter++ == 60) return false;
+        double g = (d[l + 1] - d[l]) / (2.0 * e[l]);
+        double r = hypot2(g, 1.0);
+        g = d[m] - d[l] + e[l] / (g + (g >= 0.0 ? std::abs(r) : -std::abs(r)));
+        double s = 1.0, c = 1.0, p = 0.0;
+        int i;
+        for (i = m - 1; i >= l; --i) {
+          double f = s * e[i];
+          const double b = c * e[i];
+          e[i + 1] = (r = hypot2(f, g));
+          if (r == 0.0) {
+            d[i + 1] -= p;
+            e[m] = 0.0;
+            break;
+          }
+          const double ir = 1.0 / r;
+          s = f * ir;
+          c = g * ir;
+          g = d[i + 1] - p;
+          r = (d[i] - g) * s + 2.0 * c * b;
+          d[i + 1] = g + (p = s * r);
+          g = c * r - b;
+          if (z) {
+            double* zi = z + static_cast<long>(i) * n;
+            double* zi1 = z + static_cast<long>(i + 1) * n;
+            for (int k = 0; k < n; ++k) {
+              f = zi1[k];
+              zi1[k] = s * zi[k] + c * f;
+              zi[k] = c * zi[k] - s * f;
+            }
+          }
+        }
+        if (r == 0.0 && i >= l) continue;
+        d[l] -= p;
+        e[l] = g;
+        e[m] = 0.0;
+      }
+    } while (m != l);
+  }
+  for (int i = 0; i < n; ++i)
+    if (!std::isfinite(d[i])) return false;
+  return true;
+}
+
+/// Smallest eigenvalue of the symmetric tridiagonal (d, e) of tridiagonalize() by Laguerre's
+/// iteration on p(x) = det(T − xI) (three-term recurrences for p, p′, p″, rescaled against
+/// overflow), started left of the Gershgorin bound. p has only real roots, so the iterates
+/// increase monotonically to the smallest one and converge cubically, also for clustered
+/// eigenvalues; the result is never right of it by more than rounding. NaN on non-finite data.
+inline double tridiagonal_lambda_min(int n, const double* d, const double* e) {
+  double scale = 0.0, x = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < n; ++i) {
+    const double r = (i > 0 ? std::abs(e[i]) : 0.0) + (i + 1 < n ? std::abs(e[i + 1]) : 0.0);
+    x = std::min(x, d[i] - r);
+    scale = std::max(scale, std::abs(d[i]) + r);
+  }
+  if (!std::isfinite(x) || !std::isfinite(scale)) return std::numeric_limits<double>::quiet_NaN();
+  if (scale == 0.0) return 0.0;
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  x -= 4.0 * eps * scale;
+  const double dn = static_cast<double>(n);
+  for (int it = 0; it < 60; ++it) {
+    double p0 = 0.0, p1 = 1.0, q0 = 0.0, q1 = 0.0, r0 = 0.0, r1 = 0.0;  // p, p′, p″ at i−1, i
+    for (int i = 0; i < n; ++i) {
+      const double a = d[i] - x, b = i > 0 ? e[i] * e[i] : 0.0;
+      const double p2 = a * p1 - b * p0;
+      const double q2 = -p1 + a * q1 - b * q0;
+      const double r2 = -2.0 * q1 + a * r1 - b * r0;
+      p0 = p1, p1 = p2, q0 = q1, q1 = q2, r0 = r1, r1 = r2;
+      const double m = std::abs(p1);
+      if (m > 1e100 || (m < 1e-100 && m > 0.0)) {
+        const double f = 1.0 / m;
+        p0 *= f, p1 *= f, q0 *= f, q1 *= f, r0 *= f, r1 *= f;
+      }
+    }
+    if (!(p1 > 0.0)) return x;  // at (or, by rounding, past) the smallest root: x is safe
+    const double G = q1 / p1, H = G * G - r1 / p1;
+    const double disc = std::max(0.0, (dn - 1.0) * (dn * H - G * G));
+    const double den = G - std::sqrt(disc);  // G < 0 left of every root
+    if (!(den < 0.0) || !std::isfinite(den)) return x;
+    const double step = -dn / den;  // > 0
+    const double xn = x + step;
+    if (!(step > 2.0 * eps * std::max(std::abs(x), scale))) return xn;
+    x = xn;
+  }
+  return x;
+}
+
+}  // namespace detail
+
+/// Eigen-decomposition of the symmetric A (n×n, both triangles): on success w holds the
+/// eigenvalues (no particular order) and A the orthonormal eigenvectors (column i ↔ w[i]).
+/// `e` is work of length n. false if the iteration did not converge or A is not finite.
+inline bool sym_eig(int n, double* A, double* w, double* e) {
+  if (n == 1) {
+    w[0] = A[0];
+    A[0] = 1.0;
+    return std::isfinite(w[0]);
+  }
+  detail::tridiagonalize(n, A, w, e, true);
+  return detail::tridiagonal_ql(n, w, e, A);
+}
+
+/// Eigenvalues only; A is destroyed; `e` is work of length n.
+inline bool sym_eigenvalues(int n, double* A, double* w, double* e) {
+  if (n == 1) {
+    w[0] = A[0];
+    return std::isfinite(w[0]);
+  }
+  detail::tridiagonalize(n, A, w, e, false);
+  return detail::tridiagonal_ql(n, w, e, nullptr);
+}
+
+/// Smallest eigenvalue of the symmetric A (destroyed); w, e work of length n. NaN when the
+/// iteration failed.
+inline double sym_lambda_min(int n, double* A, double* w, double* e) {
+  if (n == 1) return std::isfinite(A[0]) ? A[0] : std::numeric_limits<double>::quiet_NaN();
+  detail::tridiagonalize(n, A, w, e, false);
+  return detail::tridiagonal_lambda_min(n, w, e);
+}
+
+/// Singular values and right singular vectors of the square G by one-sided (Hestenes) Jacobi:
+/// rotations V of the columns of G until they are mutually orthogonal (relative to their
+/// norms), which determines even tiny singular values to high relative accuracy (Demmel &
+/// Veselić). On return G holds G·V (columns = σ_i u_i), V the rotations, sv the column norms.
+/// false if no convergence within 60 sweeps or non-finite data.
+inline bool one_sided_jacobi(int n, double* G, double* V, double* sv) {
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  for (int i = 0; i < n * n; ++i) V[i] = 0.0;
+  for (int i = 0; i < n; ++i) V[i + static_cast<long>(i) * n] = 1.0;
+  for (int sweep = 0; sweep < 60; ++sweep) {
+    bool rotated = false;
+    for (int p = 0; p < n - 1; ++p) {
+      for (int q = p + 1; q < n; ++q) {
+        double* gp = G + static_cast<long>(p) * n;
+        double* gq = G + static_cast<long>(q) * n;
+        double a = 0.0, b = 0.0, c = 0.0;
+        for (int k = 0; k < n; ++k) {
+          a += gp[k] * gp[k];
+          b += gq[k] * gq[k];
+          c += gp[k] * gq[k];
+        }
+        if (!(std::abs(c) > 4.0 * eps * std::sqrt(a * b))) {
+          if (!std::isfinite(c)) return false;
+          continue;
+        }
+        rotated = true;
+        const double zeta = (b - a) / (2.0 * c);
+        const double t = (zeta >= 0.0 ? 1.0 : -1.0) / (std::abs(zeta) + std::sqrt(1.0 + zeta * zeta));
+        const double cs = 1.0 / std::sqrt(1.0 + t * t), sn = cs * t;
+        for (int k = 0; k < n; ++k) {
+          const double x = gp[k], y = gq[k];
+          gp[k] = cs * x - sn * y;
+          gq[k] = sn * x + cs * y;
+        }
+        double* vp = V + static_cast<long>(p) * n;
+        double* vq = V + static_cast<long>(q) * n;
+        for (int k = 0; k < n; ++k) {
+          const double x = vp[k], y = vq[k];
+          vp[k] = cs * x - sn * y;
+          vq[k] = sn * x + cs * y;
+        }
+      }
+    }
+    if (!rotated) {
+      for (int i = 0; i < n; ++i) {
+        double s2 = 0.0;
+        const double* gi = G + static_cast<long>(i) * n;
+        for (int k = 0; k < n; ++k) s2 += gi[k] * gi[k];
+        sv[i] = std::sqrt(s2);
+        if (!std::isfinite(sv[i])) return false;
+      }
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace setbound::lmi::kernels
