@@ -9,6 +9,8 @@
 #include <exception>
 #include <new>
 #include <string>
+#include <vector>
+#include <algorithm>
 
 #include "setbound/core/error.hpp"
 #include "setbound/core/validate.hpp"
@@ -77,6 +79,25 @@ inline ConstVecMap vector_arg(const double* data, int n, const char* name) {
   require_dimension(n, name, true);
   if (n > 0) require_pointer(data, name);
   return ConstVecMap(data, n);
+}
+
+/// Saved states (sb_*_state_size / _save_state / _restore_state): the size, a copy into the
+/// caller's buffer of capacity n, and the caller's n values as the blob to restore.
+inline void state_size_out(const std::vector<double>& s, int* n) {
+  require_pointer(n, "n");
+  *n = static_cast<int>(s.size());
+}
+inline void state_copy_out(const std::vector<double>& s, double* state, int n) {
+  require_pointer(state, "state");
+  if (n < 0 || static_cast<std::size_t>(n) < s.size())
+    throw BufferTooSmallError("state: the buffer holds " + std::to_string(n) + " values, the state needs " +
+                              std::to_string(s.size()) + " (see the *_state_size function)");
+  std::copy(s.begin(), s.end(), state);
+}
+inline std::vector<double> state_arg(const double* state, int n) {
+  if (n < 0) throw InvalidArgumentError("n: must be >= 0, got " + std::to_string(n));
+  if (n > 0) require_pointer(state, "state");
+  return std::vector<double>(state, state + n);
 }
 
 }  // namespace setbound::capi

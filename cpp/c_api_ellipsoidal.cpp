@@ -332,4 +332,73 @@ int sb_kalman_step(sb_kalman* filter, const double* y, const double* u, double* 
   });
 }
 
+int sb_ellipsoidal_state_size(const sb_ellipsoidal* estimator, int* n) {
+  return guard("sb_ellipsoidal_state_size", [&] {
+    require_pointer(estimator, "estimator");
+    state_size_out(std::visit([](const auto& est) { return est.save_state(); }, estimator->estimator), n);
+  });
+}
+
+int sb_ellipsoidal_save_state(const sb_ellipsoidal* estimator, double* state, int n) {
+  return guard("sb_ellipsoidal_save_state", [&] {
+    require_pointer(estimator, "estimator");
+    state_copy_out(std::visit([](const auto& est) { return est.save_state(); }, estimator->estimator), state, n);
+  });
+}
+
+int sb_ellipsoidal_restore_state(sb_ellipsoidal* estimator, const double* state, int n) {
+  return guard("sb_ellipsoidal_restore_state", [&] {
+    require_pointer(estimator, "estimator");
+    const std::vector<double> s = state_arg(state, n);
+    std::visit(
+        [&](auto& est) {
+          using T = std::decay_t<decltype(est)>;
+          est.restore_state(s);
+          if constexpr (std::is_same_v<T, EllipsoidalPredictor>) {
+            estimator->beta = est.last_beta();
+            estimator->gain = est.last_gain();
+          } else if constexpr (std::is_same_v<T, ImprovedEstimator>) {
+            estimator->beta = est.predictor().last_beta();
+            estimator->gain = est.predictor().last_gain();
+          } else {
+            estimator->beta = est.design().beta;
+            estimator->gain = est.design().L;
+          }
+          estimator->fallback = false;
+        },
+        estimator->estimator);
+  });
+}
+
+int sb_kalman_current(const sb_kalman* filter, double* mean, double* cov, int* steps) {
+  return guard("sb_kalman_current", [&] {
+    require_pointer(filter, "filter");
+    write_vector(filter->filter.mean(), mean);
+    write_matrix(filter->filter.covariance(), cov);
+    if (steps) *steps = static_cast<int>(filter->filter.steps());
+  });
+}
+
+int sb_kalman_state_size(const sb_kalman* filter, int* n) {
+  return guard("sb_kalman_state_size", [&] {
+    require_pointer(filter, "filter");
+    state_size_out(filter->filter.save_state(), n);
+  });
+}
+
+int sb_kalman_save_state(const sb_kalman* filter, double* state, int n) {
+  return guard("sb_kalman_save_state", [&] {
+    require_pointer(filter, "filter");
+    state_copy_out(filter->filter.save_state(), state, n);
+  });
+}
+
+int sb_kalman_restore_state(sb_kalman* filter, const double* state, int n) {
+  return guard("sb_kalman_restore_state", [&] {
+    require_pointer(filter, "filter");
+    filter->filter.restore_state(state_arg(state, n));
+  });
+}
+
+
 }  // extern "C"

@@ -246,4 +246,25 @@ int sb_exact_hull(const sb_linear_system* system, int m0, const double* p0, cons
   });
 }
 
+int sb_zonotopic_state_size(const sb_zonotopic* estimator, int* n) {
+  return guard("sb_zonotopic_state_size", [&] {
+    require_pointer(estimator, "estimator");
+    state_size_out(estimator->estimator.save_state(), n);
+  });
+}
+
+int sb_zonotopic_save_state(const sb_zonotopic* estimator, double* state, int n) {
+  return guard("sb_zonotopic_save_state", [&] {
+    require_pointer(estimator, "estimator");
+    state_copy_out(estimator->estimator.save_state(), state, n);
+  });
+}
+
+int sb_zonotopic_restore_state(sb_zonotopic* estimator, const double* state, int n) {
+  return guard("sb_zonotopic_restore_state", [&] {
+    require_pointer(estimator, "estimator");
+    estimator->estimator.restore_state(state_arg(state, n));
+  });
+}
+
 }  // extern "C"

@@ -396,4 +396,29 @@ int sb_interval_invariant_step(sb_interval_invariant* observer, const double* y,
   });
 }
 
+#define SB_STATE_FUNCTIONS(name, deref)                                                \
+  int sb_##name##_state_size(const sb_##name* observer, int* n) {                     \
+    return guard("sb_" #name "_state_size", [&] {                                     \
+      require_pointer(observer, "observer");                                          \
+      state_size_out((deref observer->obs).save_state(), n);                               \
+    });                                                                               \
+  }                                                                                   \
+  int sb_##name##_save_state(const sb_##name* observer, double* state, int n) {       \
+    return guard("sb_" #name "_save_state", [&] {                                     \
+      require_pointer(observer, "observer");                                          \
+      state_copy_out((deref observer->obs).save_state(), state, n);                        \
+    });                                                                               \
+  }                                                                                   \
+  int sb_##name##_restore_state(sb_##name* observer, const double* state, int n) {    \
+    return guard("sb_" #name "_restore_state", [&] {                                  \
+      require_pointer(observer, "observer");                                          \
+      (deref observer->obs).restore_state(state_arg(state, n));                            \
+    });                                                                               \
+  }
+
+SB_STATE_FUNCTIONS(interval_luenberger, *)
+SB_STATE_FUNCTIONS(interval_nonlinear, *)
+SB_STATE_FUNCTIONS(interval_invariant, )
+#undef SB_STATE_FUNCTIONS
+
 }  // extern "C"

@@ -422,4 +422,27 @@ int sb_hinf_observer_run(sb_hinf_observer* observer, int T, const double* Y, con
   });
 }
 
+int sb_hinf_observer_state_size(const sb_hinf_observer* observer, int* n) {
+  return guard("sb_hinf_observer_state_size", [&] {
+    require_pointer(observer, "observer");
+    state_size_out(observer->lti ? observer->lti->save_state() : observer->lpv->save_state(), n);
+  });
+}
+
+int sb_hinf_observer_save_state(const sb_hinf_observer* observer, double* state, int n) {
+  return guard("sb_hinf_observer_save_state", [&] {
+    require_pointer(observer, "observer");
+    state_copy_out(observer->lti ? observer->lti->save_state() : observer->lpv->save_state(), state, n);
+  });
+}
+
+int sb_hinf_observer_restore_state(sb_hinf_observer* observer, const double* state, int n) {
+  return guard("sb_hinf_observer_restore_state", [&] {
+    require_pointer(observer, "observer");
+    const std::vector<double> s = state_arg(state, n);
+    if (observer->lti) observer->lti->restore_state(s);
+    else observer->lpv->restore_state(s);
+  });
+}
+
 }  // extern "C"

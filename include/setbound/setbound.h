@@ -320,6 +320,10 @@ int sb_zonotopic_set_reduction(sb_zonotopic* estimator, int method);
 int sb_exact_hull(const sb_linear_system* system, int m0, const double* p0, const double* H0,
                   int N, const double* Y, const double* U, int use_first_measurement,
                   double* lower, double* upper);
+/* Saved state of the estimator (see "saved states" at the end of this header). */
+int sb_zonotopic_state_size(const sb_zonotopic* estimator, int* n);
+int sb_zonotopic_save_state(const sb_zonotopic* estimator, double* state, int n);
+int sb_zonotopic_restore_state(sb_zonotopic* estimator, const double* state, int n);
 /* ==== end zonotopic estimators ==== */
 
 /* ==== ellipsoidal estimators (estimators/ellipsoidal.hpp, improved_correction.hpp,
@@ -412,6 +416,16 @@ int sb_kalman_create(const sb_linear_system* system, const double* mean0, const 
                      const double* W, sb_kalman** out);
 int sb_kalman_free(sb_kalman* filter);
 int sb_kalman_step(sb_kalman* filter, const double* y, const double* u, double* mean, double* cov);
+/* The mean and covariance of x_k after the last step (the prior before the first step) and the
+ * number of steps; NULL outputs are skipped. */
+int sb_kalman_current(const sb_kalman* filter, double* mean, double* cov, int* steps);
+/* Saved states (see "saved states" at the end of this header). */
+int sb_ellipsoidal_state_size(const sb_ellipsoidal* estimator, int* n);
+int sb_ellipsoidal_save_state(const sb_ellipsoidal* estimator, double* state, int n);
+int sb_ellipsoidal_restore_state(sb_ellipsoidal* estimator, const double* state, int n);
+int sb_kalman_state_size(const sb_kalman* filter, int* n);
+int sb_kalman_save_state(const sb_kalman* filter, double* state, int n);
+int sb_kalman_restore_state(sb_kalman* filter, const double* state, int n);
 /* ==== end ellipsoidal estimators ==== */
 
 /* ==== thesis Ch. 1-3: H-infinity set-membership observers (thesis.md §3.4, §4, §5) ====
@@ -498,6 +512,10 @@ int sb_hinf_observer_step(sb_hinf_observer* observer, const double* y, const dou
  * (row 0 = the current set). On error the observer is unchanged. */
 int sb_hinf_observer_run(sb_hinf_observer* observer, int T, const double* Y, const double* U, const double* R,
                          double* centers, double* lowers, double* uppers, double* mus);
+/* Saved state (see "saved states" at the end of this header). */
+int sb_hinf_observer_state_size(const sb_hinf_observer* observer, int* n);
+int sb_hinf_observer_save_state(const sb_hinf_observer* observer, double* state, int n);
+int sb_hinf_observer_restore_state(sb_hinf_observer* observer, const double* state, int n);
 /* ==== end thesis H-infinity observers ==== */
 /* ==== thesis Chapter 1: polytopes and invariant sets (thesis.md §3.3–3.6) ====
  * Polytopes are full-dimensional, held in both representations: vertices (nvertices x n,
@@ -650,4 +668,30 @@ int sb_interval_invariant_info(const sb_interval_invariant* observer, int* steps
 int sb_interval_invariant_current(const sb_interval_invariant* observer, double* xhat, double* lo, double* hi);
 int sb_interval_invariant_step(sb_interval_invariant* observer, const double* y, const double* u, double* xhat,
                                double* lo, double* hi);
+/* Saved states (see "saved states" at the end of this header). */
+int sb_interval_luenberger_state_size(const sb_interval_luenberger* observer, int* n);
+int sb_interval_luenberger_save_state(const sb_interval_luenberger* observer, double* state, int n);
+int sb_interval_luenberger_restore_state(sb_interval_luenberger* observer, const double* state, int n);
+int sb_interval_nonlinear_state_size(const sb_interval_nonlinear* observer, int* n);
+int sb_interval_nonlinear_save_state(const sb_interval_nonlinear* observer, double* state, int n);
+int sb_interval_nonlinear_restore_state(sb_interval_nonlinear* observer, const double* state, int n);
+int sb_interval_invariant_state_size(const sb_interval_invariant* observer, int* n);
+int sb_interval_invariant_save_state(const sb_interval_invariant* observer, double* state, int n);
+int sb_interval_invariant_restore_state(sb_interval_invariant* observer, const double* state, int n);
 /* ==== end thesis Ch. 4 ==== */
+
+/* ==== saved states (core/state.hpp) ====
+ * Every estimator handle (sb_ellipsoidal, sb_kalman, sb_zonotopic, sb_hinf_observer,
+ * sb_interval_luenberger, sb_interval_nonlinear, sb_interval_invariant) has
+ *   sb_xxx_state_size(handle, int* n)             the number of doubles of its state now,
+ *   sb_xxx_save_state(handle, double* state, int n)   writes it (n = capacity; too small:
+ *                                                  SB_ERR_BUFFER_TOO_SMALL),
+ *   sb_xxx_restore_state(handle, const double* state, int n)  reads n doubles back.
+ * The state is the full mutable state (current set, step counter, last gain, working sets,
+ * windows); restored into a handle created with the same design and arguments the estimator
+ * continues bit-for-bit as the saved one. The state starts with a tag (estimator kind), a
+ * format version and a fingerprint of the design; a state of another kind, version or design,
+ * truncated, with extra values or with a non-finite value gives SB_ERR_INVALID_ARGUMENT with a
+ * message starting with "state", and the handle is unchanged. The size may change between
+ * steps (zonotopic: the generator count). */
+/* ==== end saved states ==== */

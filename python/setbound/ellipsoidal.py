@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
+from ._state import MadeByCall, StateMixin, reconstructible, remember_call
 from .errors import DimensionError, InvalidArgumentError
 from .sets import Ellipsoid
 from .system import as_system, DescriptorSystem, LinearSystem, run_inputs, step_inputs
@@ -66,7 +67,7 @@ def _choice(value: str, table: dict, name: str) -> int:
 
 
 @dataclass(frozen=True)
-class EllDesign:
+class EllDesign(MadeByCall):
     """An offline ellipsoidal design: every estimator of this module starts from one.
 
     ``P`` shape, ``L`` gain (n_x × n_y), ``beta`` and ``sigma`` of ``ρ⁺ ≤ βρ + σ``,
@@ -99,6 +100,7 @@ def design_offline(system, normalization: str = "logdet", beta: float | None = N
     steady-state volume (logdet) or on ``ρ∞`` (ball). Raises ``NotDetectableError`` when
     ``(C, A)`` is not detectable and ``InfeasibleError`` when no design exists.
     """
+    args = (system, normalization, beta)
     system = as_system(system)
     norm = _choice(normalization, _NORMALIZATIONS, "normalization")
     if norm == lib.SB_ELL_NORM_PAPER_TRACE:
@@ -126,12 +128,13 @@ def design_offline(system, normalization: str = "logdet", beta: float | None = N
     check(lib.sb_ell_design_get(h, dptr(P), dptr(L), dptr(sc), blocks, nm))
     for a in (P, L):
         a.flags.writeable = False
-    return EllDesign(P, L, float(sc[0]), float(sc[1]), float(sc[2]), float(sc[3]), _NORM_NAMES[nm[0]],
-                     int(blocks[0]), system, h)
+    return remember_call(EllDesign(P, L, float(sc[0]), float(sc[1]), float(sc[2]), float(sc[3]), _NORM_NAMES[nm[0]],
+                                   int(blocks[0]), system, h), design_offline, *args)
 
 
-class _EllipsoidalEstimator:
+class _EllipsoidalEstimator(StateMixin):
     _method: int
+    _state_prefix = "sb_ellipsoidal"
     is_filter: bool = False
 
     def _create(self, design: EllDesign, x0: Ellipsoid, *, option=0, feedback=0, predictor=0, descriptor=None):
@@ -210,6 +213,7 @@ class _EllipsoidalEstimator:
         return Trajectory(centers, lows, highs, sets)
 
 
+@reconstructible
 class OfflineEstimator(_EllipsoidalEstimator):
     """papers.md §1.1: fixed gain ``L``, ``x̄⁺ = A x̄ + B u + L (y − C x̄ − D u)``, ``ρ⁺ = βρ + σ``.
     A one-step predictor. ``x0`` is converted to the design's shape (§0.1)."""
@@ -220,6 +224,7 @@ class OfflineEstimator(_EllipsoidalEstimator):
         self._create(design, x0)
 
 
+@reconstructible
 class OnlineEstimator(_EllipsoidalEstimator):
     """papers.md §1.2: per step, the LMI in ``(β_k, L_k, ρ_{k+1})`` with the design's shape ``P``
     (vertex enumeration); ``scaling=True``: the scaling technique of §1.3 (one LMI, no vertex
@@ -232,6 +237,7 @@ class OnlineEstimator(_EllipsoidalEstimator):
         self._create(design, x0)
 
 
+@reconstructible
 class ImprovedEstimator(_EllipsoidalEstimator):
     """papers.md §2.2 / §6: a prediction with the design's shape followed by the
     measurement-based correction with the new measurement (a filter).
@@ -255,6 +261,7 @@ class ImprovedEstimator(_EllipsoidalEstimator):
                      predictor=_choice(predictor, _PREDICTORS, "predictor"))
 
 
+@reconstructible
 class DescriptorEstimator(_EllipsoidalEstimator):
     """papers.md §4.1: ``x̄_{k+1} = T A x̄_k + T B u_k + N y_{k+1} + L (y_k − C x̄_k)``,
     ``ρ⁺ = βρ + σ``, with a design from ``design_offline(DescriptorSystem(...))``. A filter:
@@ -269,7 +276,8 @@ class DescriptorEstimator(_EllipsoidalEstimator):
         self._create(design, x0, descriptor=design.system)
 
 
-class KalmanFilter:
+@reconstructible
+class KalmanFilter(StateMixin):
     """The Kalman filter of papers.md §2.3 in Joseph form — the contrast, **not guaranteed**.
 
     ``ω ~ N(0, omega_cov)`` (identity by default) drives ``x⁺ = Ax + Bu + Eω`` and
@@ -294,6 +302,13 @@ class KalmanFilter:
         self._handle = ffi.gc(handle[0], lib.sb_kalman_free)
         self.system, self.nsigma = system, float(nsigma)
         self.mean, self.covariance = mean0.copy(), cov0.copy()
+
+    _state_prefix = "sb_kalman"
+
+    def _after_restore(self) -> None:
+        m, G = np.empty(self.system.nx), np.empty((self.system.nx, self.system.nx))
+        check(lib.sb_kalman_current(self._handle, dptr(m), dptr(G), ffi.NULL))
+        self.mean, self.covariance = m, G
 
     def step(self, y, u=None):
         """Correction with ``y_k``, then prediction; returns ``(mean, covariance)`` of ``x_k``."""

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
+from ._state import MadeByCall, StateMixin, reconstructible, remember_call
 from .errors import DimensionError, InvalidArgumentError
 from .interval import Box
 from .plant import Plant
@@ -246,7 +247,7 @@ class DesignPass:
 
 
 @dataclass
-class EllipsoidalSMDesign:
+class EllipsoidalSMDesign(MadeByCall):
     """Output of Algorithm 2/3. ``L`` is (n_x, n_y) for a Plant and (N, n_x, n_y) for an LpvPlant."""
     plant: object
     L: np.ndarray
@@ -300,8 +301,9 @@ def _design(plant, wbar, W, lambda_route, passes, lpv: bool) -> EllipsoidalSMDes
         pP, pL, pQi, pQr, ss = np.empty((n, n)), np.empty((N, n, ny)), np.empty((n, n)), np.empty((n, n)), np.empty(7)
         check(lib.sb_hinf_design_pass(handle, k, dptr(pP), dptr(pL), dptr(pQi), dptr(pQr), dptr(ss)))
         ps.append(DesignPass(pP, pL if lpv else pL[0], pQi, pQr, ss[0], ss[1], ss[2], ss[3], ss[4], ss[5], bool(ss[6])))
-    return EllipsoidalSMDesign(plant, L if lpv else L[0], P, Qi, Qr, V, e, s[0], s[1], s[2], s[3], s[4], s[5], s[6],
-                               s[7], s[8], ps, handle)
+    return remember_call(EllipsoidalSMDesign(plant, L if lpv else L[0], P, Qi, Qr, V, e, s[0], s[1], s[2], s[3], s[4],
+                                             s[5], s[6], s[7], s[8], ps, handle),
+                         _design, plant, wbar, W, lambda_route, passes, lpv)
 
 
 def design_ellipsoidal_sm_observer(plant: Plant, wbar, *, W=None, lambda_route=None, passes: int = 2):
@@ -353,8 +355,10 @@ def box_corners(lo, hi) -> np.ndarray:
     return np.array([[hi[i] if (j >> i) & 1 else lo[i] for i in range(n)] for j in range(1 << n)])
 
 
-class _Observer:
+class _Observer(StateMixin):
     _lpv = False
+    _state_prefix = "sb_hinf_observer"
+    _state_handle_attr = "_h"
 
     def __init__(self, design: EllipsoidalSMDesign, xhat0, mu0: float):
         if not isinstance(design, EllipsoidalSMDesign):
@@ -371,6 +375,9 @@ class _Observer:
         check(lib.sb_hinf_observer_create(design._handle, dptr(x0), float(mu0), h))
         self._h = ffi.gc(h[0], lib.sb_hinf_observer_free)
         self._c, self._lo, self._hi, self._mu = np.empty(self.nx), np.empty(self.nx), np.empty(self.nx), ffi.new("double*")
+        check(lib.sb_hinf_observer_current(self._h, dptr(self._c), dptr(self._lo), dptr(self._hi), self._mu, ffi.NULL))
+
+    def _after_restore(self) -> None:
         check(lib.sb_hinf_observer_current(self._h, dptr(self._c), dptr(self._lo), dptr(self._hi), self._mu, ffi.NULL))
 
     @property
@@ -436,6 +443,7 @@ class _Observer:
         return traj
 
 
+@reconstructible
 class EllipsoidalSMObserver(_Observer):
     """Online observer (2.68–2.71): x̂⁺ = (A − LC)x̂ + Bu + Ly, μ⁺ = (1 − λ)μ + λ, box x̂ ± ē∞√μ.
     ``step(y_k, u_k)`` returns the box of x_{k+1}; ``run(y, u)`` returns a Trajectory with
@@ -450,6 +458,7 @@ class EllipsoidalSMObserver(_Observer):
         return self._run(y, u, None)
 
 
+@reconstructible
 class LPVEllipsoidalSMObserver(_Observer):
     """Online LPV observer (3.63–3.66) with the scheduling signal ρ_k per step."""
     _lpv = True

@@ -19,11 +19,14 @@ for the nonlinear observer LMI (4.46), i.e. ``F = I``).
 """
 from __future__ import annotations
 
+import pickle
 from typing import Callable, Union
 
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
+from ._state import MadeByCall, StateMixin, reconstructible, remember_call
+from ._state import _reduce as _state_reduce
 from .errors import DimensionError, InvalidArgumentError
 from .interval import Box
 from .plant import Plant
@@ -116,10 +119,14 @@ def interval_error_limit(Ao, E, w, variant: str = "tight") -> Box:
     return Box(lo, hi)
 
 
-class _OnlineObserver:
+class _OnlineObserver(StateMixin):
     """Shared step/run logic (one-step predictors)."""
 
     _prefix = ""
+
+    @property
+    def _state_prefix(self) -> str:
+        return self._prefix
 
     def _io(self):
         n = self.plant.nx
@@ -170,6 +177,7 @@ class _OnlineObserver:
         return Trajectory(0.5 * (lows + highs), lows, highs, sets)
 
 
+@reconstructible
 class IntervalLuenbergerObserver(_OnlineObserver):
     """§6.2: ``x̂⁺ = A x̂ + B u + L (y − C x̂)`` (4.9) and ``[x_k] = x̂_k + [e_k]`` (4.12) with the
     tight (default) or wrapped error recursion. ``L=None``: the H∞ gain of LMI (4.13)
@@ -227,6 +235,7 @@ class IntervalLuenbergerObserver(_OnlineObserver):
 HBox = Union[Box, Callable[[Box, int], Box]]
 
 
+@reconstructible
 class NonlinearIntervalObserver(_OnlineObserver):
     """§6.6: ``x⁺ = A x + h(p, x, k) + B u``, ``y = C x + Z v``; the plant's ``F`` must be
     ``I`` (``E = [I, −LZ]``). ``h`` is a :class:`~setbound.Box` (the thesis's constant
@@ -270,6 +279,17 @@ class NonlinearIntervalObserver(_OnlineObserver):
         self.gamma = float(g[0])
         self.window = int(wi[0])
 
+    def __reduce__(self):
+        """Pickles the construction arguments and the state; the callable ``h`` must pickle."""
+        if self.h is not None and not isinstance(self.h, Box):
+            try:
+                pickle.dumps(self.h)
+            except Exception as e:  # noqa: BLE001 - any pickling failure of the user's callable
+                raise InvalidArgumentError(f"h: the nonlinearity callable cannot be pickled ({type(e).__name__}: {e}); "
+                                           "use a module-level function or a Box, or save_state() and rebuild the "
+                                           "observer with the callable yourself") from e
+        return _state_reduce(self)
+
     @property
     def steps(self) -> int:
         """Number of steps taken (k of the current box)."""
@@ -299,7 +319,7 @@ class NonlinearIntervalObserver(_OnlineObserver):
         return Box(lo, hi)
 
 
-class InvariantObserverDesign:
+class InvariantObserverDesign(MadeByCall):
     """The offline design of §6.3 (from :func:`offline_error_sequence`). Attributes: ``L``,
     ``P``, ``E``, ``gamma`` (LMI 4.13), ``beta`` (A_oᵀPA_o ⪯ β²P), ``mu``, ``inflation``
     (λ used), ``inflation_min`` (smallest λ with [e_0] ⊆ λΦ_0), ``epsilon`` (a radius),
@@ -346,6 +366,8 @@ def offline_error_sequence(plant: Plant, x0, xhat0, d=None, v=None, *, L=None, P
     ``gamma`` must satisfy (4.13) (checked). ``inflation=None``: the smallest λ ≥ 1 with
     ``[e_0] ⊆ λΦ_0``. ``epsilon`` is a radius. ``variant``: interval part, ``"tight"`` or
     ``"wrapped"`` (the thesis's Table 4.1 rows 1–2)."""
+    call = ((plant, x0, xhat0, d, v), dict(L=L, P=P, gamma=gamma, mu=mu, inflation=inflation, epsilon=epsilon,
+                                            variant=variant))
     p = _plant(plant)
     x0 = _box(x0, p.nx, "x0")
     d = _box(d if d is not None else (np.zeros(0), np.zeros(0)), p.nd, "d")
@@ -366,9 +388,11 @@ def offline_error_sequence(plant: Plant, x0, xhat0, d=None, v=None, *, L=None, P
                                                   dptr(x0hi), dptr(xh), dptr(dlo), dptr(dhi), dptr(vlo), dptr(vhi),
                                                   float(mu), 0.0 if inflation is None else float(inflation),
                                                   float(epsilon), _variant(variant, False), h))
-    return InvariantObserverDesign(ffi.gc(h[0], lib.sb_interval_invariant_design_free), p, x0, xh)
+    return remember_call(InvariantObserverDesign(ffi.gc(h[0], lib.sb_interval_invariant_design_free), p, x0, xh),
+                         offline_error_sequence, *call[0], **call[1])
 
 
+@reconstructible
 class IntervalInvariantObserver(_OnlineObserver):
     """§6.3 online: ``x̂⁺ = A x̂ + B u + L (y − C x̂) + E w_c`` (4.34) and the table look-up
     ``[x_k] = x̂_k + [s_min(k, k*)]``."""

@@ -15,6 +15,7 @@ import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
 from .errors import DimensionError, InvalidArgumentError
+from ._state import reconstructible
 from .interval import IntervalMatrix
 
 
@@ -43,6 +44,7 @@ def run_inputs(system, y, u):
     return y, None
 
 
+@reconstructible
 class LinearSystem:
     """A discrete-time linear model with unit-box disturbances (validated by the C library)."""
 
@@ -132,6 +134,7 @@ def is_detectable(A, C) -> bool:
     return bool(out[0])
 
 
+@reconstructible
 class DescriptorSystem:
     """A descriptor model (papers.md §4): ``E x⁺ = A x + B u + D w``, ``y = C x + F w``,
     ``w`` in the unit box. ``E`` may be singular; the rank conditions (infinite and finite

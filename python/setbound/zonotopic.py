@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
+from ._state import StateMixin, reconstructible, remember_call
 from .errors import DimensionError, InvalidArgumentError
 from .sets import Zonotope
 from .system import as_system, LinearSystem, run_inputs, step_inputs
@@ -39,7 +40,7 @@ REDUCTIONS = {"combastel": lib.SB_ZONO_REDUCE_COMBASTEL, "girard": lib.SB_ZONO_R
               "pca": lib.SB_ZONO_REDUCE_PCA}
 
 
-class _ZonotopicEstimator:
+class _ZonotopicEstimator(StateMixin):
     """Common options: ``max_generators`` (the reduction limit; the pending rounding box of
     relative size ~1e-15 is not counted, so before the first reduction a set may carry up to
     n_x more axis-aligned generators), ``use_first_measurement``, ``strip_order`` and
@@ -48,6 +49,7 @@ class _ZonotopicEstimator:
 
     _gain: int
     _lambdas = None
+    _state_prefix = "sb_zonotopic"
 
     def __init__(self, system: LinearSystem, x0: Zonotope, *, max_generators: int = 20,
                  use_first_measurement: bool = True, strip_order=None, reduction: str = "combastel"):
@@ -72,6 +74,13 @@ class _ZonotopicEstimator:
         check(lib.sb_zonotopic_set_reduction(self._handle, REDUCTIONS[reduction]))
         self.reduction = reduction
         self._m = ffi.new("int*")
+
+    def restore_state(self, state) -> None:
+        """Restores a state from ``save_state`` (see :class:`setbound._state.StateMixin`); the
+        reduction method is part of the state."""
+        super().restore_state(state)
+        code = int(np.frombuffer(bytes(state), dtype="<f8")[7])
+        self.reduction = {v: k for k, v in REDUCTIONS.items()}.get(code, self.reduction)
 
     def _step(self, y, u):
         s = self.system
@@ -105,6 +114,7 @@ class _ZonotopicEstimator:
         return Trajectory(centers, lows, highs, sets)
 
 
+@reconstructible
 class SegmentMinEstimator(_ZonotopicEstimator):
     """[Alamo2005] segment minimisation (papers.md §5.1): per strip,
     ``λ* = H Hᵀ c / (cᵀ H Hᵀ c + φ²)``, the minimiser of the squared generator lengths."""
@@ -112,6 +122,7 @@ class SegmentMinEstimator(_ZonotopicEstimator):
     _gain = lib.SB_ZONO_GAIN_SEGMENT_MIN
 
 
+@reconstructible
 class VolumeMinEstimator(_ZonotopicEstimator):
     """[Alamo2005] volume minimisation (papers.md §5.2): per strip, the λ minimising the exact
     volume of the corrected zonotope, found by a linear program on the bundled solver."""
@@ -193,6 +204,7 @@ def design_pradius(system: LinearSystem, approach: int = 1, order=None, *,
                          float(psi[0]))
 
 
+@reconstructible
 class PRadiusEstimator(_ZonotopicEstimator):
     """Zonotopic estimator with the offline P-radius gains of a :class:`PRadiusDesign`,
     applied in the design's strip order."""

@@ -34,6 +34,7 @@
 
 #include "setbound/core/error.hpp"
 #include "setbound/core/linear_system.hpp"
+#include "setbound/core/state.hpp"
 #include "setbound/core/validate.hpp"
 #include "setbound/estimators/ellipsoidal.hpp"
 #include "setbound/estimators/ellipsoidal_common.hpp"
@@ -243,6 +244,50 @@ class DescriptorEstimator {
     u_prev_ = u;
     ++k_;
     return next;
+  }
+
+  /// Full mutable state (core/state.hpp): the current set, the step counter and the remembered
+  /// y_{k-1}, u_{k-1} (empty before the first step).
+  std::vector<double> save_state() const {
+    StateWriter w(StateKind::DescriptorEstimator, fingerprint());
+    w.count(k_).flag(started_).mat(cur_.shape()).vec(cur_.center()).scalar(cur_.level());
+    w.vec(started_ ? y_prev_ : Eigen::VectorXd()).vec(started_ ? u_prev_ : Eigen::VectorXd());
+    return w.finish();
+  }
+  /// Restores a state from save_state() (same design and descriptor system); throws
+  /// InvalidArgumentError ("state: ...") otherwise. Unchanged on error.
+  void restore_state(const std::vector<double>& state) {
+    const Eigen::Index n = sys_.nx();
+    StateReader r(state, StateKind::DescriptorEstimator, fingerprint());
+    const long long k = r.count("steps");
+    const bool started = r.flag("started");
+    Eigen::MatrixXd P = r.mat(n, n, "shape");
+    Eigen::VectorXd c = r.vec(n, "center");
+    const double rho = r.scalar("level");
+    Eigen::VectorXd yp = r.vec(-1, "y_prev"), up = r.vec(-1, "u_prev");
+    r.finish();
+    if (started ? yp.size() != sys_.ny() : yp.size() != 0) r.fail("y_prev has the wrong length");
+    if (started ? !(up.size() == sys_.nu() || (up.size() == 0 && sys_.nu() == 0)) : up.size() != 0)
+      r.fail("u_prev has the wrong length");
+    if (!started && k != 0) r.fail("steps must be 0 before the first measurement");
+    Ellipsoid cur = [&] {
+      try {
+        return Ellipsoid(std::move(P), std::move(c), rho);
+      } catch (const Error& e) {
+        r.fail(std::string("the saved set is invalid (") + e.what() + ")");
+      }
+    }();
+    cur_ = std::move(cur);
+    k_ = static_cast<Eigen::Index>(k);
+    started_ = started;
+    y_prev_ = std::move(yp);
+    u_prev_ = std::move(up);
+  }
+  StateFingerprint fingerprint() const {
+    StateFingerprint f;
+    f.add(d_.P).add(d_.L).add(d_.beta).add(d_.sigma);
+    f.add(sys_.E()).add(sys_.A()).add(sys_.B()).add(sys_.C()).add(sys_.D()).add(sys_.F());
+    return f;
   }
 
  private:

@@ -62,6 +62,7 @@
 
 #include "setbound/core/error.hpp"
 #include "setbound/core/linear_system.hpp"
+#include "setbound/core/state.hpp"
 #include "setbound/core/validate.hpp"
 #include "setbound/estimators/ellipsoidal_common.hpp"
 #include "setbound/lmi/classes.hpp"
@@ -603,6 +604,7 @@ struct EllOnlineProblem {
   };
   std::map<std::string, std::unique_ptr<Sub>> subs;
   std::string working;  // '1' for vertex blocks in W (non-vertex blocks are always in)
+  lmi::SolverOptions options;  // of every sub-problem's solver
 
   Sub& sub(const std::string& key) {
     auto it = subs.find(key);
@@ -615,7 +617,7 @@ struct EllOnlineProblem {
         sp->ids.push_back(static_cast<int>(b));
         sp->problem.add_block_terms(blocks[b].F0, blocks[b].terms);
       }
-    sp->solver = std::make_unique<lmi::InteriorPointSolver>(sp->problem);
+    sp->solver = std::make_unique<lmi::InteriorPointSolver>(sp->problem, options);
     Sub& out = *sp;
     subs.emplace(key, std::move(sp));
     return out;
@@ -634,6 +636,7 @@ class EllipsoidalPredictor {
       : d_(o.d_), mode_(o.mode_), data_(d_.system), cur_(o.cur_) {
     init();
     if (on_ && o.on_) on_->working = o.on_->working;  // same next solve as the original
+    if (on_ && o.on_) set_online_solver_options(o.on_->options);
     k_ = o.k_;
     last_beta_ = o.last_beta_;
     last_L_ = o.last_L_;
@@ -691,6 +694,84 @@ class EllipsoidalPredictor {
     last_L_ = ch.L;
     if (failed) ++fallbacks_;
     return next;
+  }
+
+  /// The full mutable state (core/state.hpp): the current set, the step counter, the last β
+  /// and gain, the fallback counter and the online working set. Restored into a predictor
+  /// built from the same design and mode, the next steps are bit-for-bit those of this one.
+  std::vector<double> save_state() const {
+    StateWriter w(StateKind::EllipsoidalPredictor, fingerprint());
+    w.count(k_).count(fallbacks_).scalar(last_beta_).mat(last_L_);
+    w.mat(cur_.shape()).vec(cur_.center()).scalar(cur_.level());
+    w.text(on_ ? on_->working : std::string());
+    return w.finish();
+  }
+  /// Restores a state from save_state(); throws InvalidArgumentError ("state: ...") when it is
+  /// corrupted, of another estimator kind or of another design. Unchanged on error.
+  void restore_state(const std::vector<double>& state) { apply_state(parse_state(state)); }
+
+  /// restore_state in two halves (for an estimator that holds a predictor): parse_state
+  /// validates everything and changes nothing, apply_state only assigns.
+  struct ParsedState {
+    Eigen::Index k = 0, fallbacks = 0;
+    double beta = 0;
+    Eigen::MatrixXd L;
+    std::unique_ptr<Ellipsoid> cur;
+    std::string working;
+  };
+  ParsedState parse_state(const std::vector<double>& state) const {
+    const Eigen::Index n = d_.system.nx(), ny = d_.system.ny();
+    StateReader r(state, StateKind::EllipsoidalPredictor, fingerprint());
+    ParsedState p;
+    const long long k = r.count("steps"), fb = r.count("fallback_steps");
+    p.beta = r.scalar("last_beta");
+    p.L = r.mat(n, ny, "last_gain");
+    Eigen::MatrixXd P = r.mat(n, n, "shape");
+    Eigen::VectorXd c = r.vec(n, "center");
+    const double rho = r.scalar("level");
+    p.working = r.text("working_set");
+    r.finish();
+    if (fb > k) r.fail("fallback_steps exceeds steps");
+    if (!(p.beta > 0 && p.beta < 1)) r.fail("last_beta is not in (0, 1)");
+    const std::size_t nb = on_ ? on_->blocks.size() : 0;
+    if (p.working.size() != nb || p.working.find_first_not_of("01") != std::string::npos)
+      r.fail("working_set does not match the online problem of this predictor");
+    try {
+      p.cur = std::make_unique<Ellipsoid>(std::move(P), std::move(c), rho);
+    } catch (const Error& e) {
+      r.fail(std::string("the saved set is invalid (") + e.what() + ")");
+    }
+    p.k = static_cast<Eigen::Index>(k);
+    p.fallbacks = static_cast<Eigen::Index>(fb);
+    return p;
+  }
+  void apply_state(ParsedState&& p) {
+    cur_ = std::move(*p.cur);
+    k_ = p.k;
+    fallbacks_ = p.fallbacks;
+    last_beta_ = p.beta;
+    last_L_ = std::move(p.L);
+    if (on_) on_->working = std::move(p.working);
+  }
+
+  /// Hash of the design data a state depends on (mode, P, L, β, σ, system).
+  StateFingerprint fingerprint() const {
+    StateFingerprint f;
+    f.add_int(static_cast<int>(mode_)).add(d_.P).add(d_.L).add(d_.beta).add(d_.sigma);
+    const LinearSystem& s = d_.system;
+    f.add(s.A()).add(s.A_rad()).add(s.B()).add(s.C()).add(s.D()).add(s.E()).add(s.F());
+    return f;
+  }
+
+  /// Options of the interior-point solver of the online steps (default: lmi::SolverOptions{}).
+  /// A solve that does not end Optimal/Inaccurate (e.g. max_iterations too small) makes the
+  /// step fall back to the design's certified (β, L, σ), counted by fallback_steps(). Not part
+  /// of the saved state (like the design). No effect on an Offline predictor.
+  void set_online_solver_options(const lmi::SolverOptions& options) {
+    options.validate();
+    if (!on_) return;
+    on_->options = options;
+    for (auto& kv : on_->subs) kv.second->solver->set_options(options);
   }
 
   /// Replace the current set (e.g. by a corrected one); converted to shape P with with_shape.

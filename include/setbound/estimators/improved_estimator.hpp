@@ -85,6 +85,48 @@ class ImprovedEstimator {
     return current_;
   }
 
+  /// Full mutable state (core/state.hpp): the predictor's state, the corrected set, the
+  /// reported bounds, the step counter and the last correction's status.
+  std::vector<double> save_state() const {
+    StateWriter w(StateKind::ImprovedEstimator, fingerprint());
+    w.blob(pred_.save_state()).count(k_).flag(last_failed_);
+    w.mat(current_.shape()).vec(current_.center()).scalar(current_.level()).vec(lower_).vec(upper_);
+    return w.finish();
+  }
+  /// Restores a state from save_state() (same design, option, feedback and predictor); throws
+  /// InvalidArgumentError ("state: ...") otherwise. Unchanged on error.
+  void restore_state(const std::vector<double>& state) {
+    const Eigen::Index n = pred_.design().system.nx();
+    StateReader r(state, StateKind::ImprovedEstimator, fingerprint());
+    const std::vector<double> pstate = r.blob("predictor");
+    EllipsoidalPredictor::ParsedState ps = pred_.parse_state(pstate);  // validates, changes nothing
+    const long long k = r.count("steps");
+    const bool failed = r.flag("last_correction_failed");
+    Eigen::MatrixXd P = r.mat(n, n, "shape");
+    Eigen::VectorXd c = r.vec(n, "center");
+    const double rho = r.scalar("level");
+    Eigen::VectorXd lo = r.vec(n, "lower"), hi = r.vec(n, "upper");
+    r.finish();
+    Ellipsoid cur = [&] {
+      try {
+        return Ellipsoid(std::move(P), std::move(c), rho);
+      } catch (const Error& e) {
+        r.fail(std::string("the saved corrected set is invalid (") + e.what() + ")");
+      }
+    }();
+    pred_.apply_state(std::move(ps));
+    current_ = std::move(cur);
+    lower_ = std::move(lo);
+    upper_ = std::move(hi);
+    k_ = static_cast<Eigen::Index>(k);
+    last_failed_ = failed;
+  }
+  StateFingerprint fingerprint() const {
+    StateFingerprint f = pred_.fingerprint();
+    f.add_int(static_cast<int>(corrector_.option())).add_int(static_cast<int>(feedback_));
+    return f;
+  }
+
  private:
   static ImprovedCorrectionOptions corrector_options(ImprovedFeedback feedback) {
     ImprovedCorrectionOptions o;

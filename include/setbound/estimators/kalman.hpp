@@ -39,6 +39,7 @@
 
 #include "setbound/core/error.hpp"
 #include "setbound/core/linear_system.hpp"
+#include "setbound/core/state.hpp"
 #include "setbound/core/validate.hpp"
 #include "setbound/sets/ellipsoid.hpp"
 
@@ -177,6 +178,38 @@ class KalmanFilter {
     require_positive(nsigma, "nsigma");
     const Eigen::VectorXd half = nsigma * G_.diagonal().cwiseMax(0.0).cwiseSqrt();
     return {x_ - half, x_ + half};
+  }
+
+  /// Full mutable state (core/state.hpp): x̂_{k|k}, G_{k|k}, x̂_{k+1|k}, G_{k+1|k}, K_k, k.
+  std::vector<double> save_state() const {
+    StateWriter w(StateKind::KalmanFilter, fingerprint());
+    w.count(steps_).vec(x_).mat(G_).vec(xp_).mat(Gp_).mat(K_);
+    return w.finish();
+  }
+  /// Restores a state from save_state() (same system and omega_cov); throws
+  /// InvalidArgumentError ("state: ...") otherwise. Unchanged on error.
+  void restore_state(const std::vector<double>& state) {
+    const Eigen::Index n = sys_.nx();
+    StateReader r(state, StateKind::KalmanFilter, fingerprint());
+    const long long k = r.count("steps");
+    Eigen::VectorXd x = r.vec(n, "mean");
+    Eigen::MatrixXd G = r.mat(n, n, "covariance");
+    Eigen::VectorXd xp = r.vec(n, "predicted_mean");
+    Eigen::MatrixXd Gp = r.mat(n, n, "predicted_covariance");
+    Eigen::MatrixXd K = r.mat(n, sys_.ny(), "gain");
+    r.finish();
+    if (G != G.transpose() || Gp != Gp.transpose()) r.fail("covariance is not symmetric");
+    x_ = std::move(x);
+    G_ = std::move(G);
+    xp_ = std::move(xp);
+    Gp_ = std::move(Gp);
+    K_ = std::move(K);
+    steps_ = static_cast<long>(k);
+  }
+  StateFingerprint fingerprint() const {
+    StateFingerprint f;
+    f.add(sys_.A()).add(sys_.B()).add(sys_.C()).add(sys_.D()).add(sys_.E()).add(sys_.F()).add(W_);
+    return f;
   }
 
  private:

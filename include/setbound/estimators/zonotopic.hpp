@@ -45,6 +45,7 @@
 
 #include "setbound/core/error.hpp"
 #include "setbound/core/linear_system.hpp"
+#include "setbound/core/state.hpp"
 #include "setbound/core/validate.hpp"
 #include "setbound/sets/strip.hpp"
 #include "setbound/sets/zonotope.hpp"
@@ -269,6 +270,77 @@ class ZonotopicEstimator {
     tmp.correct_and_reduce(Eigen::VectorXd::Zero(sys_.ny()), u, false);
     tmp.predict_prior(u);
     return tmp.prediction();
+  }
+
+  /// Full mutable state (core/state.hpp): the prior for x_{k+1} (centre, the lazy transform T,
+  /// its generators and pending boxes, the Gram matrix of segment minimisation), the set of the
+  /// last step and its hull, the step counter and the reduction method (set_reduction).
+  std::vector<double> save_state() const {
+    StateWriter w(StateKind::ZonotopicEstimator, fingerprint());
+    const Eigen::Index mh = std::max(mG_, m_);
+    w.count(k_).flag(has_current_).flag(reduced_).count(static_cast<int>(opt_.reduction));
+    w.count(cap_).count(mG_).count(mN_).count(m_).flag(T_identity_);
+    w.vec(p_).vec(rA_).vec(rP_).vec(wG_).mat(T_).mat(N_.leftCols(mN_)).mat(S_);
+    w.mat(H_[cur_].leftCols(mh)).vec(cur_p_).vec(cur_r_).vec(cur_w_).vec(cur_lo_).vec(cur_hi_);
+    return w.finish();
+  }
+  /// Restores a state from save_state() into an estimator made with the same system, gain rule
+  /// and options; throws InvalidArgumentError ("state: ...") otherwise. Unchanged on error.
+  void restore_state(const std::vector<double>& state) {
+    StateReader r(state, StateKind::ZonotopicEstimator, fingerprint());
+    const long long k = r.count("steps");
+    const bool has_cur = r.flag("has_current"), red = r.flag("reduced_last_step");
+    const long long method = r.count("reduction", 1, 3);
+    const long long minimum_cap = opt_.max_generators + capN_ + n_;
+    const long long cap = r.count("capacity", minimum_cap, 1ll << 30);
+    const long long mG = r.count("prior generators", 0, cap - capN_);
+    const long long mN = r.count("prior new generators", 0, capN_);
+    const long long m = r.count("current generators", 0, cap);
+    const bool Tid = r.flag("T_identity");
+    Vec p = r.vec(n_, "p"), rA = r.vec(n_, "rA"), rP = r.vec(n_, "rP"), wG = r.vec(n_, "wG");
+    Mat T = r.mat(n_, n_, "T"), N = r.mat(n_, mN, "N"), S = r.mat(n_, n_, "S");
+    Mat H = r.mat(n_, std::max(mG, m), "generators");
+    Vec cp = r.vec(n_, "current center"), cr = r.vec(n_, "current box"), cw = r.vec(n_, "current row sums");
+    Vec clo = r.vec(n_, "current lower"), chi = r.vec(n_, "current upper");
+    r.finish();
+    if (!has_cur && (k != 0 || m != 0)) r.fail("steps and current generators must be 0 before the first step");
+    if (has_cur && k == 0) r.fail("a current set needs steps >= 1");
+    if ((rA.array() < 0).any() || (rP.array() < 0).any() || (cr.array() < 0).any() || (wG.array() < 0).any())
+      r.fail("a box radius is negative");
+    // Commit (nothing below throws except on memory exhaustion).
+    if (cap != cap_) allocate(cap - capN_ - n_);
+    opt_.reduction = static_cast<ZonotopeReduction>(method);
+    k_ = static_cast<Eigen::Index>(k);
+    has_current_ = has_cur;
+    reduced_ = red;
+    mG_ = static_cast<Eigen::Index>(mG);
+    mN_ = static_cast<Eigen::Index>(mN);
+    m_ = static_cast<Eigen::Index>(m);
+    T_identity_ = Tid;
+    p_ = std::move(p);
+    rA_ = std::move(rA);
+    rP_ = std::move(rP);
+    wG_ = std::move(wG);
+    T_ = std::move(T);
+    N_.leftCols(mN_) = N;
+    S_ = std::move(S);
+    cur_ = 0;
+    H_[0].leftCols(H.cols()) = H;
+    cur_p_ = std::move(cp);
+    cur_r_ = std::move(cr);
+    cur_w_ = std::move(cw);
+    cur_lo_ = std::move(clo);
+    cur_hi_ = std::move(chi);
+  }
+  /// Hash of what a state depends on: the system, the gain rule's kind and fixed gains, and
+  /// the options fixed at construction (a custom callable rule is not hashed).
+  StateFingerprint fingerprint() const {
+    StateFingerprint f;
+    f.add(sys_.A()).add(sys_.A_rad()).add(sys_.B()).add(sys_.C()).add(sys_.D()).add(sys_.E()).add(sys_.F());
+    f.add_int(static_cast<int>(gain_.kind())).add(gain_.lambdas());
+    f.add_int(opt_.max_generators).add_int(opt_.use_first_measurement ? 1 : 0);
+    for (Eigen::Index i : opt_.strip_order) f.add_int(i);
+    return f;
   }
 
  private:

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "setbound/core/state.hpp"
 #include "setbound/thesis/hinf_gain.hpp"
 
 namespace setbound::thesis {
@@ -490,6 +491,20 @@ struct SMState {
     ++k;
     update_box();
   }
+  void save(StateWriter& w) const { w.count(k).vec(xhat).scalar(mu); }
+  /// Reads k, x̂, μ (validated) into this state; call on a copy or after all other reads.
+  static void read(StateReader& r, Eigen::Index n, long& k_out, Eigen::VectorXd& xhat_out, double& mu_out) {
+    k_out = static_cast<long>(r.count("steps"));
+    xhat_out = r.vec(n, "xhat");
+    mu_out = r.scalar("mu");
+    if (!(mu_out > 0)) r.fail("mu must be positive");
+  }
+  void apply(long k_in, Eigen::VectorXd&& xhat_in, double mu_in) {
+    k = k_in;
+    xhat = std::move(xhat_in);
+    mu = mu_in;
+    update_box();
+  }
   void update_box() {
     using ell_rounding::round_up;
     const double s = round_up(std::sqrt(mu));
@@ -551,6 +566,30 @@ class EllipsoidalSMObserver {
     tmpy_ = y.cwiseAbs();
     st_.d.noalias() += Ml_ * tmpy_;
     st_.advance();
+  }
+
+  /// Full mutable state (core/state.hpp): x̂_k, μ_k and k (the box follows from them).
+  std::vector<double> save_state() const {
+    StateWriter w(StateKind::EllipsoidalSMObserver, fingerprint());
+    st_.save(w);
+    return w.finish();
+  }
+  /// Restores a state from save_state() (same plant and design); throws InvalidArgumentError
+  /// ("state: ...") otherwise. Unchanged on error.
+  void restore_state(const std::vector<double>& state) {
+    StateReader r(state, StateKind::EllipsoidalSMObserver, fingerprint());
+    long k = 0;
+    Eigen::VectorXd xhat;
+    double mu = 0;
+    hinf_detail::SMState::read(r, Ao_.rows(), k, xhat, mu);
+    r.finish();
+    st_.apply(k, std::move(xhat), mu);
+  }
+  StateFingerprint fingerprint() const {
+    StateFingerprint f;
+    f.add(Ao_).add(B_).add(L_).add(Ma_).add(design_.P).add(design_.e_inf).add(design_.lambda).add(design_.cbar);
+    f.add(design_.lambda_max_P);
+    return f;
   }
 
   void reset(const Eigen::VectorXd& xhat0, double mu0) { st_.init(design_, xhat0, mu0); }

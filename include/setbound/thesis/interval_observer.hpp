@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "setbound/core/error.hpp"
+#include "setbound/core/state.hpp"
 #include "setbound/core/validate.hpp"
 #include "setbound/sets/box.hpp"
 #include "setbound/sets/interval.hpp"
@@ -550,6 +551,14 @@ inline Box interval_error_limit(const Eigen::MatrixXd& Ao, const Eigen::MatrixXd
 // IntervalLuenbergerObserver (§6.2)
 // ---------------------------------------------------------------------------------------------
 
+namespace iobs_detail {
+inline void fingerprint_plant_table(StateFingerprint& f, const Plant& p, const Eigen::MatrixXd& L, const ErrorBoxTable& t) {
+  f.add(p.A).add(p.B).add(p.C).add(p.F).add(p.Z).add(L);
+  for (const auto& v : t.lo) f.add(v);
+  for (const auto& v : t.hi) f.add(v);
+}
+}  // namespace iobs_detail
+
 struct IntervalObserverOptions {
   ErrorRecursion variant = ErrorRecursion::Tight;  // Tight (default) or Wrapped (the thesis's numbers)
 };
@@ -648,6 +657,37 @@ class IntervalLuenbergerObserver {
     xi_ = up(powers_.ctr.beta * xi_ + pert);
     ++k_;
     update_bounds();
+  }
+
+  /// Full mutable state (core/state.hpp): x̂_k, the centre of the disturbance part, the
+  /// rounding residue ξ_k and k (the box follows from them and the tabulated radii).
+  std::vector<double> save_state() const {
+    StateWriter w(StateKind::IntervalLuenbergerObserver, fingerprint());
+    w.count(k_).vec(xhat_).vec(cc_).scalar(xi_);
+    return w.finish();
+  }
+  /// Restores a state from save_state() into an observer made with the same plant, gain,
+  /// boxes and variant; throws InvalidArgumentError ("state: ...") otherwise. Unchanged on error.
+  void restore_state(const std::vector<double>& state) {
+    const Eigen::Index n = plant_.nx();
+    StateReader r(state, StateKind::IntervalLuenbergerObserver, fingerprint());
+    const long long k = r.count("steps");
+    Eigen::VectorXd xh = r.vec(n, "xhat"), cc = r.vec(n, "center offset");
+    const double xi = r.scalar("rounding residue");
+    r.finish();
+    if (!(xi >= 0)) r.fail("rounding residue must be >= 0");
+    k_ = static_cast<long>(k);
+    xhat_ = std::move(xh);
+    cc_ = std::move(cc);
+    xi_ = xi;
+    update_bounds();
+  }
+  StateFingerprint fingerprint() const {
+    StateFingerprint f;
+    f.add_int(static_cast<int>(variant_));
+    iobs_detail::fingerprint_plant_table(f, plant_, L_, table_);
+    f.add(Ecw_).add(ecw_err_);
+    return f;
   }
 
  private:
@@ -815,6 +855,45 @@ class NonlinearIntervalObserver {
     rmax_norm_ = std::max(rmax_norm_, up(hr_.norm()));
     ++k_;
     update_bounds();
+  }
+
+  /// Full mutable state (core/state.hpp): x̂_k, the centre of the v part, ξ_k, k and the
+  /// error-sequence window (the last W radii of [h], the maxima of the radii that left it).
+  std::vector<double> save_state() const {
+    StateWriter w(StateKind::NonlinearIntervalObserver, fingerprint());
+    w.count(k_).vec(xhat_).vec(cc_).scalar(xi_).mat(ring_).vec(Rmax_).scalar(rmax_norm_).scalar(rmax_norm_out_);
+    return w.finish();
+  }
+  /// Restores a state from save_state() into an observer made with the same plant, gain, boxes
+  /// and window; throws InvalidArgumentError ("state: ...") otherwise. Unchanged on error.
+  void restore_state(const std::vector<double>& state) {
+    const Eigen::Index n = plant_.nx();
+    StateReader r(state, StateKind::NonlinearIntervalObserver, fingerprint());
+    const long long k = r.count("steps");
+    Eigen::VectorXd xh = r.vec(n, "xhat"), cc = r.vec(n, "center offset");
+    const double xi = r.scalar("rounding residue");
+    Eigen::MatrixXd ring = r.mat(n, W_, "window");
+    Eigen::VectorXd rmax = r.vec(n, "window maxima");
+    const double rn = r.scalar("window norm"), rno = r.scalar("window norm out");
+    r.finish();
+    if (!(xi >= 0) || !(rn >= 0) || !(rno >= 0) || (ring.array() < 0).any() || (rmax.array() < 0).any())
+      r.fail("a radius or residue is negative");
+    k_ = static_cast<long>(k);
+    xhat_ = std::move(xh);
+    cc_ = std::move(cc);
+    xi_ = xi;
+    ring_ = std::move(ring);
+    Rmax_ = std::move(rmax);
+    rmax_norm_ = rn;
+    rmax_norm_out_ = rno;
+    update_bounds();
+  }
+  StateFingerprint fingerprint() const {
+    StateFingerprint f;
+    f.add_int(W_);
+    iobs_detail::fingerprint_plant_table(f, plant_, L_, table_);
+    f.add(Ecw_).add(ecw_err_);
+    return f;
   }
 
  private:
@@ -1153,6 +1232,34 @@ class IntervalInvariantObserver {
     xi_ = up(D_.rounding_beta * xi_ + up(D_.rounding_sqrt_lmax * dn));
     ++k_;
     update_bounds();
+  }
+
+  /// Full mutable state (core/state.hpp): x̂_k, the rounding residue ξ_k and k.
+  std::vector<double> save_state() const {
+    StateWriter w(StateKind::IntervalInvariantObserver, fingerprint());
+    w.count(k_).vec(xhat_).scalar(xi_);
+    return w.finish();
+  }
+  /// Restores a state from save_state() (same design); throws InvalidArgumentError
+  /// ("state: ...") otherwise. Unchanged on error.
+  void restore_state(const std::vector<double>& state) {
+    StateReader r(state, StateKind::IntervalInvariantObserver, fingerprint());
+    const long long k = r.count("steps");
+    Eigen::VectorXd xh = r.vec(D_.plant.nx(), "xhat");
+    const double xi = r.scalar("rounding residue");
+    r.finish();
+    if (!(xi >= 0)) r.fail("rounding residue must be >= 0");
+    k_ = static_cast<long>(k);
+    xhat_ = std::move(xh);
+    xi_ = xi;
+    update_bounds();
+  }
+  StateFingerprint fingerprint() const {
+    StateFingerprint f;
+    const Plant& p = D_.plant;
+    f.add(p.A).add(p.B).add(p.C).add(p.F).add(p.Z).add(D_.L).add(D_.Ecw).add(D_.Ecw_err).add(D_.rounding_beta);
+    for (const Box& b : D_.sequence) f.add(b.lo()).add(b.hi());
+    return f;
   }
 
  private:

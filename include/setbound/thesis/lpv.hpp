@@ -250,7 +250,7 @@ class LPVEllipsoidalSMObserver {
       throw DimensionError("design: its P and vertex gains do not match the LPV system (n_x = " + std::to_string(n) +
                            ", " + std::to_string(N) + " vertices)");
     for (const auto& Li : design_.L_vertices) require_shape(Li, n, sys.ny(), "design.L");
-    alpha_.resize(N);
+    alpha_ = Eigen::VectorXd::Zero(N);  // no step yet (a saved state holds it)
     Aa_.resize(n, n);
     Ba_.resize(n, sys.nu());
     La_.resize(n, sys.ny());
@@ -311,6 +311,35 @@ class LPVEllipsoidalSMObserver {
     st_.d.noalias() += absL_ * tmpy_;
     st_.d *= gk;
     st_.advance();
+  }
+
+  /// Full mutable state (core/state.hpp): x̂_k, μ_k, k and the weights α of the last step.
+  std::vector<double> save_state() const {
+    StateWriter w(StateKind::LPVEllipsoidalSMObserver, fingerprint());
+    st_.save(w);
+    w.vec(alpha_);
+    return w.finish();
+  }
+  /// Restores a state from save_state() (same LPV system and design); throws
+  /// InvalidArgumentError ("state: ...") otherwise. Unchanged on error.
+  void restore_state(const std::vector<double>& state) {
+    StateReader r(state, StateKind::LPVEllipsoidalSMObserver, fingerprint());
+    long k = 0;
+    Eigen::VectorXd xhat;
+    double mu = 0;
+    hinf_detail::SMState::read(r, sys_.nx(), k, xhat, mu);
+    Eigen::VectorXd alpha = r.vec(sys_.num_vertices(), "weights");
+    r.finish();
+    alpha_ = std::move(alpha);
+    st_.apply(k, std::move(xhat), mu);
+  }
+  StateFingerprint fingerprint() const {
+    StateFingerprint f;
+    for (const auto& A : sys_.A) f.add(A);
+    for (const auto& B : sys_.B) f.add(B);
+    for (const auto& L : design_.L_vertices) f.add(L);
+    f.add(sys_.C).add(sys_.theta).add(design_.P).add(design_.e_inf).add(design_.lambda).add(design_.cbar).add(design_.lambda_max_P);
+    return f;
   }
 
   void reset(const Eigen::VectorXd& xhat0, double mu0) { st_.init(design_, xhat0, mu0); }
