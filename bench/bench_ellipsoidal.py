@@ -68,6 +68,8 @@ def bench_system(label, s, steps):
         ("offline step (§1.1)", lambda: ell.OfflineEstimator(d, x0)),
         ("online vertex step (§1.2)", lambda: ell.OnlineEstimator(d, x0)),
         ("online scaled step (§1.3)", lambda: ell.OnlineEstimator(d, x0, scaling=True)),
+        ("online vertex step, solve every step", lambda: ell.OnlineEstimator(d, x0, reuse_tolerance=0.0)),
+        ("online scaled step, solve every step", lambda: ell.OnlineEstimator(d, x0, scaling=True, reuse_tolerance=0.0)),
         ("improved step (online + correction, §6)", lambda: ell.ImprovedEstimator(d, x0)),
         ("Kalman step (§2.3)", lambda: ell.KalmanFilter(s, np.zeros(s.nx), np.eye(s.nx))),
     ]:

@@ -305,6 +305,25 @@ int sb_ellipsoidal_last_step(const sb_ellipsoidal* estimator, double* beta, doub
   });
 }
 
+int sb_ellipsoidal_set_reuse_tolerance(sb_ellipsoidal* estimator, double tol) {
+  return guard("sb_ellipsoidal_set_reuse_tolerance", [&] {
+    require_pointer(estimator, "estimator");
+    auto* pred = std::get_if<EllipsoidalPredictor>(&estimator->estimator);
+    if (pred == nullptr || pred->mode() == EllPredictorMode::Offline)
+      throw InvalidArgumentError("estimator: the reuse tolerance applies to the online predictors only");
+    pred->set_reuse_tolerance(tol);
+  });
+}
+
+int sb_ellipsoidal_online_solves(const sb_ellipsoidal* estimator, int* solves) {
+  return guard("sb_ellipsoidal_online_solves", [&] {
+    require_pointer(estimator, "estimator");
+    require_pointer(solves, "solves");
+    const auto* pred = std::get_if<EllipsoidalPredictor>(&estimator->estimator);
+    *solves = pred != nullptr ? static_cast<int>(pred->online_solves()) : 0;
+  });
+}
+
 int sb_kalman_create(const sb_linear_system* system, const double* mean0, const double* cov0, const double* W,
                      sb_kalman** out) {
   return guard("sb_kalman_create", [&] {

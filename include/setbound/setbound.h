@@ -408,6 +408,13 @@ int sb_ellipsoidal_step(sb_ellipsoidal* estimator, const double* y, const double
  * design's for OFFLINE and DESCRIPTOR), and *fallback = 1 when the online LMI could not be
  * solved and certified and the design's certified values were used instead. */
 int sb_ellipsoidal_last_step(const sb_ellipsoidal* estimator, double* beta, double* L, int* fallback);
+/* Online predictors (ONLINE_VERTEX / ONLINE_SCALED): the per-step LMI is solved again only when
+ * rho_k moved by more than tol * rho of the last solve (default 1e-9, 0 = solve every step);
+ * otherwise the last certified (beta, L, sigma) is reused, at most |delta rho| above the optimum.
+ * Not used with an interval A. sb_ellipsoidal_online_solves: the number of steps that solved
+ * the LMI (0 for the other methods). */
+int sb_ellipsoidal_set_reuse_tolerance(sb_ellipsoidal* estimator, double tol);
+int sb_ellipsoidal_online_solves(const sb_ellipsoidal* estimator, int* solves);
 
 /* Kalman filter baseline (papers.md §2.3, Joseph form), NOT guaranteed: omega ~ N(0, W)
  * (W nw x nw, NULL = identity), x0 ~ N(mean0, cov0). Step k uses y_k and returns the mean

@@ -231,10 +231,34 @@ class OnlineEstimator(_EllipsoidalEstimator):
     enumeration; never smaller than the vertex version). With an interval ``A`` the centre term
     of §6.7 is included. A one-step predictor."""
 
-    def __init__(self, design: EllDesign, x0: Ellipsoid, scaling: bool = False):
+    def __init__(self, design: EllDesign, x0: Ellipsoid, scaling: bool = False,
+                 reuse_tolerance: float = 1e-9):
         self._method = lib.SB_ELL_ONLINE_SCALED if scaling else lib.SB_ELL_ONLINE_VERTEX
         self.scaling = bool(scaling)
         self._create(design, x0)
+        self.reuse_tolerance = reuse_tolerance
+
+    @property
+    def reuse_tolerance(self) -> float:
+        """The LMI is solved again only when ρ_k moved by more than this relative amount since
+        the last solve; otherwise the last certified (β, L, σ) is reused, which is at most
+        |Δρ| above the optimum (the LMI does not depend on ρ_k; the optimal value is concave
+        in ρ with supergradient β ∈ (0, 1)). 0 solves at every step. Not used with an
+        interval A."""
+        return self._reuse_tolerance
+
+    @reuse_tolerance.setter
+    def reuse_tolerance(self, tol: float) -> None:
+        tol = float(tol)
+        check(lib.sb_ellipsoidal_set_reuse_tolerance(self._handle, tol))
+        self._reuse_tolerance = tol
+
+    @property
+    def online_solves(self) -> int:
+        """Number of steps that solved the per-step LMI (the others reused the last solve)."""
+        out = ffi.new("int*")
+        check(lib.sb_ellipsoidal_online_solves(self._handle, out))
+        return int(out[0])
 
 
 @reconstructible

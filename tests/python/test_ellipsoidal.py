@@ -95,6 +95,29 @@ def test_online_not_above_scaled_nor_offline():
         assert np.all(r_on <= r_off * (1 + 1e-6) + 1e-12), key
 
 
+@pytest.mark.parametrize("scaling", [False, True])
+def test_online_reuse_matches_solving_every_step(scaling):
+    # The reuse rule (set_reuse_tolerance) re-solves only when rho_k moved: same radii as
+    # solving every step (up to the solver's own tolerance), far fewer solves, containment on
+    # both paths with random and vertex noise.
+    for key in ("bc14", "me17a", "rand6", "rand7"):
+        d, x0 = design_of(key), X0[key]
+        for j, kind in enumerate(("uniform", "vertex")):
+            sim = simulate(SYSTEMS[key], x0, 120, disturbance=kind, rng=50 + j)
+            reuse = ell.OnlineEstimator(d, x0, scaling=scaling)
+            every = ell.OnlineEstimator(d, x0, scaling=scaling, reuse_tolerance=0.0)
+            t1, t2 = reuse.run(sim.y), every.run(sim.y)
+            assert_contains(t1, sim.x, f"reuse on {key}")
+            assert_contains(t2, sim.x, f"solve every step on {key}")
+            np.testing.assert_allclose(t1.radius, t2.radius, rtol=1e-5)
+            assert every.online_solves == 120
+            assert reuse.online_solves < 60, (key, reuse.online_solves)
+    with pytest.raises(sb.InvalidArgumentError, match="tol"):
+        ell.OnlineEstimator(design_of("bc14"), X0["bc14"], reuse_tolerance=-1.0)
+    with pytest.raises(sb.InvalidArgumentError, match="tol"):
+        ell.OnlineEstimator(design_of("bc14"), X0["bc14"], reuse_tolerance=float("nan"))
+
+
 def test_radius_sequences_do_not_depend_on_the_data():
     d, x0 = design_of("bc14"), X0["bc14"]
     for make in (METHODS["offline"], METHODS["online"], METHODS["scaled"]):

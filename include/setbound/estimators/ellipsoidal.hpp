@@ -641,6 +641,9 @@ class EllipsoidalPredictor {
     last_beta_ = o.last_beta_;
     last_L_ = o.last_L_;
     fallbacks_ = o.fallbacks_;
+    reuse_ = o.reuse_;
+    reuse_tol_ = o.reuse_tol_;
+    solves_ = o.solves_;
   }
   EllipsoidalPredictor& operator=(const EllipsoidalPredictor& o) {
     if (this != &o) *this = EllipsoidalPredictor(o);
@@ -661,6 +664,23 @@ class EllipsoidalPredictor {
   /// Online steps whose solve failed or whose result could not be certified, and that used
   /// the design's (β, L) instead.
   Eigen::Index fallback_steps() const { return fallbacks_; }
+  /// Online steps that solved the per-step LMI (the others reused the last solution, see
+  /// set_reuse_tolerance, or are Offline steps).
+  Eigen::Index online_solves() const { return solves_; }
+
+  /// Parametric reuse of the online solution (default 1e-9; 0 re-solves at every step). The
+  /// per-step LMI does not depend on ρ_k (only its objective β ρ_k + σ does, for a point A):
+  /// the last certified (β, L, σ) stays a valid step for any ρ, and since the optimal value
+  /// V(ρ) = min βρ + σ is concave with supergradient β ∈ (0, 1) at the last solve's ρ̄, reusing
+  /// it costs at most |ρ_k − ρ̄| over the optimum. So the LMI is solved again only when ρ_k has
+  /// moved by more than `tol`·ρ̄ since the last solve; in steady state (ρ_k converges
+  /// geometrically) the step is then a few matrix-vector products. Not used with an interval A
+  /// (the constants of the LMI change with x̄_k). Part of the saved state: no (an option).
+  void set_reuse_tolerance(double tol) {
+    if (!(tol >= 0.0) || !std::isfinite(tol)) throw InvalidArgumentError("tol: must be finite and >= 0");
+    reuse_tol_ = tol;
+  }
+  double reuse_tolerance() const { return reuse_tol_; }
 
   /// Uses y_k, u_k; computes, stores and returns the set for x_{k+1}. Unchanged on error.
   Ellipsoid step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u) {
@@ -697,13 +717,17 @@ class EllipsoidalPredictor {
   }
 
   /// The full mutable state (core/state.hpp): the current set, the step counter, the last β
-  /// and gain, the fallback counter and the online working set. Restored into a predictor
+  /// and gain, the fallback counter, the online working set, the online solve counter and the
+  /// reuse point (set_reuse_tolerance). Restored into a predictor
   /// built from the same design and mode, the next steps are bit-for-bit those of this one.
   std::vector<double> save_state() const {
     StateWriter w(StateKind::EllipsoidalPredictor, fingerprint());
     w.count(k_).count(fallbacks_).scalar(last_beta_).mat(last_L_);
     w.mat(cur_.shape()).vec(cur_.center()).scalar(cur_.level());
     w.text(on_ ? on_->working : std::string());
+    const bool rv = std::isfinite(reuse_.rho);
+    w.count(solves_).count(rv ? 1 : 0).scalar(rv ? reuse_.rho : 0.0).scalar(rv ? reuse_.beta : 0.0);
+    w.scalar(rv ? reuse_.sigma : 0.0).mat(rv ? reuse_.L : Eigen::MatrixXd(Eigen::MatrixXd::Zero(d_.L.rows(), d_.L.cols())));
     return w.finish();
   }
   /// Restores a state from save_state(); throws InvalidArgumentError ("state: ...") when it is
@@ -718,6 +742,11 @@ class EllipsoidalPredictor {
     Eigen::MatrixXd L;
     std::unique_ptr<Ellipsoid> cur;
     std::string working;
+    Eigen::Index solves = 0;
+    struct {
+      double rho, beta, sigma;
+      Eigen::MatrixXd L;
+    } reuse{std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0, Eigen::MatrixXd()};
   };
   ParsedState parse_state(const std::vector<double>& state) const {
     const Eigen::Index n = d_.system.nx(), ny = d_.system.ny();
@@ -730,7 +759,17 @@ class EllipsoidalPredictor {
     Eigen::VectorXd c = r.vec(n, "center");
     const double rho = r.scalar("level");
     p.working = r.text("working_set");
+    const long long sv = r.count("online_solves");
+    const bool rv = r.count("reuse_valid", 0, 1) == 1;
+    const double rrho = r.scalar("reuse_rho"), rbeta = r.scalar("reuse_beta"), rsig = r.scalar("reuse_sigma");
+    Eigen::MatrixXd rL = r.mat(n, ny, "reuse_gain");
     r.finish();
+    if (sv > k) r.fail("online_solves exceeds steps");
+    if (rv) {
+      if (!(rrho > 0) || !(rbeta > 0 && rbeta < 1) || !(rsig >= 0)) r.fail("the saved reuse point is invalid");
+      p.reuse = {rrho, rbeta, rsig, std::move(rL)};
+    }
+    p.solves = static_cast<Eigen::Index>(sv);
     if (fb > k) r.fail("fallback_steps exceeds steps");
     if (!(p.beta > 0 && p.beta < 1)) r.fail("last_beta is not in (0, 1)");
     const std::size_t nb = on_ ? on_->blocks.size() : 0;
@@ -752,6 +791,8 @@ class EllipsoidalPredictor {
     last_beta_ = p.beta;
     last_L_ = std::move(p.L);
     if (on_) on_->working = std::move(p.working);
+    solves_ = p.solves;
+    reuse_ = {p.reuse.rho, p.reuse.beta, p.reuse.sigma, std::move(p.reuse.L)};
   }
 
   /// Hash of the design data a state depends on (mode, P, L, β, σ, system).
@@ -959,6 +1000,15 @@ class EllipsoidalPredictor {
     detail::EllOnlineProblem& o = *on_;
     const double unit = o.p * o.sc * o.sc;  // σ = unit · σ̂
     const bool vertex_mode = mode_ == EllPredictorMode::OnlineVertex;
+    if (!data_.interval && reuse_tol_ > 0 && std::isfinite(reuse_.rho) &&
+        std::abs(rho - reuse_.rho) <= reuse_tol_ * reuse_.rho) {
+      const double rho_next = round_up(round_up(reuse_.beta * rho) + reuse_.sigma);
+      if (vertex_mode && !(rho_next < ch.rho_next)) return OnlineOutcome::NotBetter;
+      ch = {reuse_.beta, reuse_.L, reuse_.sigma, rho_next};
+      return OnlineOutcome::Used;
+    }
+    reuse_.rho = std::numeric_limits<double>::quiet_NaN();  // valid again once this solve certifies
+    ++solves_;
     // Objective β ρ̂_k + σ̂_k.
     Eigen::VectorXd cvec = Eigen::VectorXd::Zero(o.model.num_vars());
     cvec(o.beta.index()(0, 0)) = rho / unit;
@@ -1081,6 +1131,7 @@ class EllipsoidalPredictor {
         next[argleast] = '1';
         o.working = next;
         const double rho_next = round_up(round_up(beta_c * rho) + sigma);
+        if (!data_.interval) reuse_ = {rho, beta_c, sigma, L};
         if (!(rho_next < ch.rho_next)) return OnlineOutcome::NotBetter;
         ch = {beta_c, L, sigma, rho_next};
         return OnlineOutcome::Used;
@@ -1114,6 +1165,7 @@ class EllipsoidalPredictor {
       // Σ s_i rounded up: z⁺ᵀPz⁺ ≤ βρ_k + ωᵀ diag(s) ω ≤ βρ_k + Σ s_i. The paper's method as
       // is: it may end above the offline radius (papers.md §1.3).
       const double sigma = round_up(sv.sum() * (1.0 + 2.0 * ell_rounding::gamma(sv.size() + 1)));
+      if (!data_.interval) reuse_ = {rho, beta_c, sigma, L};
       ch = {beta_c, L, sigma, round_up(round_up(beta_c * rho) + sigma)};
       return OnlineOutcome::Used;
     }
@@ -1128,6 +1180,13 @@ class EllipsoidalPredictor {
   double last_beta_ = 0;
   Eigen::MatrixXd last_L_;
   Eigen::Index fallbacks_ = 0;
+  struct Reuse {
+    double rho = std::numeric_limits<double>::quiet_NaN();  // ρ of the last certified solve (NaN: none)
+    double beta = 0, sigma = 0;
+    Eigen::MatrixXd L;
+  } reuse_;
+  double reuse_tol_ = 1e-9;
+  Eigen::Index solves_ = 0;
   double lmax_up_ = 0;
   std::vector<Eigen::VectorXd> halved_, full_;
   std::unique_ptr<detail::EllGainTerms> design_terms_;
