@@ -368,3 +368,35 @@ def test_capi_fuzz_in_subprocess(tmp_path):
     assert r.returncode == 0 and "DONE" in r.stdout, (
         f"child exited with {r.returncode} while fuzzing {last[-1] if last else '?'}\n{r.stderr[-3000:]}")
     CASES["capi-subprocess"] += n * len(FUNCTIONS)
+
+
+REGRESSION_CHILD = textwrap.dedent(r"""
+    import resource, sys
+    resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
+    from setbound._native import ffi, lib
+    N = ffi.NULL
+    out = []
+    # fuzz findings: a huge vertex count / state dimension with NULL data was allocated before the
+    # pointers were checked (16 GB for theta, nx^2 doubles for the identity): out of memory, or
+    # the kernel's OOM killer without a memory limit. Now the NULL pointer is reported first.
+    rc = lib.sb_hinf_observer_gain(2**31 - 1, 1, 1, 0, 0, N, N, N, N, N, N, N, N, N, N)
+    out.append((rc, ffi.string(lib.sb_last_error()).decode()))
+    rc = lib.sb_refine_dissipation_matrix(2**31 - 1, 1, 1, 0, 0, N, N, N, N, N, N, 1.0, 0, N, N)
+    out.append((rc, ffi.string(lib.sb_last_error()).decode()))
+    rc = lib.sb_interval_nonlinear_create(1 << 16, 0, 1, 0, N, N, N, N, N, N, N, N, N, N, 0,
+                                          ffi.new("sb_interval_nonlinear**"))
+    out.append((rc, ffi.string(lib.sb_last_error()).decode()))
+    print(repr(out))
+""")
+
+
+def test_huge_dimensions_with_null_data_are_refused_before_allocating(tmp_path):
+    script = tmp_path / "regression.py"
+    script.write_text(REGRESSION_CHILD)
+    r = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120, env=dict(os.environ))
+    assert r.returncode == 0, r.stderr[-2000:]
+    results = eval(r.stdout.strip().splitlines()[-1])
+    count("capi-regression")
+    for rc, msg in results:
+        assert rc == lib.SB_ERR_INVALID_ARGUMENT, msg
+        assert msg.endswith("A: null pointer"), msg
