@@ -21,7 +21,7 @@ from setbound import errors
 
 PROFILE = os.environ.get("SETBOUND_HYPOTHESIS_PROFILE", "ci")
 #: How many times more examples the long ``fuzz`` profile runs than ``ci``.
-FUZZ_SCALE = int(os.environ.get("SETBOUND_FUZZ_SCALE", "40"))
+FUZZ_SCALE = int(os.environ.get("SETBOUND_FUZZ_SCALE", "20"))
 
 #: test name -> generated cases executed in this process.
 CASES: Counter = Counter()
