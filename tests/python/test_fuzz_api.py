@@ -626,3 +626,62 @@ def test_handles_are_freed_exactly_once_and_objects_keep_their_dependencies():
         h = getattr(obj, "_handle")
         assert ffi.typeof(h).kind == "pointer"
         assert not hasattr(obj, "close") and not hasattr(obj, "free")
+
+
+# ---- thesis Chapter 1: polytopes and the mRPI shrinking ----------------------------------------------
+
+@fuzz(200)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 3), p=st.integers(0, 9), scale=st.sampled_from(SCALES),
+       how=st.sampled_from(CORRUPTIONS), kind=st.sampled_from(("random", "flat", "duplicate")))
+def test_polytope(seed, n, p, scale, how, kind):
+    count("polytope")
+    rng = np.random.default_rng(seed)
+    pts = rng.standard_normal((p, n)) * scale
+    if kind == "flat" and n > 1:
+        pts[:, -1] = 0.0  # not full-dimensional
+    elif kind == "duplicate" and p > 1:
+        pts[1] = pts[0]
+    ptsc, _ = corrupt(pts, how, rng)
+    P, err = attempt(sb.Polytope, ptsc)
+    if P is None:
+        return
+    n = P.dimension  # (a transposed point array is a valid polytope of another dimension)
+    tol = 1e-9 * scale
+    src = np.asarray(ptsc, dtype=float).reshape(-1, n)
+    assert np.all(P.contains(src, tol=tol * 10)), "a generating point is outside its hull"
+    bb = P.bounding_box()
+    assert np.all(src >= bb.lo - tol) and np.all(src <= bb.hi + tol)
+    M = rng.standard_normal((n, n)) + 2 * np.eye(n)
+    Q, err = attempt(P.linear_map, M)
+    if Q is not None:
+        assert np.all(Q.contains(src @ M.T, tol=1e-8 * scale * np.abs(M).max() * n))
+    S, err = attempt(P.minkowski_sum, P)
+    if S is not None:
+        assert np.all(S.contains(2 * src, tol=tol * 20))
+    R, err = attempt(P.scaled, float(rng.choice([0.5, 2.0, 0.0, -1.0, np.nan])))
+    count("polytope-valid")
+
+
+@fuzz(40)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 3), m=st.integers(1, 2), mu=st.sampled_from((0.5, 1.0, 2.0, 10.0)),
+       eps=st.sampled_from((1e-3, 0.1, 0.0, -1.0)), stop=st.sampled_from(("radius", "shrinking_index", "vertex_norm")))
+def test_mrpi(seed, n, m, mu, eps, stop):
+    count("mrpi")
+    rng = np.random.default_rng(seed)
+    A, _, _, E, _ = random_system(rng, n, 1, m, 0)
+    r, err = attempt(sb.invariant.mrpi_outer_shrinking, A, E, np.ones(m), eps=eps, mu=mu, stop=stop,
+                     boxes_only=True, max_iterations=60)
+    if r is None:
+        return
+    assert r.k_star >= 0 and len(r.boxes) == r.k_star + 1
+    for b in r.boxes:
+        assert_finite(b.lo, b.hi)
+    assert_finite(r.radius_bound)
+    # Phi_0 contains the origin's disturbance-driven states: simulate x+ = A x + E w from x in Phi_0
+    # and check that the k-th state lies in box k (Phi_k = A Phi_{k-1} + E W)
+    x = r.phi0.vertices[rng.integers(0, r.phi0.num_vertices)]
+    for k in range(1, r.k_star + 1):
+        x = A @ x + E @ rng.choice([-1.0, 1.0], m)
+        tol = 1e-9 * (1 + np.abs(x))
+        assert np.all(x >= r.boxes[k].lo - tol) and np.all(x <= r.boxes[k].hi + tol), k
+    count("mrpi-contained")
