@@ -425,3 +425,50 @@ def test_zz_case_count(request):
         pytest.skip("only part of the fuzz tests was selected")
     total = sum(CASES.values())
     assert total >= 10_000, f"only {total} fuzz cases executed: {dict(CASES)}"
+
+
+@fuzz(100)
+@given(cap=st.integers(-3, 12), q=st.integers(0, 3), m=st.integers(1, 6), limit=st.integers(1, 6))
+def test_capacities_are_checked(handles, cap, q, m, limit):
+    """The in/out capacity arguments (the only buffer sizes the ABI can check): a capacity below
+    the size needed gives SB_ERR_BUFFER_TOO_SMALL with the size needed, never an overrun (the
+    buffers here hold exactly `cap` items plus a guard zone that must stay untouched)."""
+    count("capi-capacity")
+    guard = 64
+    # vert[M] of a 2x2 interval matrix with q uncertain entries: 2^q matrices
+    lo = np.zeros(4)
+    hi = np.array([1.0 if i < q else 0.0 for i in range(4)])
+    out = np.full(max(cap, 0) * 4 + guard, 7.0)
+    cnt = ffi.new("int*", cap)
+    rc = lib.sb_imatrix_vertices(2, 2, _p(lo), _p(hi), cnt, _p(out))
+    need = 2 ** q
+    if cap < need:
+        assert rc in (lib.SB_ERR_BUFFER_TOO_SMALL, lib.SB_ERR_INVALID_ARGUMENT), rc
+        if rc == lib.SB_ERR_BUFFER_TOO_SMALL:
+            assert cnt[0] == need
+    else:
+        assert rc == 0 and cnt[0] == need
+    assert np.all(out[max(cap, 0) * 4:] == 7.0), "write past the capacity"
+    # zonotope reduction: at most min(m, limit) generators
+    n = 2
+    rng = np.random.default_rng(cap + 16 * m)
+    H = np.ascontiguousarray(rng.standard_normal((n, m)))
+    p = np.zeros(n)
+    Hout = np.full(n * max(cap, 0) + guard, 7.0)
+    mo = ffi.new("int*", cap)
+    rc = lib.sb_zonotope_reduce(n, m, _p(p), _p(H), lib.SB_REDUCE_GIRARD, max(limit, n), mo, _p(Hout))
+    if rc == 0:
+        assert 0 <= mo[0] <= max(cap, 0)
+    else:
+        assert rc in (lib.SB_ERR_BUFFER_TOO_SMALL, lib.SB_ERR_INVALID_ARGUMENT, lib.SB_ERR_DIMENSION), rc
+        if rc == lib.SB_ERR_BUFFER_TOO_SMALL:
+            assert mo[0] > cap
+    assert np.all(Hout[n * max(cap, 0):] == 7.0), "write past the capacity"
+    # the last set of a zonotopic estimator
+    ps, Hs = np.zeros(2), np.full(2 * max(cap, 0) + guard, 7.0)
+    mz = ffi.new("int*", cap)
+    rc = lib.sb_zonotopic_last_set(handles.h["sb_zonotopic"], mz, _p(ps), _p(Hs))
+    assert rc in (0, lib.SB_ERR_BUFFER_TOO_SMALL, lib.SB_ERR_INVALID_ARGUMENT), rc
+    if rc == 0:
+        assert mz[0] <= max(cap, 0)
+    assert np.all(Hs[2 * max(cap, 0):] == 7.0), "write past the capacity"
