@@ -229,6 +229,7 @@ def test_interval(a, b, c, d, op, p, t1, t2):
     with np.errstate(all="ignore"):
         x = X.lo + t1 * (X.hi - X.lo) if np.isfinite(X.lo) and np.isfinite(X.hi) else (X.lo if np.isfinite(X.lo) else X.hi)
         y = Y.lo + t2 * (Y.hi - Y.lo)
+        x, y = min(max(x, X.lo), X.hi), min(max(y, Y.lo), Y.hi)  # rounding of lo + t (hi - lo)
         fn = {"+": (lambda: X + Y, lambda: x + y), "-": (lambda: X - Y, lambda: x - y),
               "*": (lambda: X * Y, lambda: x * y), "/": (lambda: X / Y, lambda: x / y if y != 0 else np.nan),
               "&": (lambda: X.intersect(Y), lambda: x if Y.contains(x) else np.nan),
