@@ -472,3 +472,21 @@ def test_capacities_are_checked(handles, cap, q, m, limit):
     if rc == 0:
         assert mz[0] <= max(cap, 0)
     assert np.all(Hs[2 * max(cap, 0):] == 7.0), "write past the capacity"
+
+
+def test_zonotope_support_overflow_is_an_error_not_nan():
+    """Fuzz finding (make fuzz): finite data whose products overflow made d.p = inf + (-inf) and
+    sb_zonotope_support wrote NaN with SB_OK. Now SB_ERR_NUMERICAL naming d."""
+    count("capi-regression")
+    p = _arr([1e300, -1e300])
+    H = _arr([[1.0], [1.0]])
+    d = _arr([1e10, 1e10])
+    v = np.zeros(1)
+    rc = lib.sb_zonotope_support(2, 1, _p(p), _p(H), 1, _p(d), _p(v))
+    assert rc == lib.SB_ERR_NUMERICAL, (rc, v)
+    assert ffi.string(lib.sb_last_error()).decode().startswith("sb_zonotope_support: d: ")
+    with pytest.raises(setbound.NumericalError, match="d: "):
+        setbound.Zonotope(p, H).support([1e10, 1e10])
+    # an ordinary overflow to +inf (no cancellation) stays a valid (infinite) upper bound
+    rc = lib.sb_zonotope_support(2, 1, _p(_arr([1e300, 1e300])), _p(H), 1, _p(d), _p(v))
+    assert rc == 0 and v[0] == np.inf
