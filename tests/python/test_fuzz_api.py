@@ -645,7 +645,12 @@ def test_handles_are_freed_exactly_once_and_objects_keep_their_dependencies():
     for obj in (est, z, est.design, z.system):
         h = getattr(obj, "_handle")
         assert ffi.typeof(h).kind == "pointer"
-        assert not hasattr(obj, "close") and not hasattr(obj, "free")
+        closer = getattr(obj, "close", None) or getattr(obj, "free", None)
+        if closer is not None:  # if an explicit close is ever added: idempotent, then a clear error
+            closer()
+            closer()
+            with pytest.raises(errors.SetboundError):
+                obj.step(y)
 
 
 # ---- thesis Chapter 1: polytopes and the mRPI shrinking ----------------------------------------------
