@@ -18,7 +18,7 @@ export CXX
 # (a CI checkout, a second worktree) reuses the same cache entries.
 export CCACHE_BASEDIR := $(CURDIR)
 
-.PHONY: all deps venv install build-cpp test test-cpp test-python test-wheel demo bench clean
+.PHONY: all deps venv install build-cpp test test-cpp test-python test-wheel demo bench fuzz clean
 
 all: test
 
@@ -61,6 +61,13 @@ bench: install
 	$(PY) -m pip install -q ".[bench]" --no-build-isolation --no-deps
 	$(PY) -m pip install -q cvxpy clarabel scs
 	$(PY) bench/bench_lmi.py
+
+# The long fuzz run (docs/reliability.md): the hypothesis profile "fuzz" (random seeds,
+# FUZZ_SCALE times the CI examples) over the Python API and the raw C ABI; prints the count.
+FUZZ_SCALE ?= 20
+fuzz: install
+	SETBOUND_HYPOTHESIS_PROFILE=fuzz SETBOUND_FUZZ_SCALE=$(FUZZ_SCALE) \
+	  $(PY) -m pytest -q -p no:cacheprovider tests/python/test_fuzz_api.py tests/python/test_fuzz_capi.py
 
 clean:
 	rm -rf build dist out

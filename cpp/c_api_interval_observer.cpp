@@ -195,6 +195,9 @@ int sb_interval_nonlinear_create(int nx, int nu, int ny, int nv, const double* A
     require_pointer(out, "out");
     *out = nullptr;
     require_dimension(nx, "nx");
+    // Check the caller's A before allocating the nx x nx identity: a huge nx with a NULL A must be
+    // refused, not exhaust the memory (fuzz finding).
+    matrix_arg(A, nx, nx, "A");
     const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(nx, nx);
     const Plant plant = plant_arg(nx, nu, ny, nx, nv, A, B, C, I.data(), Z);
     auto h = std::make_unique<sb_interval_nonlinear>();

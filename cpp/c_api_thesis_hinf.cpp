@@ -73,10 +73,17 @@ LpvSystem vertex_system(int nvert, int nx, int ny, int nd, int nv, const double*
   require_dimension(ny, "ny");
   require_dimension(nd, "nd", true);
   require_dimension(nv, "nv", true);
+  // Every pointer and dimension is checked before anything of size nvert is allocated: a huge
+  // nvert with a NULL pointer must be refused, not exhaust the memory (fuzz finding).
+  require_dimension(nvert, "nvert");
+  require_pointer(A, "A");
+  if (nd > 0) require_pointer(F, "F");
+  std::vector<Eigen::MatrixXd> As = blocks_arg(A, nvert, nx, nx, "A");
+  std::vector<Eigen::MatrixXd> Fs = blocks_arg(F, nvert, nx, nd, "F");
+  Eigen::MatrixXd Cm(matrix_arg(C, ny, nx, "C")), Zm(matrix_arg(Z, ny, nv, "Z"));
   Eigen::MatrixXd theta(nvert, 1);
   for (int i = 0; i < nvert; ++i) theta(i) = i;
-  return LpvSystem(blocks_arg(A, nvert, nx, nx, "A"), {}, blocks_arg(F, nvert, nx, nd, "F"),
-                   Eigen::MatrixXd(matrix_arg(C, ny, nx, "C")), Eigen::MatrixXd(matrix_arg(Z, ny, nv, "Z")), theta);
+  return LpvSystem(std::move(As), {}, std::move(Fs), std::move(Cm), std::move(Zm), theta);
 }
 
 }  // namespace

@@ -127,6 +127,9 @@ def as_f64(
     """
     if x is None:
         raise InvalidArgumentError(f"{name}: a value is required, got None")
+    if np.iscomplexobj(x):
+        # numpy would drop the imaginary part with only a warning: a silent wrong result
+        raise InvalidArgumentError(f"{name}: expected real numbers, got a complex array")
     try:
         a = np.ascontiguousarray(x, dtype=np.float64)
     except (TypeError, ValueError) as exc:

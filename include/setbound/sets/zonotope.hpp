@@ -131,7 +131,12 @@ class Zonotope {
   double support(const Eigen::Ref<const Eigen::VectorXd>& d) const {
     detail::require_length(d.size(), dimension(), "d");
     require_finite(d, "d");
-    return d.dot(p_) + (H_.transpose() * d).cwiseAbs().sum();
+    const double h = d.dot(p_) + (H_.transpose() * d).cwiseAbs().sum();
+    // Finite data whose products overflow (|d| |p| ~ 1e600) gave inf - inf = NaN (fuzz finding).
+    if (std::isnan(h))
+      throw NumericalError("d: the support value overflows double precision (|d| times the zonotope's size "
+                           "exceeds 1.8e308)");
+    return h;
   }
 
   /// Exact volume 2^n sum_{|S| = n} |det H_S| (papers §0.1; the zonotope is tiled by the

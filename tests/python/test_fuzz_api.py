@@ -1,0 +1,712 @@
+"""Fuzzing of the public Python API (issue 8): hypothesis-generated shapes, scales (1e-6..1e6),
+NaN/Inf, non-symmetric / singular / indefinite matrices, empty arrays, wrong dtypes and memory
+layouts, fed to every constructor, design, step and run entry point.
+
+Property of every case: either a clean result that passes a validity check (finite numbers,
+right shapes, PSD shape matrices, and sets that contain what they must: a simulated true state
+for every estimator step on a valid system, every sampled point for set operations), or a
+setbound error (SetboundError / ValueError / TypeError) whose message names the argument.
+Never a crash, an unnamed generic error or a NaN from finite input.
+"""
+from __future__ import annotations
+
+import gc
+import itertools
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import given, strategies as st
+
+import setbound as sb
+from setbound import Box, Ellipsoid, Interval, IntervalMatrix, LinearSystem, Plant, Strip, Zonotope
+from setbound import ellipsoidal, errors, hinf, inclusion, interval_observers as iobs, lmi, zonotopic
+
+from fuzz_support import assert_finite, assert_psd, check_error, count, fuzz
+
+SCALES = (1e-6, 1e-3, 1.0, 1e3, 1e6)
+CONTAIN_TOL = 1e-9
+
+
+def attempt(fn, *args, **kw):
+    """(result, None) or (None, error) after checking that the error is a clean setbound one."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ellipsoidal.DegenerateDesignWarning)
+            return fn(*args, **kw), None
+    except Exception as exc:  # noqa: BLE001 - the property is on the exception itself
+        check_error(exc)
+        return None, exc
+
+
+# ---- corruptions of an array argument ------------------------------------------------------------
+
+CORRUPTIONS = ("none", "nan", "inf", "fortran", "strided", "int", "float32", "list", "transpose", "drop_row",
+               "empty", "scalar", "3d", "complex", "object", "string")
+
+
+def corrupt(a: np.ndarray, how: str, rng):
+    """``a`` changed by ``how``. Returns (value, still_valid): the layout/dtype changes keep the
+    same numbers (the API must accept them and give the same result); the others are invalid."""
+    a = np.asarray(a, dtype=float)
+    if how == "none":
+        return a, True
+    if how in ("nan", "inf"):
+        if a.size == 0:
+            return a, True
+        b = a.copy()
+        b.flat[rng.integers(0, a.size)] = np.nan if how == "nan" else -np.inf
+        return b, False
+    if how == "fortran":
+        return np.asfortranarray(a), True
+    if how == "strided":
+        big = np.zeros(a.shape + (2,))
+        big[..., 0] = a
+        return big[..., 0], True
+    if how == "int":
+        return np.round(a).astype(np.int64), None  # valid, other numbers
+    if how == "float32":
+        return a.astype(np.float32), None
+    if how == "list":
+        return a.tolist(), True
+    if how == "transpose":
+        return (a.T, True) if a.ndim < 2 or a.shape[0] == a.shape[1] and np.array_equal(a, a.T) else (a.T, False)
+    if how == "drop_row":
+        return (a[:-1], False) if a.ndim >= 1 and a.shape[0] > 0 else (a, True)
+    if how == "empty":
+        return np.zeros((0,) * max(a.ndim, 1)), a.size == 0
+    if how == "scalar":
+        return 1.0, a.size == 1
+    if how == "3d":
+        return a[None, ...], False
+    if how == "complex":
+        return a + 1j, False
+    if how == "object":
+        b = a.astype(object)
+        if b.size:
+            b.flat[0] = None
+        return b, a.size == 0
+    if how == "string":
+        return "abc", False
+    raise AssertionError(how)
+
+
+def rand_spd(rng, n, scale=1.0, cond=1e3):
+    Q, _ = np.linalg.qr(rng.standard_normal((n, n)))
+    w = scale * np.exp(rng.uniform(0, np.log(cond), n))
+    P = (Q * w) @ Q.T
+    return 0.5 * (P + P.T)
+
+
+def sample_ellipsoid(E: Ellipsoid, rng, k):
+    n = E.n
+    w, V = np.linalg.eigh(E.P)
+    L = V / np.sqrt(w)  # L L^T = P^-1
+    d = rng.standard_normal((k, n))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    d *= rng.uniform(0, 1, (k, 1)) ** (1 / n)
+    return E.center + np.sqrt(E.rho) * d @ L.T * (1 - 1e-9)
+
+
+# ---- sets ------------------------------------------------------------------------------------------
+
+@fuzz(400)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 4), scale=st.sampled_from(SCALES),
+       kind=st.sampled_from(("spd", "singular", "indefinite", "nonsym", "ill")),
+       how=st.sampled_from(CORRUPTIONS), rho=st.sampled_from((0.0, 1e-12, 1.0, 1e6, -1.0, np.nan, np.inf)))
+def test_ellipsoid(seed, n, scale, kind, how, rho):
+    count("ellipsoid")
+    rng = np.random.default_rng(seed)
+    P = rand_spd(rng, n, scale, 1e12 if kind == "ill" else 1e3)
+    if kind == "singular" and n > 1:
+        v = rng.standard_normal(n)
+        P = P - (v @ P @ v) ** -1 * np.outer(P @ v, P @ v)
+        P = 0.5 * (P + P.T)
+    elif kind == "indefinite":
+        P = P - 2 * np.abs(np.linalg.eigvalsh(P)).max() * np.eye(n)[:, [0]] @ np.eye(n)[[0], :]
+    elif kind == "nonsym" and n > 1:
+        P = P.copy()
+        P[0, 1] += 0.1 * scale
+    c = rng.standard_normal(n) * scale
+    Pc, valid = corrupt(P, how, rng)
+    E, err = attempt(Ellipsoid, Pc, c, rho)
+    if E is None:
+        return
+    assert E.P.shape == (n, n) and E.center.shape == (n,)
+    assert_psd(E.P)
+    assert np.isfinite(E.rho) and E.rho >= 0
+    lo, hi = E.bounding_box()
+    radius = np.sqrt(E.rho / np.linalg.eigvalsh(E.P).min())
+    resolvable = E.rho > 0 and np.linalg.cond(E.P) < 1e10 and radius > 1e-6 * np.abs(E.center).max()
+    pts = sample_ellipsoid(E, rng, 20) if resolvable else E.center[None]
+    assert np.all(pts >= lo - 1e-9 * np.abs(pts)) and np.all(pts <= hi + 1e-9 * np.abs(pts))
+    assert np.all(E.contains(pts, rel_tol=1e-6))
+    d = rng.standard_normal((3, n))
+    s = E.support(d)
+    assert_finite(s)
+    assert np.all(s[:, None] >= (d @ pts.T) - 1e-7 * (np.abs(d) @ np.abs(pts).T + 1e-300))
+    v, e2 = attempt(lambda: E.volume)
+    if v is not None:
+        assert v >= 0 and not np.isnan(v)
+    M = rng.standard_normal((n, n)) + 3 * np.eye(n)
+    F, e3 = attempt(E.affine_map, M, rng.standard_normal(n))
+    if F is not None:
+        assert_psd(F.P)
+    P_new = rand_spd(rng, n)
+    r, e4 = attempt(E.level_for_shape, P_new)
+    if r is not None:
+        assert np.isfinite(r) and r >= 0
+        G = Ellipsoid(P_new, E.center, r)
+        assert np.all(G.contains(pts, rel_tol=1e-6))
+
+
+@fuzz(400)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 4), m=st.integers(0, 7), scale=st.sampled_from(SCALES),
+       how=st.sampled_from(CORRUPTIONS), limit=st.integers(-1, 8),
+       method=st.sampled_from(("combastel", "girard", "pca", "bogus")))
+def test_zonotope(seed, n, m, scale, how, limit, method):
+    count("zonotope")
+    rng = np.random.default_rng(seed)
+    H = rng.standard_normal((n, m)) * scale
+    if m > 1 and rng.integers(0, 3) == 0:
+        H[:, 1] = H[:, 0]  # parallel generators
+    p = rng.standard_normal(n) * scale
+    Hc, valid = corrupt(H, how, rng)
+    Z, err = attempt(Zonotope, p, Hc)
+    if Z is None:
+        if valid is True:
+            # a scalar or an empty array is refused for H (a 2-D array is required): clean errors
+            assert how in ("empty", "scalar") or m == 0, f"valid input refused: {err}"
+        return
+    xi = rng.uniform(-1, 1, (15, Z.m))
+    pts = Z.center + xi @ Z.generators.T
+    lo, hi = Z.interval_hull()
+    tol = 1e-12 * (np.abs(pts) + np.abs(Z.generators).sum(axis=1) + 1)
+    assert np.all(pts >= lo - tol) and np.all(pts <= hi + tol)
+    d = rng.standard_normal((3, n))
+    s = Z.support(d)
+    assert np.all(s[:, None] >= d @ pts.T - 1e-9 * (1 + np.abs(d) @ np.abs(pts).T))
+    R, e2 = attempt(Z.reduce, limit, method)
+    if R is not None:
+        assert R.m <= max(limit, 0) or R.m <= Z.m
+        inside = R.contains(pts, rel_tol=1e-7) if R.n <= 3 else np.ones(len(pts), bool)
+        assert np.all(inside), (limit, method)
+        rlo, rhi = R.interval_hull()
+        assert np.all(rlo <= lo + 1e-9 * (1 + np.abs(lo))) and np.all(rhi >= hi - 1e-9 * (1 + np.abs(hi)))
+    c = rng.standard_normal(n)
+    y = float(c @ pts[0])
+    strip, e3 = attempt(Strip, c, y, float(np.abs(c @ (pts - pts[0]).T).max()) + 1e-3)
+    if strip is not None:
+        lam = rng.standard_normal(n) * 0.1
+        Zi, e4 = attempt(Z.intersect_strip, strip, lam)
+        if Zi is not None:
+            ok = strip.contains(pts)
+            ilo, ihi = Zi.interval_hull()
+            tol = 1e-9 * (1 + np.abs(pts))
+            assert np.all((pts[ok] >= ilo - tol[ok]) & (pts[ok] <= ihi + tol[ok]))
+    P = rand_spd(rng, n)
+    if Z.m <= 10:
+        r, e5 = attempt(Z.pradius, P)
+        if r is not None:
+            gen = xi @ Z.generators.T
+            assert np.all(np.einsum("ij,jk,ik->i", gen, P, gen) <= r * (1 + 1e-9) + 1e-300)
+
+
+@fuzz(600)
+@given(a=st.floats(allow_nan=True), b=st.floats(allow_nan=True), c=st.floats(-1e6, 1e6), d=st.floats(-1e6, 1e6),
+       op=st.sampled_from(("+", "-", "*", "/", "&", "|", "sqr", "sqrt", "exp", "sin", "cos", "abs", "pow", "recip")),
+       p=st.integers(-4, 5), t1=st.floats(0, 1), t2=st.floats(0, 1))
+def test_interval(a, b, c, d, op, p, t1, t2):
+    """Interval operations on arbitrary ends (NaN, ±Inf, huge): a clean error for NaN/reversed
+    ends, otherwise a result that contains the exact result at sampled points."""
+    count("interval")
+    X, err = attempt(Interval, min(a, b), max(a, b))
+    Y = Interval(min(c, d), max(c, d))
+    if X is None:
+        # NaN ends, or [inf, inf] / [-inf, -inf] (no real number): refused
+        assert np.isnan(a) or np.isnan(b) or (np.isinf(a) and a == b)
+        return
+    with np.errstate(all="ignore"):
+        x = X.lo + t1 * (X.hi - X.lo) if np.isfinite(X.lo) and np.isfinite(X.hi) else (X.lo if np.isfinite(X.lo) else X.hi)
+        y = Y.lo + t2 * (Y.hi - Y.lo)
+        x, y = min(max(x, X.lo), X.hi), min(max(y, Y.lo), Y.hi)  # rounding of lo + t (hi - lo)
+        fn = {"+": (lambda: X + Y, lambda: x + y), "-": (lambda: X - Y, lambda: x - y),
+              "*": (lambda: X * Y, lambda: x * y), "/": (lambda: X / Y, lambda: x / y if y != 0 else np.nan),
+              "&": (lambda: X.intersect(Y), lambda: x if Y.contains(x) else np.nan),
+              "|": (lambda: X.hull(Y), lambda: x),
+              "sqr": (X.sqr, lambda: x * x), "sqrt": (X.sqrt, lambda: np.sqrt(x) if x >= 0 else np.nan),
+              "exp": (X.exp, lambda: np.exp(x)), "sin": (X.sin, lambda: np.sin(x)), "cos": (X.cos, lambda: np.cos(x)),
+              "abs": (X.abs, lambda: abs(x)), "pow": (lambda: sb.interval.power(X, p),
+                                                      lambda: np.float64(x) ** p if (x != 0 or p >= 0) else np.nan),
+              "recip": (X.reciprocal, lambda: 1 / x if x != 0 else np.nan)}[op]
+        R, err = attempt(fn[0])
+        if R is None:
+            return
+        assert not (np.isnan(R.lo) or np.isnan(R.hi)), (op, X, Y, R)
+        v = fn[1]()
+        if np.isfinite(x) and np.isfinite(v):
+            assert R.lo <= v <= R.hi, (op, X, Y, x, y, v, R)
+
+
+@fuzz(300)
+@given(seed=st.integers(0, 2**32 - 1), r=st.integers(0, 3), c=st.integers(0, 3), scale=st.sampled_from(SCALES),
+       how=st.sampled_from(CORRUPTIONS))
+def test_interval_matrix_and_box(seed, r, c, scale, how):
+    count("interval-matrix")
+    rng = np.random.default_rng(seed)
+    mid = rng.standard_normal((r, c)) * scale
+    rad = np.abs(rng.standard_normal((r, c))) * scale * 0.1
+    radc, valid = corrupt(rad, how, rng)
+    M, err = attempt(IntervalMatrix.from_mid_rad, mid, radc)
+    if M is None:
+        return
+    xlo = rng.standard_normal(c) * scale
+    X, err = attempt(Box, xlo, xlo + np.abs(rng.standard_normal(c)) * scale)
+    if X is None or r == 0 or c == 0:
+        return
+    Yb, err = attempt(lambda: M @ X)
+    if Yb is None:
+        return
+    for _ in range(5):
+        A = M.lo + rng.uniform(0, 1, (r, c)) * (M.hi - M.lo)
+        x = X.lo + rng.uniform(0, 1, c) * (X.hi - X.lo)
+        y = A @ x
+        tol = 1e-12 * (np.abs(A) @ np.abs(x) + 1e-300)
+        assert np.all(y >= Yb.lo - tol) and np.all(y <= Yb.hi + tol)
+    nrm = M.norm()
+    assert nrm >= np.abs(M.mid).sum(axis=1).max() * (1 - 1e-12)
+
+
+@fuzz(200)
+@given(seed=st.integers(0, 2**32 - 1), scale=st.sampled_from(SCALES), kind=st.sampled_from(("natural", "centered")))
+def test_inclusion(seed, scale, kind):
+    count("inclusion")
+    rng = np.random.default_rng(seed)
+    lo = rng.standard_normal() * scale
+    X = Interval(lo, lo + abs(rng.standard_normal()) * scale)
+
+    def f(x):
+        return x * x - sb.interval.sin(x) * 3.0 + sb.interval.exp(x * 1e-6)
+
+    def df(x):
+        return x * 2.0 - sb.interval.cos(x) * 3.0 + sb.interval.exp(x * 1e-6) * 1e-6
+
+    R, err = attempt(inclusion.natural_inclusion if kind == "natural" else inclusion.centered_inclusion,
+                     *((f, X) if kind == "natural" else (f, df, X)))
+    if R is None:
+        return
+    for t in rng.uniform(0, 1, 10):
+        x = X.lo + t * (X.hi - X.lo)
+        v = x * x - 3 * np.sin(x) + np.exp(x * 1e-6)
+        if np.isfinite(v):
+            assert R.lo - 1e-12 * abs(v) <= v <= R.hi + 1e-12 * abs(v)
+
+
+# ---- systems ---------------------------------------------------------------------------------------
+
+def random_system(rng, nx, ny, nw, nu, scale=1.0, stable=True):
+    A = rng.standard_normal((nx, nx))
+    rad = max(abs(np.linalg.eigvals(A)))
+    A *= (rng.uniform(0.3, 0.95) if stable else rng.uniform(1.0, 1.3)) / max(rad, 1e-9)
+    C = rng.standard_normal((ny, nx))
+    E = rng.standard_normal((nx, nw)) * 0.1 * scale
+    F = rng.standard_normal((ny, nw)) * 0.1 * scale
+    B = rng.standard_normal((nx, nu)) if nu else None
+    return A, B, C, E, F
+
+
+@fuzz(400)
+@given(seed=st.integers(0, 2**32 - 1), nx=st.integers(0, 4), ny=st.integers(0, 3), nw=st.integers(0, 3),
+       nu=st.integers(0, 2), arg=st.sampled_from("ABCDEF"), how=st.sampled_from(CORRUPTIONS),
+       interval=st.booleans())
+def test_linear_system(seed, nx, ny, nw, nu, arg, how, interval):
+    count("linear-system")
+    rng = np.random.default_rng(seed)
+    A, B, C, E, F = random_system(rng, max(nx, 1), max(ny, 1), max(nw, 1), nu)
+    if nx == 0:
+        A = np.zeros((0, 0))
+    D = rng.standard_normal((C.shape[0], nu)) if nu else None
+    args = dict(A=A, B=B, C=C, D=D, E=E, F=F)
+    if args[arg] is not None:
+        args[arg], _ = corrupt(args[arg], how, rng)
+    if (interval and isinstance(args["A"], np.ndarray) and args["A"].ndim == 2 and args["A"].size
+            and args["A"].dtype.kind in "fi"):
+        args["A"], e = attempt(IntervalMatrix.from_mid_rad, args["A"], 0.01 * np.abs(args["A"]))
+        if args["A"] is None:
+            return
+    S, err = attempt(LinearSystem, args.pop("A"), args.pop("C"), **args)
+    if S is None:
+        return
+    for a in (S.A, S.B, S.C, S.D, S.E, S.F):
+        assert_finite(a)
+    assert S.A.shape == (S.nx, S.nx) and S.C.shape == (S.ny, S.nx) and S.E.shape == (S.nx, S.nw)
+    d, err = attempt(S.is_detectable)
+    assert d in (True, False) or err is not None
+    count("linear-system-valid")
+
+
+@fuzz(100)
+@given(seed=st.integers(0, 2**32 - 1), how=st.sampled_from(CORRUPTIONS), arg=st.sampled_from(("E", "A", "C", "D", "F")),
+       rank_def=st.booleans())
+def test_descriptor_system(seed, how, arg, rank_def):
+    count("descriptor-system")
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(2, 4))
+    Ed = np.diag([1.0] * (n - 1) + [0.0])
+    A = rng.standard_normal((n, n)) * 0.3
+    C = rng.standard_normal((2, n))
+    if rank_def:
+        C[:, -1] = 0.0
+    D = rng.standard_normal((n, 3)) * 0.1
+    F = rng.standard_normal((2, 3)) * 0.1
+    args = dict(E=Ed, A=A, C=C, D=D, F=F)
+    args[arg], _ = corrupt(args[arg], how, rng)
+    S, err = attempt(sb.DescriptorSystem, args["E"], args["A"], args["C"], D=args["D"], F=args["F"])
+    if S is None:
+        return
+    T, N = S.T, S.N
+    assert_finite(T, N)
+    np.testing.assert_allclose(T @ S.E + N @ S.C, np.eye(S.nx), atol=1e-8)
+    count("descriptor-system-valid")
+    if seed % 4:
+        return  # the design below solves LMIs: a quarter of the cases
+    d, err = attempt(ellipsoidal.design_offline, S, beta=0.8)
+    if d is None:
+        return
+    assert_psd(d.P)
+    est = ellipsoidal.DescriptorEstimator(d, Ellipsoid(np.eye(S.nx), np.zeros(S.nx), 1.0))
+    traj = est.run(rng.standard_normal((4, S.ny)) * 0.1)
+    assert_finite(traj.center, traj.lower, traj.upper)
+    assert np.all(traj.lower <= traj.upper)
+    count("descriptor-estimator")
+
+
+# ---- estimators on fuzzed systems: containment of a simulated state --------------------------------
+
+def simulate(rng, A, B, C, E, F, x0, N, vertex, D=None, nu=0):
+    x = x0.copy()
+    xs, ys, us = [], [], []
+    for _ in range(N):
+        w = rng.choice([-1.0, 1.0], E.shape[1]) if vertex else rng.uniform(-1, 1, E.shape[1])
+        u = rng.standard_normal(nu) if nu else None
+        y = C @ x + F @ w + ((D @ u) if (D is not None and nu) else 0)
+        xs.append(x.copy())
+        ys.append(y)
+        us.append(u)
+        x = A @ x + E @ w + ((B @ u) if nu else 0)
+    xs.append(x.copy())
+    return xs, ys, us
+
+
+system_params = dict(seed=st.integers(0, 2**32 - 1), nx=st.integers(1, 3), ny=st.integers(1, 2),
+                     nw=st.integers(1, 3), nu=st.integers(0, 1), scale=st.sampled_from((1e-3, 1.0, 1e3)),
+                     stable=st.booleans(), vertex=st.booleans())
+
+
+@fuzz(25)
+@given(**system_params, method=st.sampled_from(("offline", "online", "scaled", "improved")),
+       beta=st.sampled_from((None, 0.5, 0.9, 0.0, 1.0, np.nan)))
+def test_ellipsoidal(seed, nx, ny, nw, nu, scale, stable, vertex, method, beta):
+    count("ellipsoidal")
+    rng = np.random.default_rng(seed)
+    A, B, C, E, F = random_system(rng, nx, ny, nw, nu, scale, stable)
+    S = LinearSystem(A, C, B=B, E=E, F=F)
+    design, err = attempt(ellipsoidal.design_offline, S, beta=beta)
+    if design is None:
+        return
+    assert_psd(design.P)
+    assert 0 < design.beta < 1 and np.isfinite(design.sigma)
+    assert design.L.shape == (nx, ny)
+    x0set = Ellipsoid(np.eye(nx), np.zeros(nx), 1.0)
+    cls = {"offline": lambda: ellipsoidal.OfflineEstimator(design, x0set),
+           "online": lambda: ellipsoidal.OnlineEstimator(design, x0set),
+           "scaled": lambda: ellipsoidal.OnlineEstimator(design, x0set, scaling=True),
+           "improved": lambda: ellipsoidal.ImprovedEstimator(design, x0set)}[method]
+    est = cls()
+    x0 = sample_ellipsoid(x0set, rng, 1)[0]
+    xs, ys, us = simulate(rng, A, B, C, E, F, x0, 6, vertex, nu=nu)
+    for k in range(6):
+        Ek = est.step(ys[k], us[k])
+        assert_psd(Ek.P)
+        assert np.isfinite(Ek.rho)
+        target = xs[k] if est.is_filter else xs[k + 1]
+        assert Ek.contains(target, rel_tol=CONTAIN_TOL), (method, k)
+    count("ellipsoidal-contained")
+    # a step with bad data raises and leaves the estimator unchanged
+    before = est.current
+    bad, err = attempt(est.step, np.full(ny, np.nan), us[0])
+    assert bad is None
+    np.testing.assert_array_equal(est.current.P, before.P)
+
+
+@fuzz(40)
+@given(**system_params, method=st.sampled_from(("segment", "volume", "pradius")), maxgen=st.integers(-1, 8))
+def test_zonotopic(seed, nx, ny, nw, nu, scale, stable, vertex, method, maxgen):
+    count("zonotopic")
+    rng = np.random.default_rng(seed)
+    A, B, C, E, F = random_system(rng, nx, ny, nw, nu, scale, stable)
+    S = LinearSystem(A, C, B=B, E=E, F=F)
+    X0 = Zonotope(np.zeros(nx), np.eye(nx))
+    if method == "pradius":
+        d, err = attempt(zonotopic.design_pradius, S)
+        if d is None:
+            return
+        assert np.all(np.isfinite(d.lambdas)) and np.all(np.isfinite(d.tau)) and np.isfinite(d.psi)
+        est, err = attempt(zonotopic.PRadiusEstimator, d, X0, max_generators=maxgen)
+    else:
+        cls = zonotopic.SegmentMinEstimator if method == "segment" else zonotopic.VolumeMinEstimator
+        est, err = attempt(cls, S, X0, max_generators=maxgen)
+    if est is None:
+        return
+    x0 = rng.uniform(-1, 1, nx)
+    xs, ys, us = simulate(rng, A, B, C, E, F, x0, 8, vertex, nu=nu)
+    if seed % 2:  # the batch entry point: the same sets as stepping
+        traj = est.run(np.array(ys), np.array(us) if nu else None)
+        for k in range(8):
+            tol = 1e-9 * (1 + np.abs(xs[k]))
+            assert np.all(xs[k] >= traj.lower[k] - tol) and np.all(xs[k] <= traj.upper[k] + tol), (method, k)
+        count("zonotopic-contained")
+        return
+    for k in range(8):
+        Z = est.step(ys[k], us[k])
+        assert_finite(Z.center, Z.generators)
+        lo, hi = Z.interval_hull()
+        tol = 1e-9 * (1 + np.abs(xs[k]))
+        assert np.all(xs[k] >= lo - tol) and np.all(xs[k] <= hi + tol), (method, k)
+        if Z.n <= 2 and Z.m <= 12:
+            assert Z.contains(xs[k][None], rel_tol=1e-7)[0], (method, k)
+    count("zonotopic-contained")
+
+
+@fuzz(60)
+@given(**system_params, how=st.sampled_from(CORRUPTIONS))
+def test_kalman(seed, nx, ny, nw, nu, scale, stable, vertex, how):
+    count("kalman")
+    rng = np.random.default_rng(seed)
+    A, B, C, E, F = random_system(rng, nx, ny, nw, nu, scale, stable)
+    S = LinearSystem(A, C, B=B, E=E, F=F)
+    cov0, _ = corrupt(rand_spd(rng, nx), how, rng)
+    kf, err = attempt(ellipsoidal.KalmanFilter, S, np.zeros(nx), cov0)
+    if kf is None:
+        return
+    xs, ys, us = simulate(rng, A, B, C, E, F, rng.standard_normal(nx), 5, vertex, nu=nu)
+    for k in range(5):
+        m, P = kf.step(ys[k], us[k])
+        assert_finite(m)
+        assert_psd(P)
+    count("kalman-valid")
+
+
+def random_plant(rng, nx, ny, nd, nv, nu, scale):
+    A, B, C, _, _ = random_system(rng, nx, ny, 1, nu, 1.0, True)
+    Fm = rng.standard_normal((nx, nd)) * 0.1 * scale if nd else None
+    Zm = rng.standard_normal((ny, nv)) * 0.1 * scale if nv else None
+    return A, B, C, Fm, Zm
+
+
+def sim_plant(rng, A, B, C, Fm, Zm, x0, N, vertex, dbar, vbar, nu):
+    x = x0.copy()
+    xs, ys, us = [x.copy()], [], []
+    for _ in range(N):
+        d = (rng.choice([-1.0, 1.0], len(dbar)) if vertex else rng.uniform(-1, 1, len(dbar))) * dbar
+        v = (rng.choice([-1.0, 1.0], len(vbar)) if vertex else rng.uniform(-1, 1, len(vbar))) * vbar
+        u = rng.standard_normal(nu) if nu else None
+        y = C @ x + (Zm @ v if Zm is not None else 0)
+        x = A @ x + (Fm @ d if Fm is not None else 0) + (B @ u if nu else 0)
+        ys.append(y)
+        us.append(u)
+        xs.append(x.copy())
+    return xs, ys, us
+
+
+plant_params = dict(seed=st.integers(0, 2**32 - 1), nx=st.integers(1, 3), ny=st.integers(1, 2),
+                    nd=st.integers(0, 2), nv=st.integers(0, 1), nu=st.integers(0, 1),
+                    scale=st.sampled_from((1e-3, 1.0, 1e2)), vertex=st.booleans())
+
+
+@fuzz(20)
+@given(**plant_params)
+def test_hinf_observer(seed, nx, ny, nd, nv, nu, scale, vertex):
+    count("hinf")
+    rng = np.random.default_rng(seed)
+    A, B, C, Fm, Zm = random_plant(rng, nx, ny, nd, nv, nu, scale)
+    p, err = attempt(Plant, A, C, B=B, F=Fm, Z=Zm)
+    if p is None:
+        return
+    wbar = np.full(nd + nv, 1.0)
+    d, err = attempt(hinf.design_ellipsoidal_sm_observer, p, wbar)
+    if d is None:
+        return
+    assert_psd(d.P)
+    assert np.isfinite(d.gamma) and d.gamma > 0
+    x0 = rng.uniform(-1, 1, nx)
+    xh = np.zeros(nx)
+    mu0, err = attempt(hinf.mu0_from_box, d, -np.ones(nx), np.ones(nx))
+    if mu0 is None:
+        return
+    obs = hinf.EllipsoidalSMObserver(d, xh, mu0)
+    xs, ys, us = sim_plant(rng, A, B, C, Fm, Zm, x0, 6, vertex, wbar[:nd], wbar[nd:], nu)
+    for k in range(6):
+        bx = obs.step(ys[k], us[k])
+        assert_finite(bx.lo, bx.hi)
+        tol = 1e-9 * (1 + np.abs(xs[k + 1]))
+        assert np.all(xs[k + 1] >= bx.lo - tol) and np.all(xs[k + 1] <= bx.hi + tol), k
+    count("hinf-contained")
+
+
+@fuzz(30)
+@given(**plant_params, kind=st.sampled_from(("luenberger", "wrapped", "invariant", "nonlinear")))
+def test_interval_observers(seed, nx, ny, nd, nv, nu, scale, vertex, kind):
+    count("interval-observers")
+    rng = np.random.default_rng(seed)
+    if kind == "nonlinear":
+        nd = nx
+    A, B, C, Fm, Zm = random_plant(rng, nx, ny, nd, nv, nu, scale)
+    if kind == "nonlinear":
+        Fm = np.eye(nx)
+    if nd + nv == 0:
+        Fm, nd = np.eye(nx) * 0.1, nx
+    p = Plant(A, C, B=B, F=Fm, Z=Zm)
+    x0 = Box(-np.ones(nx), np.ones(nx))
+    dbar, vbar = np.full(nd, 0.1 * scale), np.full(nv, 0.1 * scale)
+    dbox = Box(-dbar, dbar) if nd else None
+    vbox = Box(-vbar, vbar) if nv else None
+    if kind in ("luenberger", "wrapped"):
+        obs, err = attempt(iobs.IntervalLuenbergerObserver, p, x0, np.zeros(nx), dbox, vbox,
+                           variant="tight" if kind == "luenberger" else "wrapped")
+    elif kind == "invariant":
+        des, err = attempt(iobs.offline_error_sequence, p, x0, np.zeros(nx), dbox, vbox, epsilon=0.05)
+        if des is None:
+            return
+        obs, err = attempt(iobs.IntervalInvariantObserver, des)
+    else:
+        obs, err = attempt(iobs.NonlinearIntervalObserver, p, x0, np.zeros(nx), vbox, Box(-dbar, dbar))
+    if obs is None:
+        return
+    xs, ys, us = sim_plant(rng, A, B, C, Fm, Zm, rng.uniform(-1, 1, nx), 6, vertex, dbar, vbar, nu)
+    for k in range(6):
+        bx = obs.step(ys[k], us[k])
+        assert_finite(bx.lo, bx.hi)
+        tol = 1e-9 * (1 + np.abs(xs[k + 1]))
+        assert np.all(xs[k + 1] >= bx.lo - tol) and np.all(xs[k + 1] <= bx.hi + tol), (kind, k)
+    count("interval-observers-contained")
+
+
+# ---- the LMI front end -------------------------------------------------------------------------------
+
+@fuzz(200)
+@given(seed=st.integers(0, 2**32 - 1), nv=st.integers(0, 3), n=st.integers(0, 3), how=st.sampled_from(CORRUPTIONS),
+       scale=st.sampled_from(SCALES))
+def test_lmi_problem(seed, nv, n, how, scale):
+    count("lmi")
+    rng = np.random.default_rng(seed)
+    prob, err = attempt(lmi.Problem, nv)
+    if prob is None:
+        return
+    F0 = rand_spd(rng, max(n, 1))[:n, :n] * scale
+    Fs = np.stack([0.5 * (G + G.T) for G in rng.standard_normal((nv, n, n))]) if nv else np.zeros((0, n, n))
+    F0c, valid = corrupt(F0, how, rng)
+    idx, err = attempt(prob.add_block, F0c, Fs)
+    if idx is None:
+        return
+    _, err = attempt(prob.set_objective, rng.standard_normal(nv))
+    prob.set_options(max_iter=30)
+    res, err = attempt(prob.solve)
+    if res is None:
+        return
+    if res.status == "optimal":
+        x = np.asarray(res.x)
+        assert_finite(x)
+        m = prob.margin(x)
+        assert m >= -1e-6 * max(1.0, np.abs(F0).max() + np.abs(Fs).max() * max(1.0, np.abs(x).max()))
+
+
+# ---- use of freed objects and double free -----------------------------------------------------------
+
+def test_handles_are_freed_exactly_once_and_objects_keep_their_dependencies():
+    """The Python objects own their handles through ffi.gc (freed once, when unreachable); an
+    estimator keeps what its handle was built from, so dropping the user's references never
+    frees a handle still in use."""
+    count("lifetime")
+    rng = np.random.default_rng(3)
+    A, B, C, E, F = random_system(rng, 2, 1, 2, 0)
+    S = LinearSystem(A, C, E=E, F=F)
+    d = ellipsoidal.design_offline(S)
+    est = ellipsoidal.OnlineEstimator(d, Ellipsoid(np.eye(2), np.zeros(2), 1.0))
+    z = zonotopic.SegmentMinEstimator(S, Zonotope(np.zeros(2), np.eye(2)))
+    del S, d
+    gc.collect()
+    y = C @ np.zeros(2)
+    est.step(y)
+    z.step(y)
+    # no public free/close: the handle attribute is an ffi.gc pointer that cannot be freed twice
+    from setbound._native import ffi
+
+    for obj in (est, z, est.design, z.system):
+        h = getattr(obj, "_handle")
+        assert ffi.typeof(h).kind == "pointer"
+        closer = getattr(obj, "close", None) or getattr(obj, "free", None)
+        if closer is not None:  # if an explicit close is ever added: idempotent, then a clear error
+            closer()
+            closer()
+            with pytest.raises(errors.SetboundError):
+                obj.step(y)
+
+
+# ---- thesis Chapter 1: polytopes and the mRPI shrinking ----------------------------------------------
+
+@fuzz(200)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 3), p=st.integers(0, 9), scale=st.sampled_from(SCALES),
+       how=st.sampled_from(CORRUPTIONS), kind=st.sampled_from(("random", "flat", "duplicate")))
+def test_polytope(seed, n, p, scale, how, kind):
+    count("polytope")
+    rng = np.random.default_rng(seed)
+    pts = rng.standard_normal((p, n)) * scale
+    if kind == "flat" and n > 1:
+        pts[:, -1] = 0.0  # not full-dimensional
+    elif kind == "duplicate" and p > 1:
+        pts[1] = pts[0]
+    ptsc, _ = corrupt(pts, how, rng)
+    P, err = attempt(sb.Polytope, ptsc)
+    if P is None:
+        return
+    n = P.dimension  # (a transposed point array is a valid polytope of another dimension)
+    tol = 1e-9 * scale
+    src = np.asarray(ptsc, dtype=float).reshape(-1, n)
+    assert np.all(P.contains(src, tol=tol * 10)), "a generating point is outside its hull"
+    bb = P.bounding_box()
+    assert np.all(src >= bb.lo - tol) and np.all(src <= bb.hi + tol)
+    M = rng.standard_normal((n, n)) + 2 * np.eye(n)
+    Q, err = attempt(P.linear_map, M)
+    if Q is not None:
+        assert np.all(Q.contains(src @ M.T, tol=1e-8 * scale * np.abs(M).max() * n))
+    S, err = attempt(P.minkowski_sum, P)
+    if S is not None:
+        assert np.all(S.contains(2 * src, tol=tol * 20))
+    R, err = attempt(P.scaled, float(rng.choice([0.5, 2.0, 0.0, -1.0, np.nan])))
+    count("polytope-valid")
+
+
+@fuzz(40)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 3), m=st.integers(1, 2), mu=st.sampled_from((2.0, 10.0, 1.5, 0.5, 1.0)),
+       eps=st.sampled_from((0.05, 0.1, 1e-3, 0.0, -1.0)), stop=st.sampled_from(("radius", "shrinking_index", "vertex_norm")))
+def test_mrpi(seed, n, m, mu, eps, stop):
+    count("mrpi")
+    rng = np.random.default_rng(seed)
+    A, _, _, E, _ = random_system(rng, n, 1, m, 0)
+    r, err = attempt(sb.invariant.mrpi_outer_shrinking, A, E, np.ones(m), eps=eps, mu=mu, stop=stop,
+                     boxes_only=True, max_iterations=60)
+    if r is None:
+        return
+    assert r.k_star >= 0 and len(r.boxes) == r.k_star + 1
+    for b in r.boxes:
+        assert_finite(b.lo, b.hi)
+    assert_finite(r.radius_bound)
+    # Phi_0 contains the origin's disturbance-driven states: simulate x+ = A x + E w from x in Phi_0
+    # and check that the k-th state lies in box k (Phi_k = A Phi_{k-1} + E W)
+    x = r.phi0.vertices[rng.integers(0, r.phi0.num_vertices)]
+    for k in range(1, r.k_star + 1):
+        x = A @ x + E @ rng.choice([-1.0, 1.0], m)
+        tol = 1e-9 * (1 + np.abs(x))
+        assert np.all(x >= r.boxes[k].lo - tol) and np.all(x <= r.boxes[k].hi + tol), k
+    count("mrpi-contained")
