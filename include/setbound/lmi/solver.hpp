@@ -299,10 +299,15 @@ inline void InteriorPointSolver::setup() {
     v->setZero(pe_);
   M_.setZero(m_, m_);
   K_.setZero(m_, m_);
-  lltK_ = Eigen::LLT<Eigen::MatrixXd>(m_);
+  // Factorise identities once so that the LLT objects own storage of the right size (no
+  // allocation in solve()); move-assigning size-only LLT temporaries copied uninitialised
+  // flags (UBSan).
+  K_.setIdentity();
+  lltK_.compute(K_);
   KinvAt_.setZero(m_, pe_);
   SA_.setZero(pe_, pe_);
-  lltSA_ = Eigen::LLT<Eigen::MatrixXd>(pe_);
+  SA_.setIdentity();
+  lltSA_.compute(SA_);
   AtA_.setZero(m_, m_);
   if (pe_ > 0) AtA_.noalias() = p.eq_matrix().transpose() * p.eq_matrix();
   result_.x.setZero(m_);
