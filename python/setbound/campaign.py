@@ -548,20 +548,20 @@ class _Spec:
 
 #: The guaranteed estimators of the campaign (name → how a case is run).
 ESTIMATORS = {
-    "ell_offline": _Spec(0, _run_ellipsoidal, max_nw=4, horizon=800),
-    "ell_online_vertex": _Spec(1, _run_ellipsoidal, max_nw=4, horizon=400),
-    "ell_online_scaled": _Spec(2, _run_ellipsoidal, max_nw=4, horizon=400),
-    "ell_improved": _Spec(3, _run_ellipsoidal, max_nw=4, horizon=400),
-    "ell_interval_A": _Spec(4, _run_ellipsoidal, max_nw=3, horizon=400),
-    "descriptor": _Spec(5, _run_descriptor, max_nw=4, horizon=800),
-    "zono_segment_min": _Spec(6, _run_zonotopic),
-    "zono_volume_min": _Spec(7, _run_zonotopic, max_nw=8),
-    "pradius": _Spec(8, _run_zonotopic),
-    "thesis_sm_observer": _Spec(9, _run_thesis, horizon=800),
-    "thesis_lpv": _Spec(10, _run_thesis, horizon=800),
-    "interval_luenberger": _Spec(11, _run_thesis, stable_only=False),
-    "interval_invariant": _Spec(12, _run_thesis, horizon=800),
-    "interval_nonlinear": _Spec(13, _run_thesis),
+    "ell_offline": _Spec(0, _run_ellipsoidal, max_nw=4, horizon=4000),
+    "ell_online_vertex": _Spec(1, _run_ellipsoidal, max_nw=4, horizon=1000),
+    "ell_online_scaled": _Spec(2, _run_ellipsoidal, max_nw=4, horizon=1000),
+    "ell_improved": _Spec(3, _run_ellipsoidal, max_nw=4, horizon=1000),
+    "ell_interval_A": _Spec(4, _run_ellipsoidal, max_nw=3, horizon=1000),
+    "descriptor": _Spec(5, _run_descriptor, max_nw=4, horizon=4000),
+    "zono_segment_min": _Spec(6, _run_zonotopic, horizon=1000),
+    "zono_volume_min": _Spec(7, _run_zonotopic, max_nw=8, horizon=600),
+    "pradius": _Spec(8, _run_zonotopic, horizon=1000),
+    "thesis_sm_observer": _Spec(9, _run_thesis, horizon=4000),
+    "thesis_lpv": _Spec(10, _run_thesis, horizon=4000),
+    "interval_luenberger": _Spec(11, _run_thesis, horizon=2000),
+    "interval_invariant": _Spec(12, _run_thesis, horizon=4000),
+    "interval_nonlinear": _Spec(13, _run_thesis, horizon=2000),
 }
 
 
@@ -610,26 +610,34 @@ def run_campaign(estimators=None, steps: int = 100_000, *, processes: int = 2, s
             summ = {"systems": 0, "design_failed": 0, "step_failed": 0, "reasons": {}, "steps": 0, "violations": [],
                     "max_excess": -math.inf, "nx_max": 0, "families": {}, "seeds": [seed0, seed0]}
             seed = seed0
-            batch = max(processes, 2)
-            while summ["steps"] < steps and (time_limit is None or time.monotonic() - t0 < time_limit):
-                results = pool.map(_worker, [(name, s, max_nx, max_steps) for s in range(seed, seed + batch)])
-                seed += batch
-                for r in results:
-                    summ["systems"] += 1
-                    summ["seeds"][1] = r.seed
-                    if r.status != "ok":
-                        summ[r.status] += 1
-                        key = r.reason.split(":")[0] + ": " + r.reason.split(":", 1)[-1].strip()[:90]
-                        summ["reasons"][key] = summ["reasons"].get(key, 0) + 1
-                    summ["steps"] += r.steps
-                    summ["nx_max"] = max(summ["nx_max"], r.nx if r.steps else 0)
-                    if r.steps:
-                        summ["families"][r.family] = summ["families"].get(r.family, 0) + r.steps
-                    summ["max_excess"] = max(summ["max_excess"], r.max_excess)
-                    for k, e in r.violations[:3]:
-                        summ["violations"].append({"seed": r.seed, "step": k, "excess": e, "nx": r.nx,
-                                                   "family": r.family, "disturbance": r.disturbance,
-                                                   "reproduce": r.reproduce()})
+            pending = []
+
+            def more() -> bool:
+                return summ["steps"] < steps and (time_limit is None or time.monotonic() - t0 < time_limit)
+
+            # keep `processes` cases in flight; stop submitting once the steps (or the time) are reached
+            while True:
+                while more() and len(pending) < max(processes, 1):
+                    pending.append(pool.apply_async(_worker, ((name, seed, max_nx, max_steps),)))
+                    seed += 1
+                if not pending:
+                    break
+                r = pending.pop(0).get()
+                summ["systems"] += 1
+                summ["seeds"][1] = max(summ["seeds"][1], r.seed)
+                if r.status != "ok":
+                    summ[r.status] += 1
+                    key = r.reason.split(":")[0] + ": " + r.reason.split(":", 1)[-1].strip()[:90]
+                    summ["reasons"][key] = summ["reasons"].get(key, 0) + 1
+                summ["steps"] += r.steps
+                summ["nx_max"] = max(summ["nx_max"], r.nx if r.steps else 0)
+                if r.steps:
+                    summ["families"][r.family] = summ["families"].get(r.family, 0) + r.steps
+                summ["max_excess"] = max(summ["max_excess"], r.max_excess)
+                for k, e in r.violations[:3]:
+                    summ["violations"].append({"seed": r.seed, "step": k, "excess": e, "nx": r.nx,
+                                               "family": r.family, "disturbance": r.disturbance,
+                                               "reproduce": r.reproduce()})
             summ["seconds"] = round(time.monotonic() - t0, 1)
             out[name] = summ
             if progress:
@@ -638,14 +646,23 @@ def run_campaign(estimators=None, steps: int = 100_000, *, processes: int = 2, s
 
 
 class _Serial:
+    """In-process stand-in for a multiprocessing pool (processes=1)."""
+
     def __enter__(self):
         return self
 
     def __exit__(self, *a):
         return False
 
-    def map(self, f, items):
-        return [f(i) for i in items]
+    def apply_async(self, f, args):
+        """Runs ``f(*args)`` now; ``.get()`` returns the result."""
+        class _Done:
+            def __init__(self, v):
+                self.v = v
+
+            def get(self):
+                return self.v
+        return _Done(f(*args))
 
 
 def format_table(summary: dict) -> str:
@@ -686,8 +703,9 @@ def main(argv=None) -> int:
     t0 = time.monotonic()
 
     def progress(name, s):
-        print(f"{name}: {s['steps']} steps, {s['systems']} systems, {len(s['violations'])} violations "
-              f"({s['seconds']} s)", file=sys.stderr, flush=True)
+        print(f"{name}: {s['steps']} steps, {s['systems']} systems ({s['design_failed']} designs failed), "
+              f"{len(s['violations'])} violations, max excess {s['max_excess']:.2e} ({s['seconds']} s)",
+              file=sys.stderr, flush=True)
 
     summary = run_campaign(a.estimator, a.steps, processes=a.processes, seed0=a.seed0, max_nx=a.max_nx,
                            max_steps=a.max_steps, time_limit=a.time_limit, progress=progress)

@@ -9,14 +9,14 @@ import pytest
 from setbound import campaign
 from setbound.sets import Ellipsoid
 
-# steps per estimator in CI (about a thousand, n_x <= 3, cases of at most 150 steps, so that the
+# steps per estimator in CI (several hundred, n_x <= 3, cases of at most 150 steps, so that the
 # whole file stays well under a minute; `make campaign` runs >= 100 000 steps with n_x <= 8)
-CI_STEPS = 1000
+CI_STEPS = 800
 
 
 @pytest.fixture(scope="module")
 def short_campaign():
-    return campaign.run_campaign(steps=CI_STEPS, processes=2, seed0=0, max_nx=3, max_steps=150, time_limit=2.0)
+    return campaign.run_campaign(steps=CI_STEPS, processes=2, seed0=0, max_nx=3, max_steps=150, time_limit=1.5)
 
 
 @pytest.mark.parametrize("name", list(campaign.ESTIMATORS))
@@ -72,8 +72,8 @@ def test_simulation_error_bound_covers_the_rounding():
 
 
 def test_cases_are_reproducible_from_their_seed():
-    a = campaign.run_case("ell_offline", 7, max_nx=3, max_steps=50)
-    b = campaign.run_case("ell_offline", 7, max_nx=3, max_steps=50)
+    a = campaign.run_case("interval_luenberger", 7, max_nx=3, max_steps=50)
+    b = campaign.run_case("interval_luenberger", 7, max_nx=3, max_steps=50)
     assert (a.nx, a.family, a.disturbance, a.steps, a.status) == (b.nx, b.family, b.disturbance, b.steps, b.status)
     assert a.max_excess == b.max_excess or (math.isinf(a.max_excess) and math.isinf(b.max_excess))
     assert "--seed 7 --max-nx 3 --max-steps 50" in a.reproduce()
