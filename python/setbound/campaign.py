@@ -36,7 +36,7 @@ from .sets import Ellipsoid, Zonotope
 from .simulation import simulate
 from .system import DescriptorSystem, LinearSystem
 
-__all__ = ["ESTIMATORS", "TAU", "Case", "CaseResult", "RandomSystem", "random_system", "random_case", "run_case",
+__all__ = ["ESTIMATORS", "TAU", "LOOSE", "Case", "CaseResult", "RandomSystem", "random_system", "random_case", "run_case",
            "run_campaign", "format_table", "ellipsoid_excess", "box_excess", "zonotope_excess",
            "simulation_error_bound", "main"]
 
@@ -64,10 +64,36 @@ def simulation_error_bound(A_abs, terms_abs, N: int, m: int | None = None) -> np
     or LPV matrix: an entrywise bound of ``|A_k|``)."""
     n = A_abs.shape[0]
     g = _gamma(m if m is not None else 2 * n + 2)
+    r = g * np.asarray(terms_abs, float)
     d = np.zeros((N, n))
-    for k in range(N - 1):
-        d[k + 1] = (A_abs @ d[k] + g * terms_abs[k]) * (1 + 4 * _U)
+    with np.errstate(over="ignore", invalid="ignore"):
+        for k in range(N - 1):
+            d[k + 1] = (A_abs @ d[k] + r[k]) * (1 + 4 * _U)
     return d
+
+
+def _stable_error_bound(A, r, N: int):
+    """Tighter bound for a constant Schur-stable ``A`` (the |A| recursion grows when ρ(|A|) > 1):
+    ``e_k = Σ_i A^i r_{k−1−i}``, so ``|e_k| ≤ S r̄_k + t ‖r̄_k‖∞ 1`` with ``S = Σ_{i<M} |A^i|``,
+    ``r̄_k`` the running componentwise maximum of the local errors, and the tail
+    ``t = q Σ_{i<M} ‖A^i‖∞ / (1 − q)``, ``q = ‖A^M‖∞ < 1`` (``‖A^{jM+i}‖ ≤ q^j ‖A^i‖``).
+    Returns None when no ``M ≤ 2000`` gives ``q < 1/2``."""
+    n = A.shape[0]
+    S = np.zeros((n, n))
+    Pk = np.eye(n)
+    norms = 0.0
+    for M in range(1, 2001):
+        S += np.abs(Pk)
+        norms += np.abs(Pk).sum(axis=1).max()
+        Pk = Pk @ A
+        q = np.abs(Pk).sum(axis=1).max()
+        if q < 0.5:
+            break
+    else:
+        return None
+    t = q * norms / (1 - q) * (1 + 1e-6)
+    rbar = np.maximum.accumulate(np.vstack([np.zeros((1, n)), r[: N - 1]]), axis=0)
+    return (rbar @ S.T + t * rbar.max(axis=1, keepdims=True)) * (1 + 1e-6)
 
 
 def ellipsoid_excess(P, c, rho, x, delta) -> float:
@@ -299,7 +325,9 @@ def random_case(estimator: str, seed: int, max_nx: int = 8) -> Case:
 class CaseResult:
     """Outcome of one case: ``status`` ``"ok"`` or ``"design_failed"`` (``reason``: the
     library's message), ``steps`` checked, ``violations`` (step, excess) pairs and
-    ``max_excess`` (largest excess seen, ≤ 0 when every step was contained)."""
+    ``max_excess`` (largest excess seen, ≤ 0 when every step was contained), ``unverified``
+    (steps whose simulation-error allowance exceeded ``LOOSE`` times the set's size: not
+    counted in ``steps``)."""
 
     estimator: str
     seed: int
@@ -312,6 +340,7 @@ class CaseResult:
     violations: list = field(default_factory=list)
     max_excess: float = -math.inf
     options: dict = field(default_factory=dict)
+    unverified: int = 0
 
     command_options: str = ""
 
@@ -341,22 +370,43 @@ def _x0_box(s: RandomSystem, rng) -> tuple[np.ndarray, np.ndarray]:
     return c0 - h, c0 + h
 
 
-def _delta(A_abs, x, E, W) -> np.ndarray:
+def _delta(A_abs, x, E, W, A=None) -> np.ndarray:
     """:func:`simulation_error_bound` of a run of :func:`setbound.simulation.simulate`
-    (``A_k x + E ω``: n_x + n_ω products, plus the additions)."""
+    (``A_k x + E ω``: n_x + n_ω products, plus the additions); ``A``: the constant matrix, when
+    it is one (then the tighter :func:`_stable_error_bound` is used where it applies)."""
     terms = np.abs(x) @ A_abs.T + np.abs(W) @ np.abs(E).T
-    return simulation_error_bound(A_abs, terms, x.shape[0], A_abs.shape[0] + E.shape[1] + 2)
+    m = A_abs.shape[0] + E.shape[1] + 2
+    d = simulation_error_bound(A_abs, terms, x.shape[0], m)
+    if A is not None:
+        d2 = _stable_error_bound(A, _gamma(m) * terms, x.shape[0])
+        if d2 is not None:
+            d = np.fmin(d, d2)
+    return d
+
+
+#: A step is *checked* only when the simulation-error allowance is below this fraction of the
+#: set's size; otherwise it is counted as unverified (``CaseResult.unverified``), never as
+#: contained.
+LOOSE = 1e-6
 
 
 def _check_ellipsoids(sets, x, delta, res: CaseResult, start: int = 0):
     for k, S in enumerate(sets):
-        e = ellipsoid_excess(S.P, S.center, S.rho, x[k + start], delta[k + start])
+        d = delta[k + start]
+        if not (np.all(np.isfinite(d)) and float(d @ np.abs(S.P) @ d) <= (LOOSE ** 2) * S.rho):
+            res.unverified += 1
+            continue
+        e = ellipsoid_excess(S.P, S.center, S.rho, x[k + start], d)
         _record(res, k + start, e)
 
 
 def _check_boxes(lo, hi, x, delta, res: CaseResult):
     for k in range(lo.shape[0]):
-        _record(res, k, box_excess(lo[k], hi[k], x[k], delta[k]))
+        d = delta[k]
+        if not (np.all(np.isfinite(d)) and np.all(d <= LOOSE * 0.5 * (hi[k] - lo[k]))):
+            res.unverified += 1
+            continue
+        _record(res, k, box_excess(lo[k], hi[k], x[k], d))
 
 
 def _record(res: CaseResult, k: int, e: float):
@@ -389,7 +439,7 @@ def _run_ellipsoidal(case: Case, res: CaseResult, rng):
         est = ellipsoidal.ImprovedEstimator(design, x0, **case.options)
     sim = simulate(system, x0, case.N, disturbance=case.disturbance, rng=rng,
                    A_choice=case.options.get("A_choice", "vertex"))
-    delta = _delta(A_abs, sim.x, system.E, sim.omega)
+    delta = _delta(A_abs, sim.x, system.E, sim.omega, None if name == "ell_interval_A" else s.A)
     traj = est.run(sim.y)
     _check_ellipsoids(traj.sets, sim.x, delta, res)
 
@@ -441,10 +491,14 @@ def _run_zonotopic(case: Case, res: CaseResult, rng):
         est = zonotopic.PRadiusEstimator(design, x0)
     sim = simulate(system, x0, case.N, disturbance=case.disturbance, rng=rng)
     A_abs = np.abs(s.A)
-    delta = _delta(A_abs, sim.x, system.E, sim.omega)
+    delta = _delta(A_abs, sim.x, system.E, sim.omega, s.A)
     traj = est.run(sim.y)
     for k, Z in enumerate(traj.sets):
-        _record(res, k, zonotope_excess(Z.center, Z.generators, sim.x[k], delta[k]))
+        d = delta[k]
+        if not (np.all(np.isfinite(d)) and np.all(d <= LOOSE * np.abs(Z.generators).sum(axis=1))):
+            res.unverified += 1
+            continue
+        _record(res, k, zonotope_excess(Z.center, Z.generators, sim.x[k], d))
 
 
 def _sim_plant(case: Case, rng, A_seq=None, h=None):
@@ -474,7 +528,12 @@ def _sim_plant(case: Case, rng, A_seq=None, h=None):
                 np.abs(hv[k]) if hv is not None else 0.0)
             if A_seq is not None:
                 A_abs = np.maximum(A_abs, np.abs(Ak))
-    delta = simulation_error_bound(A_abs, terms, N, n + nd + 2 + (1 if hv is not None else 0))
+    m = n + nd + 2 + (1 if hv is not None else 0)
+    delta = simulation_error_bound(A_abs, terms, N, m)
+    if A_seq is None:
+        d2 = _stable_error_bound(s.A, _gamma(m) * terms, N)
+        if d2 is not None:
+            delta = np.fmin(delta, d2)
     return (lo, hi), x, y, delta
 
 
@@ -608,7 +667,7 @@ def run_campaign(estimators=None, steps: int = 100_000, *, processes: int = 2, s
         for name in names:
             t0 = time.monotonic()
             summ = {"systems": 0, "design_failed": 0, "step_failed": 0, "reasons": {}, "steps": 0, "violations": [],
-                    "max_excess": -math.inf, "nx_max": 0, "families": {}, "seeds": [seed0, seed0]}
+                    "max_excess": -math.inf, "nx_max": 0, "families": {}, "seeds": [seed0, seed0], "unverified": 0}
             seed = seed0
             pending = []
 
@@ -630,6 +689,7 @@ def run_campaign(estimators=None, steps: int = 100_000, *, processes: int = 2, s
                     key = r.reason.split(":")[0] + ": " + r.reason.split(":", 1)[-1].strip()[:90]
                     summ["reasons"][key] = summ["reasons"].get(key, 0) + 1
                 summ["steps"] += r.steps
+                summ["unverified"] += r.unverified
                 summ["nx_max"] = max(summ["nx_max"], r.nx if r.steps else 0)
                 if r.steps:
                     summ["families"][r.family] = summ["families"].get(r.family, 0) + r.steps
@@ -694,7 +754,8 @@ def main(argv=None) -> int:
         for name in a.estimator or list(ESTIMATORS):
             r = run_case(name, a.seed, a.max_nx, a.max_steps)
             print(f"{name} seed={a.seed} nx={r.nx} family={r.family} disturbance={r.disturbance} "
-                  f"options={r.options} status={r.status} steps={r.steps} max_excess={r.max_excess:.3e}"
+                  f"options={r.options} status={r.status} steps={r.steps} unverified={r.unverified} "
+                  f"max_excess={r.max_excess:.3e}"
                   + (f" reason={r.reason}" if r.reason else ""))
             for k, e in r.violations:
                 print(f"  violation at step {k}: excess {e:.3e}")
@@ -704,7 +765,8 @@ def main(argv=None) -> int:
 
     def progress(name, s):
         print(f"{name}: {s['steps']} steps, {s['systems']} systems ({s['design_failed']} designs failed), "
-              f"{len(s['violations'])} violations, max excess {s['max_excess']:.2e} ({s['seconds']} s)",
+              f"{len(s['violations'])} violations, max excess {s['max_excess']:.2e}, {s['unverified']} unverified "
+              f"({s['seconds']} s)",
               file=sys.stderr, flush=True)
 
     summary = run_campaign(a.estimator, a.steps, processes=a.processes, seed0=a.seed0, max_nx=a.max_nx,

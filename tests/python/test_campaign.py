@@ -53,20 +53,25 @@ def test_simulation_error_bound_covers_the_rounding():
 
     rng = np.random.default_rng(3)
     n, N = 3, 30
-    A = rng.standard_normal((n, n)) * 0.5
+    A = rng.standard_normal((n, n))
+    A *= 0.9 / max(abs(np.linalg.eigvals(A)))  # Schur stable, so the tighter bound applies too
     E = rng.standard_normal((n, 2))
     W = rng.uniform(-1, 1, (N, 2))
     x = np.empty((N, n))
     x[0] = rng.standard_normal(n)
     for k in range(N - 1):
         x[k + 1] = A @ x[k] + E @ W[k]
-    delta = campaign.simulation_error_bound(np.abs(A), np.abs(x) @ np.abs(A).T + np.abs(W) @ np.abs(E).T, N, n + 2 + 2)
+    terms = np.abs(x) @ np.abs(A).T + np.abs(W) @ np.abs(E).T
+    delta = campaign.simulation_error_bound(np.abs(A), terms, N, n + 2 + 2)
+    stable = campaign._stable_error_bound(A, campaign._gamma(n + 2 + 2) * terms, N)
+    assert stable is not None
     xe = [Fraction(v) for v in x[0]]
     for k in range(N - 1):
         xe = [sum(Fraction(A[i, j]) * xe[j] for j in range(n)) + sum(Fraction(E[i, j]) * Fraction(W[k, j])
                                                                       for j in range(2)) for i in range(n)]
         err = np.array([abs(float(xe[i] - Fraction(x[k + 1, i]))) for i in range(n)])
         assert np.all(err <= delta[k + 1]), (k, err, delta[k + 1])
+        assert np.all(err <= stable[k + 1]), (k, err, stable[k + 1])
     # and it is a rounding-sized bound, not a vacuous one
     assert 0 < delta[1].max() < 1e-13 * (1 + np.abs(x).max())
 
