@@ -7,6 +7,7 @@ PYTHON   ?= python3
 VENV     := .venv
 PY       := $(VENV)/bin/python
 CPP_BUILD := build/cpp
+SAN_BUILD := build/sanitize
 JOBS     ?= 2
 
 # One compiler name for every CMake build (the C++ tests in build/cpp, the Python package and the
@@ -18,7 +19,7 @@ export CXX
 # (a CI checkout, a second worktree) reuses the same cache entries.
 export CCACHE_BASEDIR := $(CURDIR)
 
-.PHONY: all deps venv install build-cpp test test-cpp test-python test-wheel demo bench fuzz clean
+.PHONY: all deps venv install build-cpp test test-cpp test-python test-wheel test-sanitize campaign demo bench fuzz clean
 
 all: test
 
@@ -53,6 +54,24 @@ test-wheel: install
 	bash scripts/test-wheel.sh $(PY)
 
 test: test-cpp test-python test-wheel
+
+# The C++ tests under AddressSanitizer + UndefinedBehaviorSanitizer (own build dir; -O1 -g1:
+# line numbers in the reports). Any report aborts the test (docs/reliability.md). test_alloc is
+# built without sanitizers (it replaces malloc) and runs too. Leak checking is on.
+SAN_FLAGS := -O1 -g1
+test-sanitize: deps
+	cmake -S . -B $(SAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DSETBOUND_SANITIZE=ON \
+	  -DCMAKE_CXX_FLAGS_SANITIZE="$(SAN_FLAGS)" -DCMAKE_C_FLAGS_SANITIZE="$(SAN_FLAGS)"
+	cmake --build $(SAN_BUILD) -j $(JOBS)
+	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1 \
+	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  ctest --test-dir $(SAN_BUILD) --output-on-failure -j $(JOBS) --timeout 1200
+
+# Guarantee campaign (docs/reliability.md): >= 100 000 steps per guaranteed estimator, the table
+# printed and written to out/campaign/campaign.json; fails on any containment violation.
+CAMPAIGN_STEPS ?= 100000
+campaign: install
+	$(PY) -m setbound.campaign --steps $(CAMPAIGN_STEPS) --processes $(JOBS) --json out/campaign/campaign.json
 
 demo: install
 	$(VENV)/bin/setbound demo --out out/demo

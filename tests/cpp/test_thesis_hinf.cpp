@@ -9,12 +9,7 @@
 #include "setbound/thesis/hinf_gain.hpp"
 #include "c_api_common.hpp"  // the C ABI (setbound.h) through the library's objects
 
-#include <atomic>
-#include <cstdlib>
-
-// Counting malloc (as in test_zonotopic_alloc.cpp): the online observers' step() must not
-// allocate. Eigen allocates with malloc.
-#include "count_malloc.hpp"  // this executable counts allocations (step() must not allocate)
+// The observers' step() allocation test lives in test_alloc.cpp (it interposes malloc).
 
 using namespace setbound;
 using namespace setbound::thesis;
@@ -423,33 +418,6 @@ TEST(ThesisLpv, Ex1DesignAndContainment) {
     }
     EXPECT_EQ(obs.center(), c);
   }
-}
-
-TEST(ThesisHinfObservers, StepDoesNotAllocate) {
-#ifndef SETBOUND_COUNT_MALLOC
-  GTEST_SKIP() << "malloc cannot be counted here";
-#endif
-  const Plant p = ch2_plant();
-  const EllipsoidalSMDesign d = design_ellipsoidal_sm_observer(p, VectorXd::Ones(2));
-  EllipsoidalSMObserver obs(p, d, VectorXd::Zero(2), 2.0);
-  const LpvSystem sys = ch3_ex1();
-  const EllipsoidalSMDesign dl = design_ellipsoidal_sm_observer_lpv(sys, VectorXd::Ones(2));
-  LPVEllipsoidalSMObserver ol(sys, dl, VectorXd::Zero(2), 2.0);
-  VectorXd y = VectorXd::Constant(1, 0.3), u = VectorXd::Ones(1), rho = VectorXd::Constant(1, 0.07);
-  obs.step(y, u);
-  ol.step(y, u, rho);
-  {
-    const long c0 = g_allocations.load();
-    VectorXd probe = VectorXd::Random(64);  // the counter sees Eigen's heap allocations
-    EXPECT_GT(g_allocations.load(), c0);
-    EXPECT_TRUE(probe.allFinite());
-  }
-  const long before = g_allocations.load();
-  for (int k = 0; k < 100; ++k) {
-    obs.step(y, u);
-    ol.step(y, u, rho);
-  }
-  EXPECT_EQ(g_allocations.load() - before, 0);
 }
 
 TEST(ThesisHinfCapi, DesignObserverAndErrors) {

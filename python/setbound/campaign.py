@@ -1,0 +1,794 @@
+"""Guarantee campaigns: every guaranteed estimator on many random systems, containment checked
+at every step (docs/reliability.md, "Guarantee campaigns").
+
+A *case* is fully determined by ``(estimator, seed)``: :func:`random_case` draws the system
+(n_x, stable or unstable, possibly ill-conditioned), the disturbance kind (uniform or vertex),
+the initial set and the estimator's options from ``numpy.random.default_rng(seed)``;
+:func:`run_case` designs the estimator, simulates the true system
+(:func:`setbound.simulation.simulate`), runs the estimator and checks the true state against
+the returned set at every step. A design the library refuses (``SetboundError``: not
+detectable, LMI infeasible, ...) is counted as *design failed* with the library's message; it
+is not a violation. A violation is a step whose true state is outside the set by more than
+the documented allowance (:func:`ellipsoid_excess`, :func:`box_excess`,
+:func:`zonotope_excess`); it is reported with its seed and a one-line reproduction command
+(``python -m setbound.campaign --estimator NAME --seed SEED``).
+
+Command line: ``python -m setbound.campaign [--steps N] [--processes 2] [--json FILE]
+[--estimator NAME ...] [--seed SEED] [--max-nx 8]``.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import ellipsoidal, hinf, interval_observers, zonotopic
+from .errors import SetboundError
+from .interval import Box, IntervalMatrix
+from .plant import Plant
+from .sets import Ellipsoid, Zonotope
+from .simulation import simulate
+from .system import DescriptorSystem, LinearSystem
+
+__all__ = ["ESTIMATORS", "TAU", "LOOSE", "Case", "CaseResult", "RandomSystem", "random_system", "random_case", "run_case",
+           "run_campaign", "format_table", "ellipsoid_excess", "box_excess", "zonotope_excess",
+           "simulation_error_bound", "main"]
+
+#: Relative allowance of the containment checks: a point counts as contained when it lies in the
+#: set scaled by ``1 + TAU`` about its centre (plus the simulation error box, see
+#: :func:`simulation_error_bound`). It absorbs the evaluation of the membership test and the
+#: rounding of the measurements ``y = C x + F ω`` (≈ 1e-16 |y|), which the estimators take as
+#: exact; a wrong bound in an estimator shows up many orders of magnitude above it.
+TAU = 1e-9
+
+_U = np.finfo(float).eps / 2
+
+
+def _gamma(k: int) -> float:
+    return k * _U / (1 - k * _U)
+
+
+def simulation_error_bound(A_abs, terms_abs, N: int, m: int | None = None) -> np.ndarray:
+    """Componentwise bound ``δ_k`` on ``|x_k − x̂_k|``, where ``x̂_k`` is the floating-point
+    simulation and ``x_k`` the exact trajectory of the same initial state and disturbances:
+    ``δ_0 = 0``, ``δ_{k+1} = |A| δ_k + γ_m r_k`` with ``r_k = |A||x̂_k| + |E||ω_k| (+ |B||u_k|)``
+    (``terms_abs``, N × n) the magnitudes summed by one simulation step and γ_m = m u/(1 − m u)
+    the dot-product rounding factor (``m`` products summed per component; default n + 2 + the
+    number of columns of ``E`` is the caller's to give). ``A_abs`` is ``|A|`` (for an interval
+    or LPV matrix: an entrywise bound of ``|A_k|``)."""
+    n = A_abs.shape[0]
+    g = _gamma(m if m is not None else 2 * n + 2)
+    r = g * np.asarray(terms_abs, float)
+    d = np.zeros((N, n))
+    with np.errstate(over="ignore", invalid="ignore"):
+        for k in range(N - 1):
+            d[k + 1] = (A_abs @ d[k] + r[k]) * (1 + 4 * _U)
+    return d
+
+
+def _stable_error_bound(A, r, N: int):
+    """Tighter bound for a constant Schur-stable ``A`` (the |A| recursion grows when ρ(|A|) > 1):
+    ``e_k = Σ_i A^i r_{k−1−i}``, so ``|e_k| ≤ S r̄_k + t ‖r̄_k‖∞ 1`` with ``S = Σ_{i<M} |A^i|``,
+    ``r̄_k`` the running componentwise maximum of the local errors, and the tail
+    ``t = q Σ_{i<M} ‖A^i‖∞ / (1 − q)``, ``q = ‖A^M‖∞ < 1`` (``‖A^{jM+i}‖ ≤ q^j ‖A^i‖``).
+    Returns None when no ``M ≤ 2000`` gives ``q < 1/2``."""
+    n = A.shape[0]
+    S = np.zeros((n, n))
+    Pk = np.eye(n)
+    norms = 0.0
+    for M in range(1, 2001):
+        S += np.abs(Pk)
+        norms += np.abs(Pk).sum(axis=1).max()
+        Pk = Pk @ A
+        q = np.abs(Pk).sum(axis=1).max()
+        if q < 0.5:
+            break
+    else:
+        return None
+    t = q * norms / (1 - q) * (1 + 1e-6)
+    rbar = np.maximum.accumulate(np.vstack([np.zeros((1, n)), r[: N - 1]]), axis=0)
+    return (rbar @ S.T + t * rbar.max(axis=1, keepdims=True)) * (1 + 1e-6)
+
+
+def ellipsoid_excess(P, c, rho, x, delta) -> float:
+    """How far ``x`` is outside ``E(P, c, ρ)`` beyond the allowance, in units of the set's
+    ``√ρ``: ``(√q − (1+TAU)√ρ − √(δᵀ|P|δ) − √e_q)/√ρ`` with ``q = (x−c)ᵀP(x−c)``, ``e_q`` the
+    rounding bound ``γ_{n+2}|x−c|ᵀ|P||x−c|`` of that evaluation and ``√(δᵀ|P|δ)`` a bound on
+    the P-norm of the simulation error. Positive means a violation."""
+    d = np.asarray(x, float) - np.asarray(c, float)
+    n = d.size
+    q = float(d @ P @ d)
+    ad = np.abs(d)
+    Pabs = np.abs(P)
+    eq = _gamma(n + 2) * float(ad @ Pabs @ ad)
+    sd = math.sqrt(max(float(delta @ Pabs @ delta), 0.0))
+    r = math.sqrt(max(rho, 0.0))
+    excess = math.sqrt(max(q, 0.0)) - (1 + TAU) * r - sd - math.sqrt(eq)
+    return excess / r if r > 0 else (math.inf if excess > 0 else excess)
+
+
+def box_excess(lo, hi, x, delta) -> float:
+    """Largest distance of ``x`` outside the box ``[lo, hi]`` scaled by ``1 + TAU`` about its
+    centre and widened by the simulation error ``δ``, relative to the box's largest half-width
+    (exact interval test; positive means a violation)."""
+    lo, hi, x = np.asarray(lo, float), np.asarray(hi, float), np.asarray(x, float)
+    mid, rad = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    slack = (1 + TAU) * rad + delta + TAU * np.abs(mid)
+    out = np.abs(x - mid) - slack
+    scale = max(float(rad.max()), 1e-300)
+    return float(out.max()) / scale
+
+
+def zonotope_excess(c, G, x, delta) -> float:
+    """``t* − (1 + TAU)`` where ``t*`` is the smallest ``t`` with ``x ∈ c + G [−t, t]^m ⊕ [−δ, δ]``
+    (the exact containment test as a linear program; a least-squares certificate
+    ``|ξ|∞ ≤ 1`` with ``G ξ = x − c`` answers first when it exists). Positive means a violation
+    (beyond the LP's own 1e-9 feasibility tolerance, which is added to the allowance); a
+    violation the LP reports is confirmed by the library's exact facet test
+    (:meth:`setbound.Zonotope.contains` with ``rel_tol = TAU``) of the zonotope widened by the
+    δ box, because the LP is badly scaled when generator lengths span many orders of magnitude."""
+    c, G, x = np.asarray(c, float), np.asarray(G, float), np.asarray(x, float)
+    r = x - c
+    n, m = G.shape
+    if m == 0:
+        return box_excess(c, c, x, delta)
+    xi, *_ = np.linalg.lstsq(G, r, rcond=None)
+    res = np.abs(G @ xi - r)
+    if np.max(np.abs(xi)) <= 1.0 and np.all(res <= delta + 1e-12 * (np.abs(r) + np.abs(G) @ np.abs(xi))):
+        return float(np.max(np.abs(xi))) - (1 + TAU)
+    from scipy.optimize import linprog
+
+    # variables (ξ, t): min t s.t. |ξ_i| <= t, |G ξ − r| <= δ
+    cost = np.zeros(m + 1)
+    cost[-1] = 1.0
+    Im = np.eye(m)
+    A_ub = np.block([[Im, -np.ones((m, 1))], [-Im, -np.ones((m, 1))],
+                     [G, np.zeros((n, 1))], [-G, np.zeros((n, 1))]])
+    b_ub = np.concatenate([np.zeros(2 * m), r + delta, -r + delta])
+    sol = linprog(cost, A_ub=A_ub, b_ub=b_ub, bounds=[(None, None)] * m + [(0, None)], method="highs",
+                  options={"primal_feasibility_tolerance": 1e-9, "dual_feasibility_tolerance": 1e-9})
+    excess = float(sol.x[-1]) - (1 + TAU) - 1e-9 if sol.status == 0 else math.inf
+    if excess > 0:
+        # The LP is badly scaled when generator lengths span many orders of magnitude (tiny
+        # rounding generators next to the state's): confirm a reported violation with the
+        # library's exact test (facet enumeration) of the zonotope widened by the δ box.
+        keep = np.any(G != 0, axis=0)
+        Gd = np.hstack([G[:, keep], np.diag(delta)[:, delta > 0]])
+        if Gd.shape[1] >= n and math.comb(Gd.shape[1], n - 1) <= 200_000:
+            if bool(Zonotope(c, Gd).contains(x, rel_tol=TAU)):
+                return -TAU
+    return excess
+
+
+# ---------------------------------------------------------------------------------------------
+# random systems
+
+
+def _random_A(rng, n: int, unstable: bool) -> np.ndarray:
+    """A = V Λ V⁻¹ with a well-conditioned V and a real block-diagonal Λ: moduli in [0, 0.95]
+    (stable) or at least one mode with modulus in (1, 1.08] (unstable)."""
+    blocks, k = [], 0
+    while k < n:
+        mod = rng.uniform(0.0, 0.95)
+        if k + 1 < n and rng.uniform() < 0.4:
+            th = rng.uniform(0.1, math.pi - 0.1)
+            blocks.append(mod * np.array([[math.cos(th), -math.sin(th)], [math.sin(th), math.cos(th)]]))
+            k += 2
+        else:
+            blocks.append(np.array([[mod * rng.choice([-1.0, 1.0])]]))
+            k += 1
+    if unstable:
+        i = int(rng.integers(len(blocks)))
+        b = blocks[i]
+        blocks[i] = b / max(np.max(np.abs(np.linalg.eigvals(b))), 1e-3) * rng.uniform(1.01, 1.08)
+    Lam = np.zeros((n, n))
+    k = 0
+    for b in blocks:
+        s = b.shape[0]
+        Lam[k:k + s, k:k + s] = b
+        k += s
+    Q, _ = np.linalg.qr(rng.standard_normal((n, n)))
+    V = Q @ np.diag(rng.uniform(0.5, 2.0, n))
+    return V @ Lam @ np.linalg.inv(V)
+
+
+@dataclass
+class RandomSystem:
+    """One random system of a case: ``x⁺ = A x + E ω``, ``y = C x + F ω``, ``ω ∈ [−1, 1]^{n_ω}``
+    with ``ω = (d, v)``: ``E = [Fd, 0]``, ``F = [0, Z]``; ``T`` the diagonal similarity applied
+    (identity unless ill-conditioned)."""
+
+    A: np.ndarray
+    C: np.ndarray
+    Fd: np.ndarray
+    Z: np.ndarray
+    T: np.ndarray
+    family: str
+    nx: int
+    ny: int
+
+    @property
+    def E(self):
+        """``[Fd, 0]``: the state-disturbance matrix of the LinearSystem form."""
+        return np.hstack([self.Fd, np.zeros((self.nx, self.Z.shape[1]))])
+
+    @property
+    def F(self):
+        """``[0, Z]``: the measurement-noise matrix of the LinearSystem form."""
+        return np.hstack([np.zeros((self.ny, self.Fd.shape[1])), self.Z])
+
+    def linear_system(self, A=None) -> LinearSystem:
+        """The system as a :class:`~setbound.LinearSystem` (``A`` may replace the matrix, e.g. by an
+        IntervalMatrix)."""
+        return LinearSystem(self.A if A is None else A, self.C, E=self.E, F=self.F)
+
+    def plant(self) -> Plant:
+        """The system as a thesis :class:`~setbound.Plant` (``F = Fd``, ``Z``)."""
+        return Plant(self.A, self.C, F=self.Fd, Z=self.Z)
+
+
+def random_system(rng, max_nx: int = 8, *, min_nx: int = 1, family: str | None = None,
+                  max_nw: int = 16) -> RandomSystem:
+    """A random detectable system (papers.md §0.3 form): n_x uniform in [min_nx, max_nx],
+    n_y in [1, n_x], at most ``max_nw`` disturbances ``ω = (d, v)`` (the ellipsoidal designs
+    enumerate the 2^{n_ω} vertices of the disturbance box), ``family`` ``"stable"``, ``"unstable"``, ``"ill_stable"`` or
+    ``"ill_unstable"`` (drawn when None). The ill-conditioned families apply
+    ``x → T x`` with ``T = diag(10^U(−2, 2))``: the entries of A, C, E then span about
+    1e-4 … 1e4."""
+    nx = int(rng.integers(min_nx, max_nx + 1))
+    if family is None:
+        family = str(rng.choice(["stable", "unstable", "ill_stable", "ill_unstable"]))
+    A = _random_A(rng, nx, unstable=family.endswith("unstable"))
+    ny = int(rng.integers(1, min(nx, max_nw - 1) + 1))
+    C = rng.standard_normal((ny, nx))
+    nd = int(rng.integers(1, min(nx, max_nw - ny) + 1))
+    Fd = rng.standard_normal((nx, nd)) * 10 ** rng.uniform(-2, -0.5)
+    Z = np.diag(10 ** rng.uniform(-2, -0.5, ny))
+    T = np.eye(nx)
+    if family.startswith("ill"):
+        T = np.diag(10 ** rng.uniform(-2, 2, nx))
+        Ti = np.diag(1 / np.diag(T))
+        A, C, Fd = T @ A @ Ti, C @ Ti, T @ Fd
+    return RandomSystem(A, C, Fd, Z, T, family, nx, ny)
+
+
+# ---------------------------------------------------------------------------------------------
+# the estimators
+
+@dataclass
+class Case:
+    """What :func:`random_case` drew for one (estimator, seed)."""
+
+    estimator: str
+    seed: int
+    system: RandomSystem
+    disturbance: str
+    N: int
+    options: dict = field(default_factory=dict)
+
+
+def _horizon(rng, family: str, nmax: int) -> int:
+    # unstable systems: the true state grows like 1.08^N; the floating-point simulation error
+    # grows with it (simulation_error_bound), so the horizon is kept moderate.
+    return int(rng.integers(nmax // 2, nmax + 1)) if not family.endswith("unstable") else int(rng.integers(40, 81))
+
+
+_IMPROVED_OPTIONS = ("det_normalized", "fixed_shape", "ball_normalized")
+_IMPROVED_FEEDBACK = ("fixed_shape", "outer_bound", "none")
+_IMPROVED_PREDICTORS = ("online", "scaled", "offline")
+
+
+def random_case(estimator: str, seed: int, max_nx: int = 8) -> Case:
+    """Draws the case ``(estimator, seed)`` (deterministic)."""
+    if estimator not in ESTIMATORS:
+        raise ValueError(f"estimator: expected one of {', '.join(ESTIMATORS)}, got {estimator!r}")
+    spec = ESTIMATORS[estimator]
+    rng = np.random.default_rng([seed, spec.index])
+    family = None
+    if spec.stable_only:
+        family = str(rng.choice(["stable", "ill_stable"]))
+    s = random_system(rng, min(max_nx, spec.max_nx), family=family, max_nw=spec.max_nw)
+    dist = str(rng.choice(["uniform", "vertex"]))
+    opts: dict = {}
+    if estimator == "ell_improved":
+        opts = {"option": str(rng.choice(_IMPROVED_OPTIONS)), "feedback": str(rng.choice(_IMPROVED_FEEDBACK)),
+                "predictor": str(rng.choice(_IMPROVED_PREDICTORS))}
+    if estimator == "ell_interval_A":
+        k = int(rng.integers(1, min(3, s.nx * s.nx) + 1))
+        idx = rng.choice(s.nx * s.nx, size=k, replace=False)
+        rad = np.zeros(s.nx * s.nx)
+        rad[idx] = np.abs(s.A.ravel()[idx]) * rng.uniform(0.01, 0.1, k) + 1e-3 * np.abs(s.A).max() * rng.uniform(0, 1, k)
+        opts = {"A_rad": rad.reshape(s.nx, s.nx), "A_choice": str(rng.choice(["vertex", "uniform"]))}
+    if estimator == "pradius":
+        opts = {"approach": int(rng.choice([1, 2]))}
+    if estimator == "thesis_lpv":
+        nv = int(rng.integers(2, 4))
+        dA = [rng.standard_normal((s.nx, s.nx)) * 0.05 * np.abs(s.A).max() for _ in range(nv)]
+        if s.family.startswith("ill"):
+            dA = [s.T @ (np.linalg.inv(s.T) @ d @ s.T) @ np.linalg.inv(s.T) for d in dA]
+        opts = {"dA": dA}
+    if estimator == "interval_nonlinear":
+        opts = {"h_rad": 10 ** rng.uniform(-3, -1.5, s.nx) * np.diag(s.T)}
+    if estimator == "descriptor":
+        opts = {"algebraic": int(rng.integers(0, 2))}
+    N = _horizon(rng, s.family, spec.horizon)
+    return Case(estimator, int(seed), s, dist, N, opts)
+
+
+@dataclass
+class CaseResult:
+    """Outcome of one case: ``status`` ``"ok"`` or ``"design_failed"`` (``reason``: the
+    library's message), ``steps`` checked, ``violations`` (step, excess) pairs and
+    ``max_excess`` (largest excess seen, ≤ 0 when every step was contained), ``unverified``
+    (steps whose simulation-error allowance exceeded ``LOOSE`` times the set's size: not
+    counted in ``steps``)."""
+
+    estimator: str
+    seed: int
+    nx: int
+    family: str
+    disturbance: str
+    status: str
+    steps: int = 0
+    reason: str = ""
+    violations: list = field(default_factory=list)
+    max_excess: float = -math.inf
+    options: dict = field(default_factory=dict)
+    unverified: int = 0
+
+    command_options: str = ""
+
+    def reproduce(self) -> str:
+        """The one-line command that re-runs this case."""
+        return (f"python -m setbound.campaign --estimator {self.estimator} --seed {self.seed}"
+                f"{self.command_options} --verbose")
+
+
+def _ball_ellipsoid(s: RandomSystem, rng) -> tuple[Ellipsoid, np.ndarray]:
+    """Initial set: the ball of radius r around a random centre, in the original coordinates
+    (mapped by T); returns the ellipsoid and a true initial state drawn in it."""
+    n = s.nx
+    r = float(10 ** rng.uniform(-1, 0.5))
+    c0 = rng.standard_normal(n)
+    Ti = np.diag(1 / np.diag(s.T))
+    P = Ti.T @ Ti
+    P = 0.5 * (P + P.T)
+    E0 = Ellipsoid(P, s.T @ c0, r * r)
+    return E0
+
+
+def _x0_box(s: RandomSystem, rng) -> tuple[np.ndarray, np.ndarray]:
+    r = float(10 ** rng.uniform(-1, 0.5))
+    c0 = s.T @ rng.standard_normal(s.nx)
+    h = r * np.diag(s.T)
+    return c0 - h, c0 + h
+
+
+def _delta(A_abs, x, E, W, A=None) -> np.ndarray:
+    """:func:`simulation_error_bound` of a run of :func:`setbound.simulation.simulate`
+    (``A_k x + E ω``: n_x + n_ω products, plus the additions); ``A``: the constant matrix, when
+    it is one (then the tighter :func:`_stable_error_bound` is used where it applies)."""
+    terms = np.abs(x) @ A_abs.T + np.abs(W) @ np.abs(E).T
+    m = A_abs.shape[0] + E.shape[1] + 2
+    d = simulation_error_bound(A_abs, terms, x.shape[0], m)
+    if A is not None:
+        d2 = _stable_error_bound(A, _gamma(m) * terms, x.shape[0])
+        if d2 is not None:
+            d = np.fmin(d, d2)
+    return d
+
+
+#: A step is *checked* only when the simulation-error allowance is below this fraction of the
+#: set's size; otherwise it is counted as unverified (``CaseResult.unverified``), never as
+#: contained.
+LOOSE = 1e-6
+
+
+def _check_ellipsoids(sets, x, delta, res: CaseResult, start: int = 0):
+    for k, S in enumerate(sets):
+        d = delta[k + start]
+        if not (np.all(np.isfinite(d)) and float(d @ np.abs(S.P) @ d) <= (LOOSE ** 2) * S.rho):
+            res.unverified += 1
+            continue
+        e = ellipsoid_excess(S.P, S.center, S.rho, x[k + start], d)
+        _record(res, k + start, e)
+
+
+def _check_boxes(lo, hi, x, delta, res: CaseResult):
+    for k in range(lo.shape[0]):
+        d = delta[k]
+        if not (np.all(np.isfinite(d)) and np.all(d <= LOOSE * 0.5 * (hi[k] - lo[k]))):
+            res.unverified += 1
+            continue
+        _record(res, k, box_excess(lo[k], hi[k], x[k], d))
+
+
+def _record(res: CaseResult, k: int, e: float):
+    res.steps += 1
+    if e > res.max_excess:
+        res.max_excess = e
+    if e > 0:
+        res.violations.append((int(k), float(e)))
+
+
+def _run_ellipsoidal(case: Case, res: CaseResult, rng):
+    s = case.system
+    name = case.estimator
+    if name == "ell_interval_A":
+        A_rad = case.options["A_rad"]
+        system = s.linear_system(IntervalMatrix(s.A - A_rad, s.A + A_rad))
+        A_abs = np.abs(s.A) + A_rad
+    else:
+        system = s.linear_system()
+        A_abs = np.abs(s.A)
+    design = ellipsoidal.design_offline(system)
+    x0 = _ball_ellipsoid(s, rng)
+    if name == "ell_offline":
+        est = ellipsoidal.OfflineEstimator(design, x0)
+    elif name in ("ell_online_vertex", "ell_interval_A"):
+        est = ellipsoidal.OnlineEstimator(design, x0)
+    elif name == "ell_online_scaled":
+        est = ellipsoidal.OnlineEstimator(design, x0, scaling=True)
+    else:
+        est = ellipsoidal.ImprovedEstimator(design, x0, **case.options)
+    sim = simulate(system, x0, case.N, disturbance=case.disturbance, rng=rng,
+                   A_choice=case.options.get("A_choice", "vertex"))
+    delta = _delta(A_abs, sim.x, system.E, sim.omega, None if name == "ell_interval_A" else s.A)
+    traj = est.run(sim.y)
+    _check_ellipsoids(traj.sets, sim.x, delta, res)
+
+
+def _random_descriptor(case: Case, rng):
+    """A descriptor system from the case's system: ``E x⁺ = A x + D w`` with E = I (regular
+    case) or one algebraic row (E singular, index 1: the algebraic equation 0 = a x + d w is
+    seen by an extra output)."""
+    s = case.system
+    n = s.nx
+    Ed = np.eye(n)
+    Ad = s.A.copy()
+    D = s.E
+    if case.options.get("algebraic") and n >= 2:
+        Ed[-1, :] = 0.0
+        Ad[-1, :] = 0.0
+        Ad[-1, -1] = -1.0
+        Ad[-1, 0] = 0.5
+    return DescriptorSystem(Ed, Ad, s.C, D=D, F=s.F)
+
+
+def _run_descriptor(case: Case, res: CaseResult, rng):
+    s = case.system
+    system = _random_descriptor(case, rng)
+    design = ellipsoidal.design_offline(system)
+    x0 = _ball_ellipsoid(s, rng)
+    est = ellipsoidal.DescriptorEstimator(design, x0)
+    sim = simulate(system, x0, case.N, disturbance=case.disturbance, rng=rng)
+    # the descriptor simulation solves a linear system per step: bound its error generously by
+    # the regular-case bound of the (E = I) part and TAU (documented in docs/reliability.md)
+    A_abs = np.abs(system.A)
+    delta = _delta(A_abs, sim.x, system.D, sim.omega) * 4
+    traj = est.run(sim.y)
+    _check_ellipsoids(traj.sets, sim.x, delta, res)
+
+
+def _run_zonotopic(case: Case, res: CaseResult, rng):
+    s = case.system
+    system = s.linear_system()
+    lo, hi = _x0_box(s, rng)
+    x0 = Zonotope(0.5 * (lo + hi), np.diag(0.5 * (hi - lo)))
+    if case.estimator == "zono_segment_min":
+        est = zonotopic.SegmentMinEstimator(system, x0)
+    elif case.estimator == "zono_volume_min":
+        # the volume-minimising gain solves an LP per subset of n_x − 1 generators: keep few
+        est = zonotopic.VolumeMinEstimator(system, x0, max_generators=s.nx + 2)
+    else:
+        design = zonotopic.design_pradius(system, approach=case.options["approach"])
+        est = zonotopic.PRadiusEstimator(design, x0)
+    sim = simulate(system, x0, case.N, disturbance=case.disturbance, rng=rng)
+    A_abs = np.abs(s.A)
+    delta = _delta(A_abs, sim.x, system.E, sim.omega, s.A)
+    traj = est.run(sim.y)
+    for k, Z in enumerate(traj.sets):
+        d = delta[k]
+        if not (np.all(np.isfinite(d)) and np.all(d <= LOOSE * np.abs(Z.generators).sum(axis=1))):
+            res.unverified += 1
+            continue
+        _record(res, k, zonotope_excess(Z.center, Z.generators, sim.x[k], d))
+
+
+def _sim_plant(case: Case, rng, A_seq=None, h=None):
+    """True trajectory of ``x⁺ = A_k x + Fd d + h_k``, ``y = C x + Z v`` (d, v in the unit box,
+    h_k in a box), from x_0 in the initial box. Returns (x0 box, x, y, δ)."""
+    s = case.system
+    lo, hi = _x0_box(s, rng)
+    N = case.N
+    n = s.nx
+    vert = case.disturbance == "vertex"
+    x = np.empty((N, n))
+    x[0] = np.where(rng.uniform(size=n) < 0.5, lo, hi) if vert else rng.uniform(lo, hi)
+    nd, nv = s.Fd.shape[1], s.Z.shape[1]
+    W = rng.choice([-1.0, 1.0], size=(N, nd + nv)) if vert else rng.uniform(-1, 1, size=(N, nd + nv))
+    y = np.empty((N, s.ny))
+    terms = np.zeros((N, n))
+    A_abs = np.abs(s.A)
+    hv = None
+    if h is not None:
+        hv = (np.where(rng.uniform(size=(N, n)) < 0.5, -1.0, 1.0) if vert else rng.uniform(-1, 1, size=(N, n))) * h
+    for k in range(N):
+        y[k] = s.C @ x[k] + s.Z @ W[k, nd:]
+        if k + 1 < N:
+            Ak = s.A if A_seq is None else A_seq[k]
+            x[k + 1] = Ak @ x[k] + s.Fd @ W[k, :nd] + (hv[k] if hv is not None else 0.0)
+            terms[k] = np.abs(Ak) @ np.abs(x[k]) + np.abs(s.Fd) @ np.abs(W[k, :nd]) + (
+                np.abs(hv[k]) if hv is not None else 0.0)
+            if A_seq is not None:
+                A_abs = np.maximum(A_abs, np.abs(Ak))
+    m = n + nd + 2 + (1 if hv is not None else 0)
+    delta = simulation_error_bound(A_abs, terms, N, m)
+    if A_seq is None:
+        d2 = _stable_error_bound(s.A, _gamma(m) * terms, N)
+        if d2 is not None:
+            delta = np.fmin(delta, d2)
+    return (lo, hi), x, y, delta
+
+
+def _run_thesis(case: Case, res: CaseResult, rng):
+    s = case.system
+    name = case.estimator
+    wbar = np.ones(s.Fd.shape[1] + s.Z.shape[1])
+    if name == "thesis_sm_observer":
+        plant = s.plant()
+        design = hinf.design_ellipsoidal_sm_observer(plant, wbar)
+        (lo, hi), x, y, delta = _sim_plant(case, rng)
+        xh = 0.5 * (lo + hi)
+        obs = hinf.EllipsoidalSMObserver(design, xh, hinf.mu0_from_box(design, lo - xh, hi - xh))
+        traj = obs.run(y)
+    elif name == "thesis_lpv":
+        dA = case.options["dA"]
+        Av = [s.A + d for d in dA]
+        nvtx = len(Av)
+        theta = np.eye(nvtx)[:, : nvtx - 1] if nvtx > 1 else np.zeros((1, 1))
+        lpv = hinf.LpvPlant(Av, s.C, theta, F=[s.Fd] * nvtx, Z=s.Z)
+        design = hinf.design_ellipsoidal_sm_observer_lpv(lpv, wbar)
+        alphas = rng.dirichlet(np.ones(nvtx), size=case.N)
+        if case.disturbance == "vertex":
+            alphas = np.eye(nvtx)[rng.integers(nvtx, size=case.N)]
+        A_seq = [sum(a[i] * Av[i] for i in range(nvtx)) for a in alphas]
+        rho = alphas @ theta
+        (lo, hi), x, y, delta = _sim_plant(case, rng, A_seq=A_seq)
+        xh = 0.5 * (lo + hi)
+        obs = hinf.LPVEllipsoidalSMObserver(design, xh, hinf.mu0_from_box(design, lo - xh, hi - xh))
+        traj = obs.run(y, rho=rho)
+    elif name == "interval_luenberger":
+        plant = s.plant()
+        (lo, hi), x, y, delta = _sim_plant(case, rng)
+        ones_d, ones_v = np.ones(s.Fd.shape[1]), np.ones(s.Z.shape[1])
+        obs = interval_observers.IntervalLuenbergerObserver(plant, Box(lo, hi), 0.5 * (lo + hi),
+                                                            Box(-ones_d, ones_d), Box(-ones_v, ones_v))
+        traj = obs.run(y)
+    elif name == "interval_invariant":
+        plant = s.plant()
+        (lo, hi), x, y, delta = _sim_plant(case, rng)
+        ones_d, ones_v = np.ones(s.Fd.shape[1]), np.ones(s.Z.shape[1])
+        design = interval_observers.offline_error_sequence(plant, Box(lo, hi), 0.5 * (lo + hi),
+                                                           Box(-ones_d, ones_d), Box(-ones_v, ones_v))
+        obs = interval_observers.IntervalInvariantObserver(design)
+        traj = obs.run(y)
+    elif name == "interval_nonlinear":
+        # x⁺ = A x + h_k + Fd d with the state disturbance folded into the box of h (F = I)
+        hr = case.options["h_rad"] + np.abs(s.Fd).sum(axis=1)
+        plant = Plant(s.A, s.C, F=np.eye(s.nx), Z=s.Z)
+        case_h = Case(case.estimator, case.seed, RandomSystem(s.A, s.C, np.zeros((s.nx, 0)), s.Z, s.T, s.family,
+                                                              s.nx, s.ny), case.disturbance, case.N)
+        (lo, hi), x, y, delta = _sim_plant(case_h, rng, h=hr)
+        ones_v = np.ones(s.Z.shape[1])
+        obs = interval_observers.NonlinearIntervalObserver(plant, Box(lo, hi), 0.5 * (lo + hi),
+                                                           Box(-ones_v, ones_v), Box(-hr, hr))
+        traj = obs.run(y)
+    else:  # pragma: no cover - guarded by ESTIMATORS
+        raise ValueError(name)
+    _check_boxes(traj.lower, traj.upper, x, delta, res)
+
+
+# interval_invariant: n_x <= 4, its offline design (polyhedral invariant set Φ_0 and the
+# shrinking sequence) took more than 5 min of CPU for one n_x = 8 case.
+# Time-varying A (interval A, LPV): only the |A| recursion bounds the simulation error, and it
+# grows when ρ(|A|) > 1, so those runs are kept short (steps beyond it would be unverified).
+@dataclass(frozen=True)
+class _Spec:
+    index: int
+    run: object
+    max_nx: int = 8
+    horizon: int = 200
+    stable_only: bool = False
+    max_nw: int = 16
+
+
+#: The guaranteed estimators of the campaign (name → how a case is run).
+ESTIMATORS = {
+    "ell_offline": _Spec(0, _run_ellipsoidal, max_nw=4, horizon=4000),
+    "ell_online_vertex": _Spec(1, _run_ellipsoidal, max_nw=4, horizon=1000),
+    "ell_online_scaled": _Spec(2, _run_ellipsoidal, max_nw=4, horizon=1000),
+    "ell_improved": _Spec(3, _run_ellipsoidal, max_nw=4, horizon=1000),
+    "ell_interval_A": _Spec(4, _run_ellipsoidal, max_nw=3, horizon=200),
+    "descriptor": _Spec(5, _run_descriptor, max_nw=4, horizon=4000),
+    "zono_segment_min": _Spec(6, _run_zonotopic, horizon=1000),
+    "zono_volume_min": _Spec(7, _run_zonotopic, max_nw=8, horizon=600),
+    "pradius": _Spec(8, _run_zonotopic, horizon=1000),
+    "thesis_sm_observer": _Spec(9, _run_thesis, horizon=4000),
+    "thesis_lpv": _Spec(10, _run_thesis, horizon=300),
+    "interval_luenberger": _Spec(11, _run_thesis, horizon=2000),
+    "interval_invariant": _Spec(12, _run_thesis, horizon=4000, max_nx=4),
+    "interval_nonlinear": _Spec(13, _run_thesis, horizon=2000),
+}
+
+
+def run_case(estimator: str, seed: int, max_nx: int = 8, max_steps: int | None = None) -> CaseResult:
+    """Runs the case ``(estimator, seed)`` (n_x at most ``max_nx``, at most ``max_steps`` steps)
+    and checks containment at every step."""
+    case = random_case(estimator, seed, max_nx)
+    if max_steps is not None:
+        case.N = max(2, min(case.N, int(max_steps)))
+    s = case.system
+    res = CaseResult(estimator, int(seed), s.nx, s.family, case.disturbance, "ok",
+                     options={k: v for k, v in case.options.items() if isinstance(v, (str, int))})
+    res.command_options = (f" --max-nx {max_nx}" if max_nx != 8 else "") + (
+        f" --max-steps {max_steps}" if max_steps is not None else "")
+    rng = np.random.default_rng([seed, 1000 + ESTIMATORS[estimator].index])
+    try:
+        ESTIMATORS[estimator].run(case, res, rng)
+    except SetboundError as e:
+        if res.steps == 0:
+            res.status, res.reason = "design_failed", f"{type(e).__name__}: {e}"
+        else:
+            res.status, res.reason = "step_failed", f"{type(e).__name__}: {e}"
+    return res
+
+
+def _worker(args):
+    name, seed, max_nx, max_steps = args
+    return run_case(name, seed, max_nx, max_steps)
+
+
+def run_campaign(estimators=None, steps: int = 100_000, *, processes: int = 2, seed0: int = 0,
+                 max_nx: int = 8, max_steps: int | None = None, time_limit: float | None = None,
+                 progress=None) -> dict:
+    """Runs cases ``seed0, seed0 + 1, …`` of each estimator until ``steps`` steps were checked
+    (or ``time_limit`` seconds per estimator passed). Returns ``{name: summary}`` with
+    ``systems``, ``design_failed`` (count and the distinct reasons), ``steps``, ``violations``
+    (each with seed, step, excess and the reproduction command), ``max_excess`` and ``seconds``."""
+    import multiprocessing as mp
+
+    names = list(ESTIMATORS) if not estimators else list(estimators)
+    out = {}
+    ctx = mp.get_context("fork")
+    with ctx.Pool(processes) if processes > 1 else _Serial() as pool:
+        for name in names:
+            t0 = time.monotonic()
+            summ = {"systems": 0, "design_failed": 0, "step_failed": 0, "reasons": {}, "steps": 0, "violations": [],
+                    "max_excess": -math.inf, "nx_max": 0, "families": {}, "seeds": [seed0, seed0], "unverified": 0}
+            seed = seed0
+            pending = []
+
+            def more() -> bool:
+                return summ["steps"] < steps and (time_limit is None or time.monotonic() - t0 < time_limit)
+
+            # keep `processes` cases in flight; stop submitting once the steps (or the time) are reached
+            while True:
+                while more() and len(pending) < max(processes, 1):
+                    pending.append(pool.apply_async(_worker, ((name, seed, max_nx, max_steps),)))
+                    seed += 1
+                if not pending:
+                    break
+                r = pending.pop(0).get()
+                summ["systems"] += 1
+                summ["seeds"][1] = max(summ["seeds"][1], r.seed)
+                if r.status != "ok":
+                    summ[r.status] += 1
+                    key = r.reason.split(":")[0] + ": " + r.reason.split(":", 1)[-1].strip()[:90]
+                    summ["reasons"][key] = summ["reasons"].get(key, 0) + 1
+                summ["steps"] += r.steps
+                summ["unverified"] += r.unverified
+                summ["nx_max"] = max(summ["nx_max"], r.nx if r.steps else 0)
+                if r.steps:
+                    summ["families"][r.family] = summ["families"].get(r.family, 0) + r.steps
+                summ["max_excess"] = max(summ["max_excess"], r.max_excess)
+                for k, e in r.violations[:3]:
+                    summ["violations"].append({"seed": r.seed, "step": k, "excess": e, "nx": r.nx,
+                                               "family": r.family, "disturbance": r.disturbance,
+                                               "reproduce": r.reproduce()})
+            summ["seconds"] = round(time.monotonic() - t0, 1)
+            out[name] = summ
+            if progress:
+                progress(name, summ)
+    return out
+
+
+class _Serial:
+    """In-process stand-in for a multiprocessing pool (processes=1)."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *a):
+        return False
+
+    def apply_async(self, f, args):
+        """Runs ``f(*args)`` now; ``.get()`` returns the result."""
+        class _Done:
+            def __init__(self, v):
+                self.v = v
+
+            def get(self):
+                return self.v
+        return _Done(f(*args))
+
+
+def format_table(summary: dict) -> str:
+    """The campaign table (one row per estimator)."""
+    head = f"{'estimator':22} {'systems':>7} {'failed':>6} {'steps':>8} {'viol.':>5} {'max excess':>11} {'s':>6}"
+    lines = [head, "-" * len(head)]
+    for name, s in summary.items():
+        lines.append(f"{name:22} {s['systems']:7d} {s['design_failed'] + s['step_failed']:6d} {s['steps']:8d} "
+                     f"{len(s['violations']):5d} {s['max_excess']:11.2e} {s['seconds']:6.0f}")
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    """Command line (see the module docstring); exits 1 when a violation was found."""
+    ap = argparse.ArgumentParser(prog="python -m setbound.campaign", description=__doc__.split("\n\n")[0])
+    ap.add_argument("--estimator", action="append", choices=list(ESTIMATORS))
+    ap.add_argument("--steps", type=int, default=100_000, help="steps per estimator (default 100000)")
+    ap.add_argument("--seed", type=int, help="run this one case (with --estimator) and print it")
+    ap.add_argument("--seed0", type=int, default=0, help="first seed of the campaign")
+    ap.add_argument("--processes", type=int, default=2)
+    ap.add_argument("--max-nx", type=int, default=8)
+    ap.add_argument("--max-steps", type=int, default=None, help="steps per case at most")
+    ap.add_argument("--time-limit", type=float, default=None, help="seconds per estimator at most")
+    ap.add_argument("--json", help="write the summary to this file")
+    ap.add_argument("--verbose", action="store_true")
+    a = ap.parse_args(argv)
+    if a.seed is not None:
+        bad = 0
+        for name in a.estimator or list(ESTIMATORS):
+            r = run_case(name, a.seed, a.max_nx, a.max_steps)
+            print(f"{name} seed={a.seed} nx={r.nx} family={r.family} disturbance={r.disturbance} "
+                  f"options={r.options} status={r.status} steps={r.steps} unverified={r.unverified} "
+                  f"max_excess={r.max_excess:.3e}"
+                  + (f" reason={r.reason}" if r.reason else ""))
+            for k, e in r.violations:
+                print(f"  violation at step {k}: excess {e:.3e}")
+            bad += len(r.violations)
+        return 1 if bad else 0
+    t0 = time.monotonic()
+
+    def progress(name, s):
+        print(f"{name}: {s['steps']} steps, {s['systems']} systems ({s['design_failed']} designs failed), "
+              f"{len(s['violations'])} violations, max excess {s['max_excess']:.2e}, {s['unverified']} unverified "
+              f"({s['seconds']} s)",
+              file=sys.stderr, flush=True)
+
+    summary = run_campaign(a.estimator, a.steps, processes=a.processes, seed0=a.seed0, max_nx=a.max_nx,
+                           max_steps=a.max_steps, time_limit=a.time_limit, progress=progress)
+    print(format_table(summary))
+    total = time.monotonic() - t0
+    print(f"total {total:.0f} s, {sum(s['steps'] for s in summary.values())} steps, "
+          f"{sum(len(s['violations']) for s in summary.values())} violations")
+    for name, s in summary.items():
+        for v in s["violations"][:5]:
+            print(f"VIOLATION {name} seed={v['seed']} step={v['step']} excess={v['excess']:.3e}: {v['reproduce']}")
+    if a.json:
+        os.makedirs(os.path.dirname(os.path.abspath(a.json)), exist_ok=True)
+        with open(a.json, "w") as f:
+            json.dump({"total_seconds": round(total, 1), "tau": TAU, "estimators": summary}, f, indent=1,
+                      default=float)
+    return 1 if any(s["violations"] for s in summary.values()) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
