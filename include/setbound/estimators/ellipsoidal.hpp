@@ -724,10 +724,10 @@ class EllipsoidalPredictor {
     StateWriter w(StateKind::EllipsoidalPredictor, fingerprint());
     w.count(k_).count(fallbacks_).scalar(last_beta_).mat(last_L_);
     w.mat(cur_.shape()).vec(cur_.center()).scalar(cur_.level());
-    w.text(on_ ? on_->working : std::string());
     const bool rv = std::isfinite(reuse_.rho);
     w.count(solves_).count(rv ? 1 : 0).scalar(rv ? reuse_.rho : 0.0).scalar(rv ? reuse_.beta : 0.0);
     w.scalar(rv ? reuse_.sigma : 0.0).mat(rv ? reuse_.L : Eigen::MatrixXd(Eigen::MatrixXd::Zero(d_.L.rows(), d_.L.cols())));
+    w.text(on_ ? on_->working : std::string());  // last: tests read it from the end
     return w.finish();
   }
   /// Restores a state from save_state(); throws InvalidArgumentError ("state: ...") when it is
@@ -758,11 +758,11 @@ class EllipsoidalPredictor {
     Eigen::MatrixXd P = r.mat(n, n, "shape");
     Eigen::VectorXd c = r.vec(n, "center");
     const double rho = r.scalar("level");
-    p.working = r.text("working_set");
     const long long sv = r.count("online_solves");
     const bool rv = r.count("reuse_valid", 0, 1) == 1;
     const double rrho = r.scalar("reuse_rho"), rbeta = r.scalar("reuse_beta"), rsig = r.scalar("reuse_sigma");
     Eigen::MatrixXd rL = r.mat(n, ny, "reuse_gain");
+    p.working = r.text("working_set");
     r.finish();
     if (sv > k) r.fail("online_solves exceeds steps");
     if (rv) {
