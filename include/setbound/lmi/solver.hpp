@@ -375,8 +375,7 @@ inline bool InteriorPointSolver::scaling() {
     }
     if (!ok) {
       // Badly centred pair: the squared singular values lose the small ones; the one-sided
-      // Jacobi SVD of G itself keeps them accurate.
-      kernels::mul_tn(n, Lz, Ls, G);
+      // Jacobi SVD of G itself (still in tmp: sym_eig only wrote V) keeps them accurate.
       if (!kernels::one_sided_jacobi(n, G, V, w.lambda.data())) return false;
     }
     for (int i = 0; i < n; ++i) {
