@@ -19,7 +19,7 @@ export CXX
 # (a CI checkout, a second worktree) reuses the same cache entries.
 export CCACHE_BASEDIR := $(CURDIR)
 
-.PHONY: all deps venv install build-cpp test test-cpp test-python test-wheel test-sanitize campaign demo bench fuzz clean
+.PHONY: all deps venv install build-cpp test test-cpp test-python test-wheel test-sanitize sanitize-build sanitize-run campaign demo bench fuzz clean
 
 all: test
 
@@ -46,8 +46,9 @@ build-cpp: deps
 test-cpp: build-cpp
 	ctest --test-dir $(CPP_BUILD) --output-on-failure -j $(JOBS)
 
+# Two pytest-xdist workers (tests/python/conftest.py adds up the fuzz cases of both).
 test-python: install
-	$(PY) -m pytest -q tests/python
+	$(PY) -m pytest -q -n $(JOBS) tests/python
 
 # Install path (a): build the wheel, install it into a fresh venv, use it from elsewhere.
 test-wheel: install
@@ -59,10 +60,14 @@ test: test-cpp test-python test-wheel
 # line numbers in the reports). Any report aborts the test (docs/reliability.md). test_alloc is
 # built without sanitizers (it replaces malloc) and runs too. Leak checking is on.
 SAN_FLAGS := -O1 -g1
-test-sanitize: deps
+test-sanitize: sanitize-run
+
+sanitize-build: deps
 	cmake -S . -B $(SAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DSETBOUND_SANITIZE=ON \
 	  -DCMAKE_CXX_FLAGS_SANITIZE="$(SAN_FLAGS)" -DCMAKE_C_FLAGS_SANITIZE="$(SAN_FLAGS)"
 	cmake --build $(SAN_BUILD) -j $(JOBS)
+
+sanitize-run: sanitize-build
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1 \
 	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --test-dir $(SAN_BUILD) --output-on-failure -j $(JOBS) --timeout 1200

@@ -14,6 +14,7 @@
 
 #include "setbound/core/error.hpp"
 #include "setbound/core/validate.hpp"
+#include "setbound/sets/box.hpp"
 
 #ifndef SETBOUND_C_API_DECLARED  // setbound.h may enter a translation unit only once
 #define SETBOUND_C_API_DECLARED
@@ -33,6 +34,14 @@ using ConstVecMap = Eigen::Map<const Eigen::VectorXd>;
 using VecMap = Eigen::Map<Eigen::VectorXd>;
 
 void set_last_error(const std::string& message) noexcept;
+
+/// Copies a result into a caller's row-major buffer; a null `out` means "not wanted".
+inline void write_matrix(const Eigen::MatrixXd& M, double* out) {
+  if (out != nullptr && M.size() > 0) RowMap(out, M.rows(), M.cols()) = M;
+}
+inline void write_vector(const Eigen::VectorXd& v, double* out) {
+  if (out != nullptr && v.size() > 0) VecMap(out, v.size()) = v;
+}
 
 /// Runs `body` and converts every exception into a status code and last-error message.
 template <class Body>
@@ -79,6 +88,17 @@ inline ConstVecMap vector_arg(const double* data, int n, const char* name) {
   require_dimension(n, name, true);
   if (n > 0) require_pointer(data, name);
   return ConstVecMap(data, n);
+}
+
+/// A box from lower/upper end arrays of length n (n = 0: the empty-dimensional box, the pointers
+/// may then be NULL). The messages name the argument.
+inline Box box_arg(const double* lo, const double* hi, int n, const std::string& name) {
+  require_dimension(n, name.c_str(), true);
+  if (n > 0) {
+    require_pointer(lo, (name + " (lower ends)").c_str());
+    require_pointer(hi, (name + " (upper ends)").c_str());
+  }
+  return Box(ConstVecMap(lo, n), ConstVecMap(hi, n), name);
 }
 
 /// Saved states (sb_*_state_size / _save_state / _restore_state): the size, a copy into the

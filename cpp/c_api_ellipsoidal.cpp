@@ -1,6 +1,7 @@
 // setbound — C ABI: the ellipsoidal estimators, descriptor systems and the Kalman baseline.
 #include <memory>
 #include <optional>
+#include <utility>
 #include <variant>
 
 #include "c_api_handles.hpp"
@@ -22,6 +23,9 @@ struct sb_descriptor_system {
 };
 
 struct sb_ellipsoidal {
+  template <class Estimator>
+  sb_ellipsoidal(Estimator&& e, int m) : estimator(std::forward<Estimator>(e)), method(m) {}
+
   std::variant<EllipsoidalPredictor, ImprovedEstimator, DescriptorEstimator> estimator;
   int method;
   bool fallback = false;
@@ -36,12 +40,6 @@ struct sb_kalman {
 
 namespace {
 
-void write_matrix(const Eigen::MatrixXd& M, double* out) {
-  if (out != nullptr) RowMap(out, M.rows(), M.cols()) = M;
-}
-void write_vector(const Eigen::VectorXd& v, double* out) {
-  if (out != nullptr) VecMap(out, v.size()) = v;
-}
 
 EllNormalization normalization_arg(int n) {
   switch (n) {

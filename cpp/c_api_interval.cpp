@@ -50,15 +50,6 @@ void write(const Box& b, double* lo, double* hi) {
   }
 }
 
-Box box_arg(const double* lo, const double* hi, int n, const char* name) {
-  require_dimension(n, name, true);
-  if (n > 0) {
-    require_pointer(lo, (std::string(name) + " (lower ends)").c_str());
-    require_pointer(hi, (std::string(name) + " (upper ends)").c_str());
-  }
-  return Box(ConstVecMap(lo, n), ConstVecMap(hi, n), name);
-}
-
 IntervalMatrix imatrix_arg(const double* lo, const double* hi, int rows, int cols,
                            const char* name) {
   const std::string n(name);

@@ -33,12 +33,6 @@ struct sb_interval_nonlinear {
 
 namespace {
 
-void write_matrix(const Eigen::MatrixXd& M, double* out) {
-  if (out != nullptr && M.size() > 0) RowMap(out, M.rows(), M.cols()) = M;
-}
-void write_vector(const Eigen::VectorXd& v, double* out) {
-  if (out != nullptr && v.size() > 0) VecMap(out, v.size()) = v;
-}
 
 ErrorRecursion variant_arg(int v, bool allow_naive) {
   switch (v) {
@@ -49,15 +43,6 @@ ErrorRecursion variant_arg(int v, bool allow_naive) {
       throw InvalidArgumentError("variant: the online observers support SB_IOBS_TIGHT and SB_IOBS_WRAPPED only");
     default: throw InvalidArgumentError("variant: unknown value " + std::to_string(v));
   }
-}
-
-/// Box from lo/hi arrays of length n (n = 0: the empty-dimensional box, pointers may be NULL).
-Box box_arg(const double* lo, const double* hi, int n, const std::string& name) {
-  require_dimension(n, name.c_str(), true);
-  if (n == 0) return Box(Eigen::VectorXd(0), Eigen::VectorXd(0), name);
-  require_pointer(lo, (name + " (lo)").c_str());
-  require_pointer(hi, (name + " (hi)").c_str());
-  return Box(ConstVecMap(lo, n), ConstVecMap(hi, n), name);
 }
 
 Plant plant_arg(int nx, int nu, int ny, int nd, int nv, const double* A, const double* B, const double* C,

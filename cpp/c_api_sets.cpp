@@ -34,7 +34,6 @@ void require_output(Out* p, const char* name) {
   require_pointer(static_cast<const void*>(p), name);
 }
 
-void write_matrix(const Eigen::MatrixXd& M, double* out) { RowMap(out, M.rows(), M.cols()) = M; }
 
 }  // namespace
 }  // namespace setbound::capi

@@ -26,12 +26,6 @@ struct sb_hinf_observer {
 
 namespace {
 
-void write_matrix(const Eigen::MatrixXd& M, double* out) {
-  if (out != nullptr) RowMap(out, M.rows(), M.cols()) = M;
-}
-void write_vector(const Eigen::VectorXd& v, double* out) {
-  if (out != nullptr) VecMap(out, v.size()) = v;
-}
 void write_blocks(const std::vector<Eigen::MatrixXd>& Ms, double* out) {
   if (out == nullptr) return;
   for (const auto& M : Ms) {

@@ -151,8 +151,9 @@ inline SolveResult find_feasible(const LmiProblem& problem, const SolverOptions&
 namespace detail {
 
 struct BarrierTerm {
+  explicit BarrierTerm(const LmiBlock* b) : blk(b) {}
   const LmiBlock* blk;
-  double weight;
+  double weight = 1.0;
   Eigen::MatrixXd F, Linv, Ft;  // F(x), L⁻¹ (Cholesky), stacked L⁻¹F_iL⁻ᵀ (n²×k)
   Eigen::LLT<Eigen::MatrixXd> llt;
 };
@@ -227,9 +228,12 @@ inline SolveResult solve_maxdet(const LmiProblem& p, const SolverOptions& opt = 
   int iterations = res.iterations;
   Eigen::VectorXd x = res.x;
 
+  // Constructed in place (reserved: never moved), so the LLT members are never copied before
+  // their first compute().
   std::vector<detail::BarrierTerm> terms;
-  for (const auto& blk : p.blocks()) terms.push_back({&blk, 1.0, {}, {}, {}, {}});
-  terms.push_back({&p.logdet_block(), 1.0, {}, {}, {}, {}});
+  terms.reserve(p.blocks().size() + 1);
+  for (const auto& blk : p.blocks()) terms.emplace_back(&blk);
+  terms.emplace_back(&p.logdet_block());
   detail::BarrierTerm& G = terms.back();
   const double nu = static_cast<double>(p.degree());
   const Eigen::VectorXd& c = p.objective();

@@ -994,6 +994,8 @@ struct InvariantObserverOptions {
 
 /// Everything the offline design of §6.3 computes.
 struct InvariantObserverDesign {
+  explicit InvariantObserverDesign(Plant p) : plant(std::move(p)) {}
+
   Plant plant;
   Eigen::MatrixXd L, P, E;     // gain, H∞ Lyapunov matrix (4.13), E = [F, −LZ]
   double gamma = 0, beta = 0;  // γ of (4.13); β = smallest with A_oᵀPA_o ⪯ β²P (certified, rounded up)
