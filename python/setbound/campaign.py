@@ -118,10 +118,18 @@ def box_excess(lo, hi, x, delta) -> float:
     centre and widened by the simulation error ``δ``, relative to the box's largest half-width
     (exact interval test; positive means a violation)."""
     lo, hi, x = np.asarray(lo, float), np.asarray(hi, float), np.asarray(x, float)
-    mid, rad = 0.5 * (lo + hi), 0.5 * (hi - lo)
-    slack = (1 + TAU) * rad + delta + TAU * np.abs(mid)
-    out = np.abs(x - mid) - slack
-    scale = max(float(rad.max()), 1e-300)
+    if np.isnan(lo).any() or np.isnan(hi).any():
+        return math.inf  # a NaN bound is never a valid answer
+    delta = np.broadcast_to(np.asarray(delta, float), x.shape)
+    finite = np.isfinite(lo) & np.isfinite(hi)
+    out = np.empty_like(x)
+    # A bound that overflowed to ±inf (a diverging error bound) still contains everything on its
+    # side; the other side is tested as it is, without the relative allowance.
+    out[~finite] = np.maximum(lo[~finite] - x[~finite], x[~finite] - hi[~finite]) - delta[~finite]
+    lf, hf = lo[finite], hi[finite]
+    mid, rad = 0.5 * (lf + hf), 0.5 * (hf - lf)
+    out[finite] = np.abs(x[finite] - mid) - ((1 + TAU) * rad + delta[finite] + TAU * np.abs(mid))
+    scale = max(float(rad.max()) if rad.size else 0.0, 1e-300)
     return float(out.max()) / scale
 
 

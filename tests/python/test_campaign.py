@@ -47,6 +47,19 @@ def test_the_checks_detect_a_point_outside():
     assert campaign.box_excess([0, 0], [1, 1], [1.5, 0.5], np.array([0.6, 0])) <= 0
 
 
+def test_box_check_with_overflowed_or_nan_bounds():
+    # A bound that overflowed to ±inf contains everything on its side (found by the campaign: the
+    # LPV observer's box of a diverging case; the old check computed NaN and passed silently).
+    z = np.zeros(2)
+    inf = np.inf
+    assert campaign.box_excess([-inf, 0], [inf, 1], [1e300, 0.5], z) <= 0
+    assert campaign.box_excess([-inf, 0], [inf, 1], [1e300, 1 + 1e-6], z) > 0  # the finite row still counts
+    assert campaign.box_excess([0, 0], [inf, 1], [-1e-3, 0.5], z) > 0  # below a finite lower end
+    assert campaign.box_excess([0, 0], [inf, 1], [5.0, 0.5], z) <= 0
+    # a NaN bound is never an answer
+    assert campaign.box_excess([np.nan, 0], [1, 1], [0.5, 0.5], z) == np.inf
+
+
 def test_simulation_error_bound_covers_the_rounding():
     # δ_k bounds |x_k(float64) − x_k(exact)|: compare with the same simulation in exact rationals.
     from fractions import Fraction
