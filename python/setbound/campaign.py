@@ -335,7 +335,9 @@ class CaseResult:
     library's message), ``steps`` checked, ``violations`` (step, excess) pairs and
     ``max_excess`` (largest excess seen, ≤ 0 when every step was contained), ``unverified``
     (steps whose simulation-error allowance exceeded ``LOOSE`` times the set's size: not
-    counted in ``steps``)."""
+    counted in ``steps``). A case of an estimator with ``runs_per_design > 1`` simulates that many
+    trajectories with one design; a violation's step index then counts over the runs (run r,
+    step k → ``r · (N + 1) + k``)."""
 
     estimator: str
     seed: int
@@ -349,6 +351,7 @@ class CaseResult:
     max_excess: float = -math.inf
     options: dict = field(default_factory=dict)
     unverified: int = 0
+    step_offset: int = 0  # r · (N + 1) while run r of a multi-run case is checked
 
     command_options: str = ""
 
@@ -422,7 +425,7 @@ def _record(res: CaseResult, k: int, e: float):
     if e > res.max_excess:
         res.max_excess = e
     if e > 0:
-        res.violations.append((int(k), float(e)))
+        res.violations.append((int(k) + res.step_offset, float(e)))
 
 
 def _run_ellipsoidal(case: Case, res: CaseResult, rng):
@@ -436,20 +439,22 @@ def _run_ellipsoidal(case: Case, res: CaseResult, rng):
         system = s.linear_system()
         A_abs = np.abs(s.A)
     design = ellipsoidal.design_offline(system)
-    x0 = _ball_ellipsoid(s, rng)
-    if name == "ell_offline":
-        est = ellipsoidal.OfflineEstimator(design, x0)
-    elif name in ("ell_online_vertex", "ell_interval_A"):
-        est = ellipsoidal.OnlineEstimator(design, x0)
-    elif name == "ell_online_scaled":
-        est = ellipsoidal.OnlineEstimator(design, x0, scaling=True)
-    else:
-        est = ellipsoidal.ImprovedEstimator(design, x0, **case.options)
-    sim = simulate(system, x0, case.N, disturbance=case.disturbance, rng=rng,
-                   A_choice=case.options.get("A_choice", "vertex"))
-    delta = _delta(A_abs, sim.x, system.E, sim.omega, None if name == "ell_interval_A" else s.A)
-    traj = est.run(sim.y)
-    _check_ellipsoids(traj.sets, sim.x, delta, res)
+    for run in range(ESTIMATORS[name].runs_per_design):
+        res.step_offset = run * (case.N + 1)
+        x0 = _ball_ellipsoid(s, rng)
+        if name == "ell_offline":
+            est = ellipsoidal.OfflineEstimator(design, x0)
+        elif name in ("ell_online_vertex", "ell_interval_A"):
+            est = ellipsoidal.OnlineEstimator(design, x0)
+        elif name == "ell_online_scaled":
+            est = ellipsoidal.OnlineEstimator(design, x0, scaling=True)
+        else:
+            est = ellipsoidal.ImprovedEstimator(design, x0, **case.options)
+        sim = simulate(system, x0, case.N, disturbance=case.disturbance, rng=rng,
+                       A_choice=case.options.get("A_choice", "vertex"))
+        delta = _delta(A_abs, sim.x, system.E, sim.omega, None if name == "ell_interval_A" else s.A)
+        traj = est.run(sim.y)
+        _check_ellipsoids(traj.sets, sim.x, delta, res)
 
 
 def _random_descriptor(case: Case, rng):
@@ -473,15 +478,17 @@ def _run_descriptor(case: Case, res: CaseResult, rng):
     s = case.system
     system = _random_descriptor(case, rng)
     design = ellipsoidal.design_offline(system)
-    x0 = _ball_ellipsoid(s, rng)
-    est = ellipsoidal.DescriptorEstimator(design, x0)
-    sim = simulate(system, x0, case.N, disturbance=case.disturbance, rng=rng)
-    # the descriptor simulation solves a linear system per step: bound its error generously by
-    # the regular-case bound of the (E = I) part and TAU (documented in docs/reliability.md)
-    A_abs = np.abs(system.A)
-    delta = _delta(A_abs, sim.x, system.D, sim.omega) * 4
-    traj = est.run(sim.y)
-    _check_ellipsoids(traj.sets, sim.x, delta, res)
+    for run in range(ESTIMATORS[case.estimator].runs_per_design):
+        res.step_offset = run * (case.N + 1)
+        x0 = _ball_ellipsoid(s, rng)
+        est = ellipsoidal.DescriptorEstimator(design, x0)
+        sim = simulate(system, x0, case.N, disturbance=case.disturbance, rng=rng)
+        # the descriptor simulation solves a linear system per step: bound its error generously by
+        # the regular-case bound of the (E = I) part and TAU (documented in docs/reliability.md)
+        A_abs = np.abs(system.A)
+        delta = _delta(A_abs, sim.x, system.D, sim.omega) * 4
+        traj = est.run(sim.y)
+        _check_ellipsoids(traj.sets, sim.x, delta, res)
 
 
 def _run_zonotopic(case: Case, res: CaseResult, rng):
@@ -615,16 +622,19 @@ class _Spec:
     horizon: int = 200
     stable_only: bool = False
     max_nw: int = 16
+    # trajectories simulated per design (fresh initial state and disturbances each): the
+    # ellipsoidal LMI designs cost seconds at n_x = 8, far more than their steps
+    runs_per_design: int = 1
 
 
 #: The guaranteed estimators of the campaign (name → how a case is run).
 ESTIMATORS = {
-    "ell_offline": _Spec(0, _run_ellipsoidal, max_nw=4, horizon=4000),
-    "ell_online_vertex": _Spec(1, _run_ellipsoidal, max_nw=4, horizon=1000),
-    "ell_online_scaled": _Spec(2, _run_ellipsoidal, max_nw=4, horizon=1000),
-    "ell_improved": _Spec(3, _run_ellipsoidal, max_nw=4, horizon=1000),
-    "ell_interval_A": _Spec(4, _run_ellipsoidal, max_nw=3, horizon=200),
-    "descriptor": _Spec(5, _run_descriptor, max_nw=4, horizon=4000),
+    "ell_offline": _Spec(0, _run_ellipsoidal, max_nw=4, horizon=4000, runs_per_design=4),
+    "ell_online_vertex": _Spec(1, _run_ellipsoidal, max_nw=4, horizon=1000, runs_per_design=6),
+    "ell_online_scaled": _Spec(2, _run_ellipsoidal, max_nw=4, horizon=1000, runs_per_design=6),
+    "ell_improved": _Spec(3, _run_ellipsoidal, max_nw=4, horizon=1000, runs_per_design=6),
+    "ell_interval_A": _Spec(4, _run_ellipsoidal, max_nw=3, horizon=200, runs_per_design=8),
+    "descriptor": _Spec(5, _run_descriptor, max_nw=4, horizon=4000, runs_per_design=4),
     "zono_segment_min": _Spec(6, _run_zonotopic, horizon=1000),
     # one LP per subset of n_x − 1 generators at every step: the count grows combinatorially
     # with n_x (two n_x ≤ 8 systems took 309 s), so this estimator draws n_x ≤ 5
