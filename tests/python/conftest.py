@@ -67,6 +67,7 @@ def pytest_sessionfinish(session, exitstatus):
         session.exitstatus = pytest.ExitCode.TESTS_FAILED
 
 
+@pytest.hookimpl(optionalhook=True)  # an xdist hook: unknown (and unused) without pytest-xdist
 def pytest_testnodedown(node, error):  # xdist controller: a worker finished
     out = getattr(node, "workeroutput", {}) or {}
     for k, v in out.get("fuzz_cases", {}).items():

@@ -121,3 +121,18 @@ def test_regression_badly_scaled_zonotope_on_its_boundary():
     r = campaign.run_case("zono_volume_min", 3, max_nx=3)
     assert r.status == "ok" and r.steps > 100
     assert not r.violations, r.reproduce()
+
+
+def test_regression_design_certified_by_raising_beta():
+    # ell_online_vertex, seed 1 (n_x = 5, unstable): at the searched β the designed (P, L, σ)
+    # missed its floating-point certificate in a block that raising σ does not reach, and the
+    # design was refused ("could not be certified"). A searched β is now raised towards 1 as well
+    # (βP only adds slack); the design must be certified and its estimator contain the truth.
+    from setbound import ellipsoidal
+
+    case = campaign.random_case("ell_online_vertex", 1)
+    d = ellipsoidal.design_offline(case.system.linear_system())
+    assert 0 < d.beta < 1 and d.sigma > 0
+    r = campaign.run_case("ell_online_vertex", 1, max_steps=60)
+    assert r.status == "ok" and r.steps > 0, r.reason
+    assert not r.violations, r.reproduce()

@@ -540,21 +540,33 @@ inline EllDesign ell_design_impl(const LinearSystem& sys, const EllDesignOptions
     throw NumericalError(name + ": the solver returned a non-finite design");
   const EllGainTerms terms(Pv, L, d, d.Et, d.Ft);
   const double base = std::max(sigma, 0.0);
-  double sig_c = base;
+  double sig_c = base, beta_c = best_beta;
   bool ok = false;
-  for (double delta = 1e-9; delta <= 1e-3; delta *= 4.0) {
-    if (ell_certify_design(Pv, terms, d, omegas, best_beta, sig_c)) {
-      ok = true;
-      break;
+  // Certification first raises σ (relative 1e-9 … 1e-3). When the shortfall is in the other
+  // blocks (badly scaled systems: the rounding slack exceeds the LMI margin there), a searched β
+  // is raised towards 1 as well: β only enters as βP in the (1,1) block, so the same (P, L, σ)
+  // satisfies the LMI at any larger β with extra slack (β_c − β)P. A fixed β is never changed.
+  const double bumps[] = {0.0, 1e-8, 1e-6, 1e-4, 1e-2};
+  for (double bump : bumps) {
+    if (bump > 0 && fixed_beta) break;
+    beta_c = best_beta + bump * (1.0 - best_beta);
+    sig_c = base;
+    for (double delta = 1e-9; delta <= 1e-3; delta *= 4.0) {
+      if (ell_certify_design(Pv, terms, d, omegas, beta_c, sig_c)) {
+        ok = true;
+        break;
+      }
+      sig_c = base * (1.0 + delta) + (base == 0 ? delta * std::numeric_limits<double>::min() : 0.0);
     }
-    sig_c = base * (1.0 + delta) + (base == 0 ? delta * std::numeric_limits<double>::min() : 0.0);
+    if (ok) break;
   }
+  out.beta = beta_c;
   if (!ok)
     throw NumericalError(name + ": the designed (P, L, beta, sigma) could not be certified in floating point "
                                 "(the LMI is too close to infeasibility at the chosen beta)" +
                          ell_cancellable_hint(d.Et, d.Ft));
   out.sigma = sig_c;
-  out.rho_inf = ell_rounding::round_up(sig_c / (1.0 - best_beta));
+  out.rho_inf = ell_rounding::round_up(sig_c / (1.0 - beta_c));
   out.volume_inf = out.rho_inf > 0 ? Ellipsoid(Pv, Eigen::VectorXd::Zero(n), out.rho_inf).volume() : 0.0;
   return out;
 }
