@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 
 #include "setbound/core/linear_system.hpp"
+#include "setbound/estimators/descriptor.hpp"
 
 namespace setbound::testing {
 
@@ -28,6 +29,18 @@ inline LinearSystem me17(bool unstable, double a_rad = 0.0) {
   Eigen::MatrixXd Arad = Eigen::MatrixXd::Zero(2, 2);
   Arad(0, 0) = Arad(1, 1) = a_rad;
   return LinearSystem(A, C, E, F, {}, {}, Arad);
+}
+
+// EX-ME19 (papers §4.2): the descriptor example.
+inline DescriptorSystem me19() {
+  Eigen::MatrixXd E = Eigen::MatrixXd::Zero(3, 3), A(3, 3), B(3, 2), C(2, 3), D(3, 5), F(2, 5);
+  E(0, 0) = E(1, 1) = 1;
+  A << 0.5, 0, 0, 0.8, 0.95, 0, -1, 0.5, 1;
+  B << 1, 0, 0, 1, 0, 0;
+  C << 1, 0, 1, 1, -1, 0;
+  D << 0.1, 0, 0, 0, 0, 0, 1.5, 0, 0, 0, 0, 0, 0.6, 0, 0;
+  F << 0, 0, 0, 0.5, 0, 0, 0, 0, 0, 1.5;
+  return DescriptorSystem(E, A, C, D, F, B);
 }
 
 }  // namespace setbound::testing

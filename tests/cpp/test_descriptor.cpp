@@ -12,27 +12,17 @@
 #include <vector>
 
 #include "setbound/estimators/descriptor.hpp"
+#include "ell_test_systems.hpp"
 #include "test_helpers.hpp"
 
 using namespace setbound;
+using setbound::testing::me19;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-// EX-ME19 (papers §4.2).
-DescriptorSystem me19() {
-  MatrixXd E = MatrixXd::Zero(3, 3), A(3, 3), B(3, 2), C(2, 3), D(3, 5), F(2, 5);
-  E(0, 0) = E(1, 1) = 1;
-  A << 0.5, 0, 0, 0.8, 0.95, 0, -1, 0.5, 1;
-  B << 1, 0, 0, 1, 0, 0;
-  C << 1, 0, 1, 1, -1, 0;
-  D << 0.1, 0, 0, 0, 0, 0, 1.5, 0, 0, 0, 0, 0, 0.6, 0, 0;
-  F << 0, 0, 0, 0.5, 0, 0, 0, 0, 0, 1.5;
-  return DescriptorSystem(E, A, C, D, F, B);
-}
 
 const EllDesign& me19_design() {
   static const EllDesign d = design_descriptor_offline(me19());

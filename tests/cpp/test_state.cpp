@@ -403,19 +403,8 @@ TEST(StateEllipsoidal, ImprovedEstimatorContinuesIdentically) {
                 improved_factory(d1, CorrectionOption::FixedShape, ImprovedFeedback::OuterBound, d), foreign, 3, 4);
 }
 
-DescriptorSystem me19() {
-  MatrixXd E = MatrixXd::Zero(3, 3), A(3, 3), B(3, 2), C(2, 3), D(3, 5), F(2, 5);
-  E(0, 0) = E(1, 1) = 1;
-  A << 0.5, 0, 0, 0.8, 0.95, 0, -1, 0.5, 1;
-  B << 1, 0, 0, 1, 0, 0;
-  C << 1, 0, 1, 1, -1, 0;
-  D << 0.1, 0, 0, 0, 0, 0, 1.5, 0, 0, 0, 0, 0, 0.6, 0, 0;
-  F << 0, 0, 0, 0.5, 0, 0, 0, 0, 0, 1.5;
-  return DescriptorSystem(E, A, C, D, F, B);
-}
-
 TEST(StateEllipsoidal, DescriptorEstimatorContinuesIdentically) {
-  const DescriptorSystem sys = me19();
+  const DescriptorSystem sys = setbound::testing::me19();
   Data d;
   for (int k = 0; k < 30; ++k) {
     VectorXd y(2), u(2);
