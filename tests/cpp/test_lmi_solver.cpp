@@ -359,15 +359,20 @@ TEST(LmiKernels, OneSidedJacobiKeepsSmallSingularValuesAccurate) {
 }
 
 TEST(LmiKernels, CholeskyAndProducts) {
+  // n = 1…20: the fixed-size instantiations (n ≤ kernels::kFixedMax) and the run-time loops.
+  static_assert(kernels::kFixedMax < 20, "the test must reach the run-time-size path");
   std::mt19937 rng(34);
-  for (int trial = 0; trial < 100; ++trial) {
-    const int n = 1 + trial % 12;
+  for (int trial = 0; trial < 160; ++trial) {
+    const int n = 1 + trial % 20;
     const MatrixXd X = random_symmetric(rng, n), Y = random_symmetric(rng, n) + MatrixXd::Random(n, n);
     const MatrixXd P = X * X + MatrixXd::Identity(n, n);
     MatrixXd L(n, n), C(n, n), T(n, n);
     ASSERT_TRUE(kernels::cholesky(n, P.data(), L.data()));
     EXPECT_LE((L * L.transpose() - P).norm(), 1e-13 * P.norm());
     EXPECT_EQ(MatrixXd(L.triangularView<Eigen::StrictlyUpper>()).norm(), 0.0);
+    MatrixXd Lal = P;  // in place, as the step-length test uses it
+    ASSERT_TRUE(kernels::cholesky(n, Lal.data(), Lal.data()));
+    EXPECT_EQ((Lal - L).norm(), 0.0);
     MatrixXd Ind = P;
     Ind(n - 1, n - 1) = -1.0 - P.norm();  // indefinite
     EXPECT_FALSE(kernels::cholesky(n, Ind.data(), L.data()));

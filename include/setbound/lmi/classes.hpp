@@ -155,6 +155,7 @@ struct BarrierTerm {
   const LmiBlock* blk;
   double weight = 1.0;
   Eigen::MatrixXd F, Linv, Ft;  // F(x), L⁻¹ (Cholesky), stacked L⁻¹F_iL⁻ᵀ (n²×k)
+  Eigen::MatrixXd tmp;          // n×n work
   Eigen::LLT<Eigen::MatrixXd> llt;
 };
 
@@ -173,26 +174,56 @@ inline bool barrier_value(BarrierTerm& t, const LmiProblem& p, const Eigen::Vect
   return std::isfinite(value);
 }
 
-// Adds weight·(gradient, Hessian) of −log det F at the point of the last barrier_value call.
+// Adds weight·(gradient, Hessian) of −log det F at the point of the last barrier_value call:
+// g_i −= tr F̃_i, H_ij += tr F̃_i F̃_j with F̃_i = L⁻¹F_iL⁻ᵀ. The congruences run on the
+// solver's small-matrix kernels (fixed-size up to kernels::kFixedMax); Eigen's blocked product
+// only pays off for large blocks.
 inline void barrier_derivatives(BarrierTerm& t, Eigen::VectorXd& g, Eigen::MatrixXd& H) {
+  constexpr int kLarge = 24;
   const int n = t.blk->size;
   const int k = static_cast<int>(t.blk->coefficients.size());
-  t.Linv = Eigen::MatrixXd::Identity(n, n);
+  t.Linv.setIdentity(n, n);
   t.llt.matrixL().solveInPlace(t.Linv);
-  t.Ft.resize(n * n, k);
-  Eigen::MatrixXd tmp(n, n);
+  t.Ft.resize(static_cast<Eigen::Index>(n) * n, k);
+  t.tmp.resize(n, n);
   for (int j = 0; j < k; ++j) {
     const Coefficient& co = t.blk->coefficients[static_cast<size_t>(j)];
     Eigen::Map<Eigen::MatrixXd> Fj(t.Ft.col(j).data(), n, n);
-    tmp.noalias() = co.dense * t.Linv.transpose();
-    Fj.noalias() = t.Linv * tmp;
+    if (co.kind == CoefficientKind::Sparse && 2 * static_cast<int>(co.entries.size()) < n) {
+      // Σ f_rc (l_r l_cᵀ + l_c l_rᵀ) over the upper-triangle entries (l_r = column r of L⁻¹).
+      Fj.setZero();
+      for (const auto& e : co.entries) {
+        const double* lr = t.Linv.data() + static_cast<long>(e.row) * n;
+        const double* lc = t.Linv.data() + static_cast<long>(e.col) * n;
+        for (int b = 0; b < n; ++b) {
+          double* col = Fj.data() + static_cast<long>(b) * n;
+          if (e.row == e.col) {
+            const double f = e.value * lr[b];
+            for (int a = 0; a < n; ++a) col[a] += lr[a] * f;
+          } else {
+            const double fc = e.value * lc[b], fr = e.value * lr[b];
+            for (int a = 0; a < n; ++a) col[a] += lr[a] * fc + lc[a] * fr;
+          }
+        }
+      }
+    } else if (n <= kLarge) {
+      kernels::congruence_n(n, t.Linv.data(), co.dense.data(), t.tmp.data(), Fj.data());
+    } else {
+      t.tmp.noalias() = co.dense * t.Linv.transpose();
+      Fj.noalias() = t.Linv * t.tmp;
+    }
     g(co.var) -= t.weight * Fj.trace();
   }
-  const Eigen::MatrixXd gram = t.Ft.transpose() * t.Ft;
-  for (int j = 0; j < k; ++j)
-    for (int i = 0; i < k; ++i)
-      H(t.blk->coefficients[static_cast<size_t>(i)].var, t.blk->coefficients[static_cast<size_t>(j)].var) +=
-          t.weight * gram(i, j);
+  // Gram matrix of the F̃_i (upper half, mirrored).
+  for (int j = 0; j < k; ++j) {
+    const int vj = t.blk->coefficients[static_cast<size_t>(j)].var;
+    for (int i = 0; i <= j; ++i) {
+      const int vi = t.blk->coefficients[static_cast<size_t>(i)].var;
+      const double d = t.weight * t.Ft.col(i).dot(t.Ft.col(j));
+      H(vi, vj) += d;
+      if (vi != vj) H(vj, vi) += d;
+    }
+  }
 }
 
 }  // namespace detail
@@ -249,6 +280,14 @@ inline SolveResult solve_maxdet(const LmiProblem& p, const SolverOptions& opt = 
     return std::isfinite(val);
   };
 
+  // Centring accuracy: the objective error of an approximate centre is about λ²/(2t) (λ the
+  // Newton decrement of φ_t), so the final centre is computed to λ²/2 ≤ 1e-11·t. The
+  // intermediate centres only start the next one: λ²/2 ≤ 1e-4 (or the final accuracy, when that is
+  // looser) keeps them well inside Newton's
+  // quadratic region, and saves the steps of converging them fully. When a loosely centred
+  // point already meets the gap test, it is re-centred tightly at the same t before stopping.
+  constexpr double kLooseCentring = 1e-4;
+  bool tight = false;
   double t = 1.0;
   const double growth = 20.0;
   const int max_newton = 10 * opt.max_iterations;
@@ -301,7 +340,8 @@ inline SolveResult solve_maxdet(const LmiProblem& p, const SolverOptions& opt = 
       const double dec2 = dx.dot(H * dx);
       last_dec = dec2;
       ++iterations;
-      if (dec2 / 2.0 <= 1e-11 * std::max(1.0, t)) break;
+      const double final_tol = 1e-11 * std::max(1.0, t);
+      if (dec2 / 2.0 <= (tight ? final_tol : std::max(kLooseCentring, final_tol))) break;
       // Backtracking line search (Armijo, α = 0.25, β = 0.5).
       double s = 1.0, f1 = 0;
       const double slope = g.dot(dx);
@@ -331,6 +371,10 @@ inline SolveResult solve_maxdet(const LmiProblem& p, const SolverOptions& opt = 
     obj = c.dot(x) + ldG;
     const double gap = nu / t;
     if (gap <= opt.gap_abs || gap <= opt.gap_rel * std::max(1.0, std::abs(obj))) {
+      if (!tight) {
+        tight = true;  // re-centre at this t to the final accuracy
+        continue;
+      }
       status = SolveStatus::Optimal;
       break;
     }
