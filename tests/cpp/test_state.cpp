@@ -50,6 +50,15 @@ struct Subject {
 };
 using Factory = std::function<Subject()>;
 
+/// A Subject whose save/restore are the estimator's own save_state / restore_state.
+template <class Est>
+Subject saving_subject(const std::shared_ptr<Est>& e) {
+  Subject s;
+  s.save = [e] { return e->save_state(); };
+  s.restore = [e](const std::vector<double>& b) { e->restore_state(b); };
+  return s;
+}
+
 /// Deterministic disturbance in [-1, 1] (vertex-like values included).
 double wave(int k, int j) {
   const double s = std::sin(1.3 * k + 0.7 * j + 0.1 * k * j);
@@ -236,9 +245,7 @@ Factory predictor_factory(const EllDesign& design, EllPredictorMode mode, const 
   return [design, mode, d] {
     auto e = std::make_shared<EllipsoidalPredictor>(design, Ellipsoid(MatrixXd::Identity(2, 2), VectorXd::Zero(2), 4.0),
                                                     mode);
-    Subject s;
-    s.save = [e] { return e->save_state(); };
-    s.restore = [e](const std::vector<double>& b) { e->restore_state(b); };
+    Subject s = saving_subject(e);
     s.step = [e, d](int i) { e->step(d.y[size_t(i)], d.u[size_t(i)]); };
     s.sets = [e] {
       std::vector<double> v;
@@ -368,9 +375,7 @@ Factory improved_factory(const EllDesign& design, CorrectionOption opt, Improved
   return [design, opt, fb, d] {
     auto e = std::make_shared<ImprovedEstimator>(design, Ellipsoid(MatrixXd::Identity(2, 2), VectorXd::Zero(2), 4.0), opt,
                                                  fb, EllPredictorMode::OnlineVertex);
-    Subject s;
-    s.save = [e] { return e->save_state(); };
-    s.restore = [e](const std::vector<double>& b) { e->restore_state(b); };
+    Subject s = saving_subject(e);
     s.step = [e, d](int i) { e->step(d.y[size_t(i)], d.u[size_t(i)]); };
     s.sets = [e] {
       std::vector<double> v;
@@ -420,9 +425,7 @@ TEST(StateEllipsoidal, DescriptorEstimatorContinuesIdentically) {
   auto factory = [&](const EllDesign& des) -> Factory {
     return [des, sys, d] {
       auto e = std::make_shared<DescriptorEstimator>(des, sys, Ellipsoid(MatrixXd::Identity(3, 3), VectorXd::Zero(3), 9.0));
-      Subject s;
-      s.save = [e] { return e->save_state(); };
-      s.restore = [e](const std::vector<double>& b) { e->restore_state(b); };
+      Subject s = saving_subject(e);
       s.step = [e, d](int i) { e->step(d.y[size_t(i)], d.u[size_t(i)]); };
       s.sets = [e] {
         std::vector<double> v;
@@ -446,9 +449,7 @@ TEST(StateEllipsoidal, KalmanFilterContinuesIdentically) {
     return [sys, d, w] {
       auto e = std::make_shared<KalmanFilter>(sys, VectorXd::Zero(2), MatrixXd::Identity(2, 2),
                                               w * MatrixXd::Identity(2, 2));
-      Subject s;
-      s.save = [e] { return e->save_state(); };
-      s.restore = [e](const std::vector<double>& b) { e->restore_state(b); };
+      Subject s = saving_subject(e);
       s.step = [e, d](int i) { e->step(d.y[size_t(i)], d.u[size_t(i)]); };
       s.sets = [e] {
         std::vector<double> v;
@@ -477,9 +478,7 @@ Factory zono_factory(const LinearSystem& sys, const ZonotopeGain& gain, Eigen::I
     auto e = std::make_shared<ZonotopicEstimator>(sys, Zonotope(VectorXd::Zero(sys.nx()), 2.0 * MatrixXd::Identity(sys.nx(), sys.nx())),
                                                   gain, opt);
     e->set_reduction(red);  // mutable: part of the state
-    Subject s;
-    s.save = [e] { return e->save_state(); };
-    s.restore = [e](const std::vector<double>& b) { e->restore_state(b); };
+    Subject s = saving_subject(e);
     s.step = [e, d](int i) { e->step(d.y[size_t(i)], d.u[size_t(i)]); };
     s.sets = [e] {
       std::vector<double> v;
@@ -582,6 +581,17 @@ void append_box(std::vector<double>& v, const O& o) {
   append(v, o.upper());
 }
 
+/// The compared state of the interval observers: the estimate x̂ and the box.
+template <class O>
+std::function<std::vector<double>()> xhat_and_box(const std::shared_ptr<O>& e) {
+  return [e] {
+    std::vector<double> v;
+    append(v, e->xhat());
+    append_box(v, *e);
+    return v;
+  };
+}
+
 TEST(StateThesis, EllipsoidalSMObserverContinuesIdentically) {
   using namespace thesis;
   const Plant p1 = ch2_plant(), p2 = ch2_plant(0.25);
@@ -591,9 +601,7 @@ TEST(StateThesis, EllipsoidalSMObserverContinuesIdentically) {
   auto factory = [&](const Plant& p, const EllipsoidalSMDesign& des) -> Factory {
     return [p, des, d] {
       auto e = std::make_shared<EllipsoidalSMObserver>(p, des, VectorXd::Zero(2), 2.0);
-      Subject s;
-      s.save = [e] { return e->save_state(); };
-      s.restore = [e](const std::vector<double>& b) { e->restore_state(b); };
+      Subject s = saving_subject(e);
       s.step = [e, d](int i) { e->step(d.y[size_t(i)], d.u[size_t(i)]); };
       s.sets = [e] {
         std::vector<double> v;
@@ -641,9 +649,7 @@ TEST(StateThesis, LPVEllipsoidalSMObserverContinuesIdentically) {
   auto factory = [&](const LpvSystem& sys, const EllipsoidalSMDesign& des) -> Factory {
     return [sys, des, d, rho] {
       auto e = std::make_shared<LPVEllipsoidalSMObserver>(sys, des, VectorXd::Zero(2), 2.0);
-      Subject s;
-      s.save = [e] { return e->save_state(); };
-      s.restore = [e](const std::vector<double>& b) { e->restore_state(b); };
+      Subject s = saving_subject(e);
       s.step = [e, d, rho](int i) { e->step(d.y[size_t(i)], d.u[size_t(i)], rho[size_t(i)]); };
       s.sets = [e] {
         std::vector<double> v;
@@ -689,16 +695,9 @@ TEST(StateThesis, IntervalLuenbergerObserverContinuesIdentically) {
       opt.variant = var;
       auto e = std::make_shared<IntervalLuenbergerObserver>(
           design_interval_luenberger(p, box_sym(2, x0r), VectorXd::Zero(2), dbox, box_sym(1, 1), opt));
-      Subject s;
-      s.save = [e] { return e->save_state(); };
-      s.restore = [e](const std::vector<double>& b) { e->restore_state(b); };
+      Subject s = saving_subject(e);
       s.step = [e, d](int i) { e->step(d.y[size_t(i)], d.u[size_t(i)]); };
-      s.sets = [e] {
-        std::vector<double> v;
-        append(v, e->xhat());
-        append_box(v, *e);
-        return v;
-      };
+      s.sets = xhat_and_box(e);
       add_bad_yu(s, e.get(), d);
       return s;
     };
@@ -731,16 +730,9 @@ TEST(StateThesis, NonlinearIntervalObserverWindowIsSaved) {
       opt.window = window;
       auto e = std::make_shared<NonlinearIntervalObserver>(
           design_nonlinear_interval_observer(p, box_sym(2, 2), VectorXd::Zero(2), box_sym(1, 0.1), {}, opt));
-      Subject s;
-      s.save = [e] { return e->save_state(); };
-      s.restore = [e](const std::vector<double>& b) { e->restore_state(b); };
+      Subject s = saving_subject(e);
       s.step = [e, d, hb](int i) { e->step(d.y[size_t(i)], d.u[size_t(i)], hb[size_t(i)]); };
-      s.sets = [e] {
-        std::vector<double> v;
-        append(v, e->xhat());
-        append_box(v, *e);
-        return v;
-      };
+      s.sets = xhat_and_box(e);
       s.bad_steps.emplace_back("NaN y", [e, d, hb](int i) { e->step(nan_at(d.y[size_t(i)], 0), d.u[size_t(i)], hb[size_t(i)]); });
       s.bad_steps.emplace_back("NaN u", [e, d, hb](int i) { e->step(d.y[size_t(i)], nan_at(d.u[size_t(i)], 1), hb[size_t(i)]); });
       s.bad_steps.emplace_back("short u", [e, d, hb](int i) { e->step(d.y[size_t(i)], VectorXd::Zero(1), hb[size_t(i)]); });
@@ -766,16 +758,9 @@ TEST(StateThesis, IntervalInvariantObserverContinuesIdentically) {
     return [p, d, x0r] {
       auto e = std::make_shared<IntervalInvariantObserver>(
           offline_error_sequence(p, box_sym(2, x0r), VectorXd::Zero(2), box_sym(1, 1), box_sym(1, 1)));
-      Subject s;
-      s.save = [e] { return e->save_state(); };
-      s.restore = [e](const std::vector<double>& b) { e->restore_state(b); };
+      Subject s = saving_subject(e);
       s.step = [e, d](int i) { e->step(d.y[size_t(i)], d.u[size_t(i)]); };
-      s.sets = [e] {
-        std::vector<double> v;
-        append(v, e->xhat());
-        append_box(v, *e);
-        return v;
-      };
+      s.sets = xhat_and_box(e);
       add_bad_yu(s, e.get(), d);
       return s;
     };
