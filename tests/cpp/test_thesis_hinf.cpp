@@ -160,9 +160,11 @@ double run_lti(const Plant& p, const EllipsoidalSMDesign& d, const VectorXd& x0,
       EXPECT_LE(obs.lower()(i), x(i)) << "step " << k;
       EXPECT_GE(obs.upper()(i), x(i)) << "step " << k;
     }
-    if (check_mu) {  // μ_k = 1 + (1 − λ)^k (μ_0 − 1), up to the documented rounding inflation (centre rounding: relative ~1e-9 at most here)
+    if (check_mu) {  // μ_k = 1 + (1 − λ)^k (μ_0 − 1), up to the documented rounding inflation
+      // (centre rounding: up to ~1.5e-9 relative per step in these runs, accumulated over up to
+      // 80 steps; a wrong recursion would be off by O(λ))
       const double closed = 1 + std::pow(1 - d.lambda, k) * (mu0 - 1);
-      EXPECT_NEAR(obs.mu(), closed, 1e-7 * closed) << "step " << k;
+      EXPECT_NEAR(obs.mu(), closed, 3e-9 * (k + 1) * closed) << "step " << k;
       EXPECT_GE(obs.mu(), closed * (1 - 1e-15));
     }
     VectorXd w(p.m());

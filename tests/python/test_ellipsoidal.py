@@ -149,8 +149,10 @@ def test_improved_never_larger_than_its_prediction():
             imp = ell.ImprovedEstimator(d, x0, feedback="none").run(y)
             assert np.all(imp.volume <= pred.volume * (1 + 1e-7)), key
             # (the prediction re-enters the recursion through a change of shape rounded upwards,
-            # so the two prediction sequences agree to rounding, relative to |x|)
-            tol = 1e-9 * (1 + np.abs(pred.lower) + np.abs(pred.upper))
+            # so the two runs solve their per-step LMIs at levels that differ by rounding; the
+            # LMI's optimal gain is not unique, and the solver's answers (tolerance 1e-8) give
+            # centres that agree to ~1e-8 relative to |x|)
+            tol = 1e-7 * (1 + np.abs(pred.lower) + np.abs(pred.upper))
             assert np.all(imp.lower >= pred.lower - tol) and np.all(imp.upper <= pred.upper + tol)
             # and it does reduce something on these examples
             assert np.any(imp.volume < 0.99 * pred.volume), key

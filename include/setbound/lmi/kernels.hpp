@@ -26,6 +26,17 @@
 
 namespace setbound::lmi::kernels {
 
+/// The Schur-complement kernels are compiled twice where the compiler can dispatch at run time
+/// (GCC ≥ 12 / Clang ≥ 14, x86-64 Linux: ifunc): for x86-64-v3 (AVX2, FMA) and the baseline;
+/// `flatten` inlines the fixed-size kernels into each clone so that they get its instruction
+/// set. The library stays runnable on any x86-64. Define SETBOUND_NO_KERNEL_CLONES to disable.
+#if defined(__x86_64__) && defined(__linux__) && !defined(SETBOUND_NO_KERNEL_CLONES) && \
+    ((defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12) || (defined(__clang__) && __clang_major__ >= 14))
+#define SETBOUND_KERNEL_CLONES __attribute__((target_clones("arch=x86-64-v3", "default"), flatten))
+#else
+#define SETBOUND_KERNEL_CLONES
+#endif
+
 /// Block sizes up to kFixedMax run on fixed-size instantiations (namespace `fixed`): with the
 /// size known at compile time the loops are unrolled and vectorised, and the column being
 /// accumulated lives in registers (a run-time-size loop must reload it: C may alias A or B).
@@ -318,6 +329,157 @@ inline void congruence_n(int n, const double* Q, const double* X, double* T, dou
   });
 }
 
+// ---------------------------------------------------------------------------------------
+// Kernels of the Schur complement (solver.hpp, assemble_and_factor). A block's coefficients are
+// handled in the symmetric vectorisation svec: the lower triangle by columns with the
+// off-diagonal entries multiplied by √2, so that ⟨X, Y⟩_F = svec(X)ᵀsvec(Y) at n(n+1)/2
+// instead of n² products. The dense coefficients F_t of a block are stacked vertically,
+// V = [F_1; …; F_k] ((n·k)×n), so that all the products F_t Q are one tall product V·Q whose
+// inner loops run over n·k contiguous rows (vectorised), instead of k small n×n products.
+
+inline constexpr double kSqrt2 = 1.4142135623730951;
+
+/// Length of svec for an n×n matrix.
+inline constexpr int svec_size(int n) { return n * (n + 1) / 2; }
+
+namespace fixed {
+
+template <int N>
+inline void svec_pack(const double* X, double* v) {
+  int t = 0;
+  for (int j = 0; j < N; ++j) {
+    v[t++] = X[j + j * N];
+    for (int i = j + 1; i < N; ++i) v[t++] = kSqrt2 * X[i + j * N];
+  }
+}
+
+template <int N>
+inline void svec_unpack(const double* v, double* X) {
+  constexpr double r = 1.0 / kSqrt2;
+  int t = 0;
+  for (int j = 0; j < N; ++j) {
+    X[j + j * N] = v[t++];
+    for (int i = j + 1; i < N; ++i) {
+      const double x = r * v[t++];
+      X[i + j * N] = x;
+      X[j + i * N] = x;
+    }
+  }
+}
+
+/// P = V Q with V rows×N (leading dimension ldv), Q N×N; P rows×N (leading dimension ld).
+/// The row loop is innermost with the N entries of Q's column in registers: contiguous loads
+/// of V, no reduction, so the compiler vectorises it along the rows.
+template <int N>
+inline void stacked_mul(int rows, const double* V, long ldv, const double* Q, double* P, long ld) {
+  for (int c = 0; c < N; ++c) {
+    double q[N];
+    for (int l = 0; l < N; ++l) q[l] = Q[l + c * N];
+    double* pc = P + c * ld;
+    for (int r = 0; r < rows; ++r) {
+      double acc = V[r] * q[0];
+      for (int l = 1; l < N; ++l) acc += V[r + l * ldv] * q[l];
+      pc[r] = acc;
+    }
+  }
+}
+
+/// Block-wise transpose: block t of T (rows t·N … t·N+N−1, leading dimension ldt) = (block t
+/// of P)ᵀ, for t < count.
+template <int N>
+inline void stacked_transpose(int count, const double* P, long ldp, double* T, long ldt) {
+  for (int t = 0; t < count; ++t) {
+    const double* Pt = P + static_cast<long>(t) * N;
+    double* Tt = T + static_cast<long>(t) * N;
+    for (int j = 0; j < N; ++j)
+      for (int i = 0; i < N; ++i) Tt[i + j * ldt] = Pt[j + i * ldp];
+  }
+}
+
+/// out[:, t] = svec(block t of F) (lower triangle, off-diagonal × √2), t < count.
+template <int N>
+inline void stacked_pack_svec(int count, const double* F, long ldf, double* out, long ldo) {
+  for (int t = 0; t < count; ++t) {
+    const double* Ft = F + static_cast<long>(t) * N;
+    double* o = out + t * ldo;
+    int idx = 0;
+    for (int c = 0; c < N; ++c) {
+      o[idx++] = Ft[c + c * ldf];
+      for (int r = c + 1; r < N; ++r) o[idx++] = kSqrt2 * Ft[r + c * ldf];
+    }
+  }
+}
+
+/// For t < count: out[:, t] = svec(Qᵀ F_t Q) where F_t (symmetric) = rows t·N … t·N+N−1 of
+/// V (leading dimension ld). P and T are work of the same shape as V: P = V Q, T = its
+/// block-wise transpose (blocks QᵀF_t), P = T Q (blocks QᵀF_tQ), then packed. Two tall
+/// products instead of count small ones.
+template <int N>
+inline void stacked_congruence_svec(int count, const double* V, long ld, const double* Q, double* P, double* T,
+                                    double* out, long ldo) {
+  stacked_mul<N>(count * N, V, ld, Q, P, ld);
+  stacked_transpose<N>(count, P, ld, T, ld);
+  stacked_mul<N>(count * N, T, ld, Q, P, ld);
+  stacked_pack_svec<N>(count, P, ld, out, ldo);
+}
+
+}  // namespace fixed
+
+namespace detail {
+
+inline void svec_pack_rt(int n, const double* X, double* v) {
+  int t = 0;
+  for (int j = 0; j < n; ++j) {
+    v[t++] = X[j + static_cast<long>(j) * n];
+    for (int i = j + 1; i < n; ++i) v[t++] = kSqrt2 * X[i + static_cast<long>(j) * n];
+  }
+}
+
+inline void svec_unpack_rt(int n, const double* v, double* X) {
+  const double r = 1.0 / kSqrt2;
+  int t = 0;
+  for (int j = 0; j < n; ++j) {
+    X[j + static_cast<long>(j) * n] = v[t++];
+    for (int i = j + 1; i < n; ++i) {
+      const double x = r * v[t++];
+      X[i + static_cast<long>(j) * n] = x;
+      X[j + static_cast<long>(i) * n] = x;
+    }
+  }
+}
+
+inline void stacked_mul_rt(int rows, int n, const double* V, long ldv, const double* Q, double* P, long ld) {
+  for (int c = 0; c < n; ++c) {
+    double* pc = P + c * ld;
+    for (int r = 0; r < rows; ++r) pc[r] = 0.0;
+    for (int l = 0; l < n; ++l) {
+      const double q = Q[l + static_cast<long>(c) * n];
+      const double* vl = V + l * ldv;
+      for (int r = 0; r < rows; ++r) pc[r] += vl[r] * q;
+    }
+  }
+}
+
+inline void stacked_congruence_svec_rt(int n, int count, const double* V, long ld, const double* Q, double* P,
+                                       double* T, double* out, long ldo) {
+  const int rows = count * n;
+  stacked_mul_rt(rows, n, V, ld, Q, P, ld);
+  for (int t = 0; t < count; ++t)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) T[t * n + i + j * ld] = P[t * n + j + i * ld];
+  stacked_mul_rt(rows, n, T, ld, Q, P, ld);
+  for (int t = 0; t < count; ++t) {
+    double* o = out + t * ldo;
+    int idx = 0;
+    for (int c = 0; c < n; ++c) {
+      o[idx++] = P[t * n + c + c * ld];
+      for (int r = c + 1; r < n; ++r) o[idx++] = kSqrt2 * P[t * n + r + c * ld];
+    }
+  }
+}
+
+}  // namespace detail
+
 namespace detail {
 
 inline double hypot2(double a, double b) {
@@ -595,6 +757,142 @@ inline bool one_sided_jacobi(int n, double* G, double* V, double* sv) {
     }
   }
   return false;
+}
+
+// --- dispatchers of the Schur-complement kernels (see svec above) ---
+
+/// v = svec(X) (X symmetric, only its lower triangle is read).
+inline void svec_pack(int n, const double* X, double* v) {
+  with_size(n, [&](auto N) {
+    if constexpr (decltype(N)::value == 0) detail::svec_pack_rt(n, X, v);
+    else fixed::svec_pack<decltype(N)::value>(X, v);
+  });
+}
+
+/// X = smat(v), both triangles written.
+inline void svec_unpack(int n, const double* v, double* X) {
+  with_size(n, [&](auto N) {
+    if constexpr (decltype(N)::value == 0) detail::svec_unpack_rt(n, v, X);
+    else fixed::svec_unpack<decltype(N)::value>(v, X);
+  });
+}
+
+/// P = V Q: V is rows×n (leading dimension ldv), Q n×n, P rows×n (leading dimension ldp).
+inline void stacked_mul(int rows, int n, const double* V, long ldv, const double* Q, double* P, long ldp) {
+  with_size(n, [&](auto N) {
+    if constexpr (decltype(N)::value == 0) detail::stacked_mul_rt(rows, n, V, ldv, Q, P, ldp);
+    else fixed::stacked_mul<decltype(N)::value>(rows, V, ldv, Q, P, ldp);
+  });
+}
+
+/// out[:, t] = svec(Qᵀ F_t Q) for t < count, F_t = rows t·n … t·n+n−1 of V (leading dimension
+/// ld, symmetric blocks); P and T are work arrays of V's shape; out has leading dimension
+/// ldo ≥ n(n+1)/2.
+SETBOUND_KERNEL_CLONES inline void stacked_congruence_svec(int n, int count, const double* V, long ld, const double* Q, double* P, double* T,
+                                    double* out, long ldo) {
+  with_size(n, [&](auto N) {
+    if constexpr (decltype(N)::value == 0) detail::stacked_congruence_svec_rt(n, count, V, ld, Q, P, T, out, ldo);
+    else fixed::stacked_congruence_svec<decltype(N)::value>(count, V, ld, Q, P, T, out, ldo);
+  });
+}
+
+/// Upper triangle of the Gram matrix G = FᵀF of the k columns of F (length s each, leading
+/// dimension s); G is k×k with leading dimension ldg. Four columns of F are paired with one
+/// column at a time, so each loaded entry of F_j serves four products.
+SETBOUND_KERNEL_CLONES inline void gram_upper(int s, int k, const double* F, double* G, long ldg) {
+  for (int j = 0; j < k; ++j) {
+    const double* fj = F + static_cast<long>(j) * s;
+    int i = 0;
+    for (; i + 3 <= j; i += 4) {
+      const double* f0 = F + static_cast<long>(i) * s;
+      const double* f1 = f0 + s;
+      const double* f2 = f1 + s;
+      const double* f3 = f2 + s;
+      double a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0;
+      for (int t = 0; t < s; ++t) {
+        const double x = fj[t];
+        a0 += f0[t] * x;
+        a1 += f1[t] * x;
+        a2 += f2[t] * x;
+        a3 += f3[t] * x;
+      }
+      G[i + j * ldg] = a0;
+      G[i + 1 + j * ldg] = a1;
+      G[i + 2 + j * ldg] = a2;
+      G[i + 3 + j * ldg] = a3;
+    }
+    for (; i <= j; ++i) {
+      const double* fi = F + static_cast<long>(i) * s;
+      double a = 0.0;
+      for (int t = 0; t < s; ++t) a += fi[t] * fj[t];
+      G[i + j * ldg] = a;
+    }
+  }
+}
+
+/// y_j = ⟨a_j, x⟩ for the k columns a_j of A (length s each, leading dimension s): Aᵀx with
+/// four columns at a time (Eigen's dynamic-size GEMV costs more in dispatch than in flops at
+/// the solver's sizes, s ≤ 136, k ≤ a few dozen).
+inline void gemv_t(int s, int k, const double* A, const double* x, double* y) {
+  int j = 0;
+  for (; j + 4 <= k; j += 4) {
+    const double* a0 = A + static_cast<long>(j) * s;
+    const double* a1 = a0 + s;
+    const double* a2 = a1 + s;
+    const double* a3 = a2 + s;
+    double y0 = 0.0, y1 = 0.0, y2 = 0.0, y3 = 0.0;
+    for (int t = 0; t < s; ++t) {
+      const double xt = x[t];
+      y0 += a0[t] * xt;
+      y1 += a1[t] * xt;
+      y2 += a2[t] * xt;
+      y3 += a3[t] * xt;
+    }
+    y[j] = y0;
+    y[j + 1] = y1;
+    y[j + 2] = y2;
+    y[j + 3] = y3;
+  }
+  for (; j < k; ++j) {
+    const double* a = A + static_cast<long>(j) * s;
+    double acc = 0.0;
+    for (int t = 0; t < s; ++t) acc += a[t] * x[t];
+    y[j] = acc;
+  }
+}
+
+/// y += alpha · A x for A s×k (leading dimension s).
+inline void gemv_n_add(int s, int k, double alpha, const double* A, const double* x, double* y) {
+  int j = 0;
+  for (; j + 4 <= k; j += 4) {
+    const double* a0 = A + static_cast<long>(j) * s;
+    const double* a1 = a0 + s;
+    const double* a2 = a1 + s;
+    const double* a3 = a2 + s;
+    const double x0 = alpha * x[j], x1 = alpha * x[j + 1], x2 = alpha * x[j + 2], x3 = alpha * x[j + 3];
+    for (int t = 0; t < s; ++t) y[t] += a0[t] * x0 + a1[t] * x1 + a2[t] * x2 + a3[t] * x3;
+  }
+  for (; j < k; ++j) {
+    const double* a = A + static_cast<long>(j) * s;
+    const double xj = alpha * x[j];
+    for (int t = 0; t < s; ++t) y[t] += a[t] * xj;
+  }
+}
+
+/// Solves L Lᵀ x = b in place (L lower triangular n×n, leading dimension n, from cholesky()).
+inline void cholesky_solve(int n, const double* L, double* b) {
+  for (int j = 0; j < n; ++j) {  // L y = b, by columns of L
+    const double* Lj = L + static_cast<long>(j) * n;
+    const double yj = b[j] / Lj[j];
+    b[j] = yj;
+    for (int i = j + 1; i < n; ++i) b[i] -= Lj[i] * yj;
+  }
+  for (int j = n - 1; j >= 0; --j) {  // Lᵀ x = y: row j of Lᵀ is column j of L
+    const double* Lj = L + static_cast<long>(j) * n;
+    double acc = b[j];
+    for (int i = j + 1; i < n; ++i) acc -= Lj[i] * b[i];
+    b[j] = acc / Lj[j];
+  }
 }
 
 }  // namespace setbound::lmi::kernels

@@ -197,17 +197,34 @@ class InteriorPointSolver {
   void setup();
 
  private:
+  // Per-block work. The scaled coefficients are kept in svec form (kernels.hpp): column 0 of
+  // Fs is svec(QᵀF0Q), column 1 svec(Qᵀ rz Q), columns 2… the coefficients in the order of
+  // `col`: first the dense ones (computed together from the stacked V), then the sparse ones
+  // (rank-one updates). The order is refreshed at every solve (load_values), because a value
+  // update may turn a sparse coefficient dense and back.
   struct BlockWork {
-    int n = 0, k = 0;
-    std::vector<int> vars;  // variables touching the block (coefficient order)
-    Eigen::MatrixXd S, Z, dS, dZ, rz, R, Q, Qt, Ls, Lz, tmp, tmp2, F0t, rzt, Bt, Wds, Wdz, Wds_a, Wdz_a, U, best_Z;
-    Eigen::MatrixXd Ft;     // n²×k, column j = vec(QᵀF_{vars[j]}Q)
+    int n = 0, k = 0, sv = 0, kd = 0;  // size, coefficients, svec length, dense coefficients
+    std::vector<int> col;   // coefficient index (into LmiBlock::coefficients) of Fs column 2 + j
+    std::vector<int> var;   // its variable
+    Eigen::MatrixXd S, Z, dS, dZ, rz, R, Q, Qt, Ls, Lz, tmp, tmp2, Wds, Wdz, Wds_a, Wdz_a, U, best_Z;
+    Eigen::MatrixXd V;      // (n·(kd+2))×n: [F0; rz; dense coefficients in `col` order] stacked
+    Eigen::MatrixXd P, T;   // work of V's shape (kernels::stacked_congruence_svec)
+    Eigen::MatrixXd Fs;     // sv×(k+2): svec(QᵀF0Q), svec(QᵀrzQ), svec(QᵀF_jQ) (see above)
+    Eigen::MatrixXd As;     // sv×k: svec(F_j), unscaled, same column order (residuals)
+    Eigen::MatrixXd G;      // k×k: Gram matrix of the scaled coefficients (upper triangle)
+    Eigen::VectorXd a0, ss, zs, rs, bs, ws;  // svec(F0), svec(S), svec(Z), svec(rz), svec(B̃), work
+    Eigen::VectorXd xl, gl, f0f;  // x gathered by `var`, products per column, ⟨F̃_j, F̃0⟩
     Eigen::VectorXd lambda, isq, wv, ev;
+    double f0sq = 0;        // ‖F̃0‖²
   };
 
   // --- helpers (inline below) ---
+  void load_values();
+  void least_squares_start();
   void residuals();
   bool scaling();
+  bool factor_schur();
+  void solve_schur(double* b);
   bool assemble_and_factor();
   void solve_reduced(const Eigen::VectorXd& g, const Eigen::VectorXd& by, Eigen::VectorXd& dx, Eigen::VectorXd& dy);
   void kkt_solve(const Eigen::VectorXd& bx, const Eigen::VectorXd& by, bool use_F0, double eta_rz,
@@ -222,6 +239,7 @@ class InteriorPointSolver {
   // small blocks, Eigen's blocked products above kLargeBlock (no allocation up to Eigen's
   // stack limit for its blocking workspace).
   static constexpr int kLargeBlock = 24;
+  static constexpr int kSmallSchur = 64;  // Schur complements up to this size use kernels::cholesky
   static void congruence_t(int n, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& X, Eigen::MatrixXd& T, double* C) {
     if (n <= kLargeBlock) return kernels::congruence_t(n, Q.data(), X.data(), T.data(), C);
     Eigen::Map<Eigen::MatrixXd> Cm(C, n, n);
@@ -245,11 +263,13 @@ class InteriorPointSolver {
   // iterate
   Eigen::VectorXd x_, y_;
   double tau_ = 1, kappa_ = 1;
+  Eigen::VectorXd c_;   // c / cscale_ (see solve())
+  double cscale_ = 1;
   // residuals
   Eigen::VectorXd rx_, ry_;
   double rtau_ = 0;
   // linear algebra
-  Eigen::MatrixXd M_, K_, KinvAt_, SA_, AtA_;
+  Eigen::MatrixXd M_, K_, Lk_, KinvAt_, SA_, AtA_;
   Eigen::LLT<Eigen::MatrixXd> lltK_, lltSA_;
   double rho_ = 1;
   Eigen::VectorXd g_, gy_, t1_, t2_, t3_, ry2_, r1_, r2_, cdx_, cdy_;
@@ -284,26 +304,35 @@ inline void InteriorPointSolver::setup() {
     const int n = blk.size;
     w.n = n;
     w.k = static_cast<int>(blk.coefficients.size());
-    w.vars.clear();
-    for (const auto& co : blk.coefficients) w.vars.push_back(co.var);
+    w.sv = kernels::svec_size(n);
+    w.col.assign(static_cast<size_t>(w.k), 0);
+    w.var.assign(static_cast<size_t>(w.k), 0);
     for (Eigen::MatrixXd* M : {&w.S, &w.Z, &w.dS, &w.dZ, &w.rz, &w.R, &w.Q, &w.Qt, &w.Ls, &w.Lz, &w.tmp, &w.tmp2,
-                               &w.F0t, &w.rzt, &w.Bt, &w.Wds, &w.Wdz, &w.Wds_a, &w.Wdz_a, &w.U, &w.best_Z})
+                               &w.Wds, &w.Wdz, &w.Wds_a, &w.Wdz_a, &w.U, &w.best_Z})
       M->setZero(n, n);
-    w.Ft.setZero(n * n, w.k);
+    w.V.setZero(static_cast<Eigen::Index>(n) * (w.k + 2), n);  // room for every coefficient dense
+    w.P.setZero(w.V.rows(), n);
+    w.T.setZero(w.V.rows(), n);
+    w.Fs.setZero(w.sv, w.k + 2);
+    w.As.setZero(w.sv, w.k);
+    w.G.setZero(w.k, w.k);
+    for (Eigen::VectorXd* v : {&w.a0, &w.ss, &w.zs, &w.rs, &w.bs, &w.ws}) v->setZero(w.sv);
+    for (Eigen::VectorXd* v : {&w.xl, &w.gl, &w.f0f}) v->setZero(w.k);
     for (Eigen::VectorXd* v : {&w.lambda, &w.isq, &w.wv, &w.ev}) v->setZero(n);
   }
   margin_.setup(p);
-  for (Eigen::VectorXd* v : {&x_, &rx_, &g_, &t1_, &t2_, &r1_, &cdx_, &x1_, &dx_, &dx_a_, &bx_, &best_x_, &xhat_})
+  for (Eigen::VectorXd* v : {&c_, &x_, &rx_, &g_, &t1_, &t2_, &r1_, &cdx_, &x1_, &dx_, &dx_a_, &bx_, &best_x_, &xhat_})
     v->setZero(m_);
   for (Eigen::VectorXd* v : {&y_, &ry_, &gy_, &t3_, &ry2_, &r2_, &cdy_, &y1_, &dy_, &dy_a_, &by_, &best_y_})
     v->setZero(pe_);
   M_.setZero(m_, m_);
   K_.setZero(m_, m_);
+  Lk_.setZero(m_ <= kSmallSchur ? m_ : 0, m_ <= kSmallSchur ? m_ : 0);
   // Factorise identities once so that the LLT objects own storage of the right size (no
   // allocation in solve()); move-assigning size-only LLT temporaries copied uninitialised
   // flags (UBSan).
   K_.setIdentity();
-  lltK_.compute(K_);
+  if (m_ > kSmallSchur) lltK_.compute(K_);
   KinvAt_.setZero(m_, pe_);
   SA_.setZero(pe_, pe_);
   SA_.setIdentity();
@@ -317,20 +346,113 @@ inline void InteriorPointSolver::setup() {
   version_ = p.structure_version();
 }
 
-inline void InteriorPointSolver::residuals() {
-  // rx = Aᵀy + Gᵀz + cτ;  ry = bτ − Ax;  rz = S − (F0 τ + Σ x_i F_i);  rτ = κ + cᵀx + bᵀy + hᵀz
+// The starting point of CVXOPT's conelp (and Clarabel's for symmetric cones): with the scaling
+// W = I (S = Z = I), the primal point minimises ‖F(x)‖_F subject to Ax = b and the dual point
+// minimises ‖Z‖_F subject to tr(F_i Z) = c_i + (Aᵀy)_i; each is then shifted into the interior
+// by (1 + t)I when its smallest eigenvalue −t is not safely positive. τ = κ = 1. Both are
+// solves with the W = I Schur complement (one factorisation). Compared with the unit start
+// x = 0, S = Z = I it saved 2–3 of 11–19 iterations on the online problems of papers.md §1.3
+// and on random dense LMIs (bench/bench_lmi.py).
+inline void InteriorPointSolver::least_squares_start() {
   const LmiProblem& p = *p_;
-  rx_ = p.objective() * tau_;
-  double hz = 0;
+  auto unit_start = [&] {
+    x_.setZero();
+    y_.setZero();
+    for (auto& w : w_) {
+      w.S.setIdentity();
+      w.Z.setIdentity();
+    }
+    tau_ = kappa_ = 1.0;
+  };
+  unit_start();
+  residuals();
+  if (!scaling() || !assemble_and_factor()) return unit_start();
+  bx_.setZero();
+  if (pe_ > 0) by_ = p.eq_rhs();
+  kkt_solve(bx_, by_, true, 0.0, false, x1_, y1_);  // primal: x1 (S = F(x1))
+  bx_ = -c_;
+  if (pe_ > 0) by_.setZero();
+  kkt_solve(bx_, by_, false, 0.0, false, dx_, dy_);  // dual: Z = −Σ dx_i F_i, y = dy
+  if (!x1_.allFinite() || !dx_.allFinite() || !dy_.allFinite()) return unit_start();
+  double ts = -std::numeric_limits<double>::infinity(), tz = ts, ns = 0, nz = 0;
   for (size_t b = 0; b < w_.size(); ++b) {
     const LmiBlock& blk = p.block(static_cast<int>(b));
     BlockWork& w = w_[b];
-    w.rz = w.S - tau_ * blk.constant;
-    for (const auto& co : blk.coefficients) {
-      rx_(co.var) -= co.dense.cwiseProduct(w.Z).sum();
-      w.rz.noalias() -= x_(co.var) * co.dense;
-    }
-    hz += blk.constant.cwiseProduct(w.Z).sum();
+    p.evaluate_block(blk, x1_, w.S);
+    w.Z.setZero();
+    for (const auto& co : blk.coefficients) w.Z.noalias() -= dx_(co.var) * co.dense;
+    w.tmp = w.S;
+    ts = std::max(ts, -kernels::sym_lambda_min(w.n, w.tmp.data(), w.wv.data(), w.ev.data()));
+    w.tmp = w.Z;
+    tz = std::max(tz, -kernels::sym_lambda_min(w.n, w.tmp.data(), w.wv.data(), w.ev.data()));
+    ns += w.S.squaredNorm();
+    nz += w.Z.squaredNorm();
+  }
+  if (!std::isfinite(ts) || !std::isfinite(tz) || !std::isfinite(ns) || !std::isfinite(nz)) return unit_start();
+  const double shift_s = ts >= -1e-8 * std::max(std::sqrt(ns), 1.0) ? 1.0 + ts : 0.0;
+  const double shift_z = tz >= -1e-8 * std::max(std::sqrt(nz), 1.0) ? 1.0 + tz : 0.0;
+  for (auto& w : w_) {
+    w.S.diagonal().array() += shift_s;
+    w.Z.diagonal().array() += shift_z;
+  }
+  x_ = x1_;
+  if (pe_ > 0) y_ = dy_;
+  tau_ = kappa_ = 1.0;
+}
+
+// Copies the problem's current values into the solver's stacked / svec forms and orders each
+// block's coefficients (dense first). Runs at the start of every solve: values may have been
+// updated since setup (no allocation: every array was sized for the worst case).
+inline void InteriorPointSolver::load_values() {
+  const LmiProblem& p = *p_;
+  for (size_t b = 0; b < w_.size(); ++b) {
+    const LmiBlock& blk = p.block(static_cast<int>(b));
+    BlockWork& w = w_[b];
+    const int n = w.n;
+    const long rows = w.V.rows();
+    int t = 0;
+    for (int pass = 0; pass < 2; ++pass)
+      for (int j = 0; j < w.k; ++j) {
+        const Coefficient& co = blk.coefficients[static_cast<size_t>(j)];
+        if ((co.kind == CoefficientKind::Dense) != (pass == 0)) continue;
+        w.col[static_cast<size_t>(t)] = j;
+        w.var[static_cast<size_t>(t)] = co.var;
+        kernels::svec_pack(n, co.dense.data(), w.As.col(t).data());
+        ++t;
+      }
+    w.kd = 0;
+    for (int j = 0; j < w.k; ++j)
+      if (blk.coefficients[static_cast<size_t>(w.col[static_cast<size_t>(j)])].kind == CoefficientKind::Dense) ++w.kd;
+    // V: rows block 0 = F0, block 1 = rz (per iteration), blocks 2… = dense coefficients.
+    auto put = [&](int slot, const Eigen::MatrixXd& F) {
+      for (int c = 0; c < n; ++c)
+        for (int r = 0; r < n; ++r) w.V(static_cast<Eigen::Index>(slot) * n + r, c) = F(r, c);
+    };
+    put(0, blk.constant);
+    for (int j = 0; j < w.kd; ++j) put(2 + j, blk.coefficients[static_cast<size_t>(w.col[static_cast<size_t>(j)])].dense);
+    (void)rows;
+    kernels::svec_pack(n, blk.constant.data(), w.a0.data());
+  }
+}
+
+inline void InteriorPointSolver::residuals() {
+  // rx = Aᵀy + Gᵀz + cτ;  ry = bτ − Ax;  rz = S − (F0 τ + Σ x_i F_i);  rτ = κ + cᵀx + bᵀy + hᵀz
+  // In svec form (kernels.hpp): ⟨F_j, Z⟩ = svec(F_j)ᵀsvec(Z), one product per block.
+  const LmiProblem& p = *p_;
+  rx_ = c_ * tau_;
+  double hz = 0, sz = 0, rznorm2 = 0;
+  for (auto& w : w_) {
+    kernels::svec_pack(w.n, w.S.data(), w.ss.data());
+    kernels::svec_pack(w.n, w.Z.data(), w.zs.data());
+    for (int j = 0; j < w.k; ++j) w.xl(j) = x_(w.var[static_cast<size_t>(j)]);
+    kernels::gemv_t(w.sv, w.k, w.As.data(), w.zs.data(), w.gl.data());
+    for (int j = 0; j < w.k; ++j) rx_(w.var[static_cast<size_t>(j)]) -= w.gl(j);
+    w.rs = w.ss - tau_ * w.a0;
+    kernels::gemv_n_add(w.sv, w.k, -1.0, w.As.data(), w.xl.data(), w.rs.data());
+    kernels::svec_unpack(w.n, w.rs.data(), w.rz.data());
+    hz += w.a0.dot(w.zs);
+    sz += w.ss.dot(w.zs);
+    rznorm2 += w.rs.squaredNorm();
   }
   double by = 0;
   if (pe_ > 0) {
@@ -339,14 +461,9 @@ inline void InteriorPointSolver::residuals() {
     ry_.noalias() -= p.eq_matrix() * x_;
     by = p.eq_rhs().dot(y_);
   }
-  rtau_ = kappa_ + p.objective().dot(x_) + by + hz;
+  rtau_ = kappa_ + c_.dot(x_) + by + hz;
   // Metrics of the current iterate (x/τ, y/τ, z/τ).
-  double sz = 0, rznorm2 = 0;
-  for (auto& w : w_) {
-    sz += w.S.cwiseProduct(w.Z).sum();
-    rznorm2 += w.rz.squaredNorm();
-  }
-  pcost_ = p.objective().dot(x_) / tau_;
+  pcost_ = c_.dot(x_) / tau_;
   dcost_ = -(by + hz) / tau_;
   gap_ = sz / (tau_ * tau_);
   const double pres_y = pe_ > 0 ? ry_.norm() / resy0_ : 0.0;
@@ -410,47 +527,65 @@ inline bool InteriorPointSolver::assemble_and_factor() {
   for (size_t b = 0; b < w_.size(); ++b) {
     const LmiBlock& blk = p.block(static_cast<int>(b));
     BlockWork& w = w_[b];
-    const int n = w.n;
-    for (int j = 0; j < w.k; ++j) {
-      const Coefficient& co = blk.coefficients[static_cast<size_t>(j)];
-      double* Fj = w.Ft.col(j).data();
-      if (co.kind == CoefficientKind::Sparse) {
-        // QᵀFQ = Σ f_rc (q_r q_cᵀ + q_c q_rᵀ) over the upper-triangle entries (q_r = row r of Q
-        // = column r of Qᵀ).
-        std::fill(Fj, Fj + static_cast<long>(n) * n, 0.0);
-        for (const auto& e : co.entries) {
-          const double* qr = w.Qt.data() + static_cast<long>(e.row) * n;
-          const double* qc = w.Qt.data() + static_cast<long>(e.col) * n;
-          if (e.row == e.col) {
-            for (int b2 = 0; b2 < n; ++b2) {
-              const double f = e.value * qr[b2];
-              double* col = Fj + static_cast<long>(b2) * n;
-              for (int a = 0; a < n; ++a) col[a] += qr[a] * f;
-            }
-          } else {
-            for (int b2 = 0; b2 < n; ++b2) {
-              const double fc = e.value * qc[b2], fr = e.value * qr[b2];
-              double* col = Fj + static_cast<long>(b2) * n;
-              for (int a = 0; a < n; ++a) col[a] += qr[a] * fc + qc[a] * fr;
-            }
-          }
-        }
-      } else {
-        congruence_t(n, w.Q, co.dense, w.tmp, Fj);
+    const int n = w.n, sv = w.sv;
+    // Slot 1 of V holds rz, so that QᵀF0Q, QᵀrzQ and every dense QᵀF_jQ come out of two tall
+    // products (kernels::stacked_congruence_svec).
+    for (int c = 0; c < n; ++c)
+      for (int r = 0; r < n; ++r) w.V(n + r, c) = w.rz(r, c);
+    const int cnt = w.kd + 2;
+    const long ldv = w.V.rows();
+    if (n <= kLargeBlock) {
+      kernels::stacked_congruence_svec(n, cnt, w.V.data(), ldv, w.Q.data(), w.P.data(), w.T.data(), w.Fs.data(), sv);
+    } else {
+      w.P.topRows(static_cast<Eigen::Index>(cnt) * n).noalias() = w.V.topRows(static_cast<Eigen::Index>(cnt) * n) * w.Q;
+      for (int t = 0; t < cnt; ++t) {
+        w.tmp.noalias() = w.P.middleRows(static_cast<Eigen::Index>(t) * n, n).transpose() * w.Q;
+        kernels::svec_pack(n, w.tmp.data(), w.Fs.col(t).data());
       }
     }
-    congruence_t(n, w.Q, blk.constant, w.tmp, w.F0t.data());
-    congruence_t(n, w.Q, w.rz, w.tmp, w.rzt.data());
+    // Sparse coefficients: QᵀFQ = Σ f_rc (q_r q_cᵀ + q_c q_rᵀ) over the upper-triangle entries
+    // (q_r = row r of Q = column r of Qᵀ), accumulated straight into svec (lower triangle).
+    for (int j = w.kd; j < w.k; ++j) {
+      const Coefficient& co = blk.coefficients[static_cast<size_t>(w.col[static_cast<size_t>(j)])];
+      double* o = w.Fs.col(2 + j).data();
+      std::fill(o, o + sv, 0.0);
+      for (const auto& e : co.entries) {
+        const double* qr = w.Qt.data() + static_cast<long>(e.row) * n;
+        const double* qc = w.Qt.data() + static_cast<long>(e.col) * n;
+        int idx = 0;
+        if (e.row == e.col) {
+          for (int b2 = 0; b2 < n; ++b2) {
+            const double f = e.value * qr[b2];
+            for (int a = b2; a < n; ++a) o[idx++] += qr[a] * f;
+          }
+        } else {
+          for (int b2 = 0; b2 < n; ++b2) {
+            const double fc = e.value * qc[b2], fr = e.value * qr[b2];
+            for (int a = b2; a < n; ++a) o[idx++] += qr[a] * fc + qc[a] * fr;
+          }
+        }
+      }
+      int idx = 0;
+      for (int b2 = 0; b2 < n; ++b2) {
+        ++idx;  // diagonal
+        for (int a = b2 + 1; a < n; ++a) o[idx++] *= kernels::kSqrt2;
+      }
+    }
     // Schur complement: the Gram matrix of the scaled coefficients (upper half, mirrored).
+    const double* Fc = w.Fs.data() + 2L * sv;
+    kernels::gram_upper(sv, w.k, Fc, w.G.data(), w.k);
     for (int j = 0; j < w.k; ++j) {
-      const int vj = w.vars[static_cast<size_t>(j)];
+      const int vj = w.var[static_cast<size_t>(j)];
       for (int i = 0; i <= j; ++i) {
-        const int vi = w.vars[static_cast<size_t>(i)];
-        const double d = w.Ft.col(i).dot(w.Ft.col(j));
+        const int vi = w.var[static_cast<size_t>(i)];
+        const double d = w.G(i, j);
         M_(vi, vj) += d;
         if (vi != vj) M_(vj, vi) += d;
       }
     }
+    // ⟨F̃_j, F̃0⟩ and ‖F̃0‖², used by both directions of the iteration.
+    kernels::gemv_t(sv, w.k, Fc, w.Fs.data(), w.f0f.data());
+    w.f0sq = w.Fs.col(0).squaredNorm();
   }
   // Equalities: K = M + ρAᵀA keeps K positive definite when M is singular on ker A;
   // the reduced system is equivalent for any ρ > 0 (see solve_reduced).
@@ -463,17 +598,31 @@ inline bool InteriorPointSolver::assemble_and_factor() {
   // Tiny static regularisation against exact singularity; iterative refinement in
   // solve_reduced removes its effect on the directions.
   K_.diagonal().array() += 1e-13 * mscale;
-  lltK_.compute(K_);
-  if (lltK_.info() != Eigen::Success) return false;
+  if (!factor_schur()) return false;
   if (pe_ > 0) {
     KinvAt_ = p.eq_matrix().transpose();
-    lltK_.solveInPlace(KinvAt_);
+    for (int i = 0; i < pe_; ++i) solve_schur(KinvAt_.col(i).data());
     SA_.noalias() = p.eq_matrix() * KinvAt_;
     SA_.diagonal().array() += 1e-14 * std::max(1.0, SA_.diagonal().maxCoeff());
     lltSA_.compute(SA_);
     if (lltSA_.info() != Eigen::Success) return false;
   }
   return true;
+}
+
+// Cholesky factorisation of K and solves with it: the kernels' loops up to kSmallSchur
+// variables (Eigen's dynamic-size LLT costs more in dispatch than in flops there), Eigen's
+// blocked LLT above.
+inline bool InteriorPointSolver::factor_schur() {
+  if (m_ <= kSmallSchur) return kernels::cholesky(m_, K_.data(), Lk_.data());
+  lltK_.compute(K_);
+  return lltK_.info() == Eigen::Success;
+}
+
+inline void InteriorPointSolver::solve_schur(double* b) {
+  if (m_ <= kSmallSchur) return kernels::cholesky_solve(m_, Lk_.data(), b);
+  Eigen::Map<Eigen::VectorXd> v(b, m_);
+  lltK_.solveInPlace(v);
 }
 
 // Solves M dx + Aᵀdy = g, A dx = by (K = M + ρAᵀA formulation), with one refinement step.
@@ -483,7 +632,7 @@ inline void InteriorPointSolver::solve_reduced(const Eigen::VectorXd& g, const E
   auto base = [&](const Eigen::VectorXd& gg, const Eigen::VectorXd& bb, Eigen::VectorXd& ox, Eigen::VectorXd& oy) {
     t1_ = gg;
     if (pe_ > 0) t1_.noalias() += rho_ * p.eq_matrix().transpose() * bb;
-    lltK_.solveInPlace(t1_);  // t1 = K⁻¹(g + ρAᵀb)
+    solve_schur(t1_.data());  // t1 = K⁻¹(g + ρAᵀb)
     if (pe_ > 0) {
       oy.noalias() = p.eq_matrix() * t1_;
       oy -= bb;
@@ -497,7 +646,8 @@ inline void InteriorPointSolver::solve_reduced(const Eigen::VectorXd& g, const E
   base(g, by, dx, dy);
   for (int it = 0; it < 2; ++it) {
     r1_ = g;
-    r1_.noalias() -= M_ * dx;
+    kernels::gemv_t(m_, m_, M_.data(), dx.data(), t2_.data());  // M dx (M symmetric)
+    r1_ -= t2_;
     if (pe_ > 0) {
       r1_.noalias() -= p.eq_matrix().transpose() * dy;
       r2_ = by;
@@ -511,20 +661,23 @@ inline void InteriorPointSolver::solve_reduced(const Eigen::VectorXd& g, const E
 
 // Solves the KKT system  Aᵀdy + Gᵀdz = bx,  A dx = by,  G dx − WᵀW dz = bz  where
 //   bz = use_F0 ? F0 : −eta_rz·rz − Wᵀ(U)   (U = λ⁻¹◇ds_rhs held in w.U when with_u).
-// On return w.Bt = Qᵀ bz Q (needed to form W dz = −Σ dx_j F̃_j − B̃).
+// On return w.bs = svec(Qᵀ bz Q) (needed to form W dz = −Σ dx_j F̃_j − B̃).
 inline void InteriorPointSolver::kkt_solve(const Eigen::VectorXd& bx, const Eigen::VectorXd& by, bool use_F0,
                                             double eta_rz, bool with_u, Eigen::VectorXd& dx, Eigen::VectorXd& dy) {
   g_ = bx;
   for (auto& w : w_) {
     if (use_F0) {
-      w.Bt = w.F0t;
+      w.bs = w.Fs.col(0);
     } else {
-      w.Bt = -eta_rz * w.rzt;   // rzt = Qᵀ rz Q, formed once per iteration
-      if (with_u) w.Bt -= w.U;  // QᵀR U RᵀQ = U since QᵀR = I
+      w.bs = -eta_rz * w.Fs.col(1);  // svec(Qᵀ rz Q), formed once per iteration
+      if (with_u) {                  // QᵀR U RᵀQ = U since QᵀR = I
+        kernels::svec_pack(w.n, w.U.data(), w.ws.data());
+        w.bs -= w.ws;
+      }
     }
-    // g_i −= <F̃_i, B̃>
-    const Eigen::Map<const Eigen::VectorXd> bvec(w.Bt.data(), w.n * w.n);
-    for (int j = 0; j < w.k; ++j) g_(w.vars[static_cast<size_t>(j)]) -= w.Ft.col(j).dot(bvec);
+    // g_i −= ⟨F̃_i, B̃⟩
+    kernels::gemv_t(w.sv, w.k, w.Fs.data() + 2L * w.sv, w.bs.data(), w.gl.data());
+    for (int j = 0; j < w.k; ++j) g_(w.var[static_cast<size_t>(j)]) -= w.gl(j);
   }
   solve_reduced(g_, by, dx, dy);
 }
@@ -571,16 +724,14 @@ inline void InteriorPointSolver::direction(double eta, double sigma, double mu, 
   if (pe_ > 0) by_ = eta * ry_;
   kkt_solve(bx_, by_, false, eta, true, dx_, dy_);
   // hᵀdz0 = <F̃0, W dz0>,  W dz0 = −Σ dx_j F̃_j − B̃0
-  double cx0 = p.objective().dot(dx_) + (pe_ > 0 ? p.eq_rhs().dot(dy_) : 0.0);
-  double cx1 = p.objective().dot(x1_) + (pe_ > 0 ? p.eq_rhs().dot(y1_) : 0.0);
+  double cx0 = c_.dot(dx_) + (pe_ > 0 ? p.eq_rhs().dot(dy_) : 0.0);
+  double cx1 = c_.dot(x1_) + (pe_ > 0 ? p.eq_rhs().dot(y1_) : 0.0);
   for (auto& w : w_) {
-    const Eigen::Map<const Eigen::VectorXd> f0(w.F0t.data(), w.n * w.n);
-    const Eigen::Map<const Eigen::VectorXd> bt(w.Bt.data(), w.n * w.n);
-    double hz0 = -f0.dot(bt), hz1 = -f0.squaredNorm();
+    double hz0 = -w.Fs.col(0).dot(w.bs), hz1 = -w.f0sq;
     for (int j = 0; j < w.k; ++j) {
-      const double fj = w.Ft.col(j).dot(f0);
-      hz0 -= dx_(w.vars[static_cast<size_t>(j)]) * fj;
-      hz1 -= x1_(w.vars[static_cast<size_t>(j)]) * fj;
+      const int v = w.var[static_cast<size_t>(j)];
+      hz0 -= dx_(v) * w.f0f(j);
+      hz1 -= x1_(v) * w.f0f(j);
     }
     cx0 += hz0;
     cx1 += hz1;
@@ -589,14 +740,12 @@ inline void InteriorPointSolver::direction(double eta, double sigma, double mu, 
   dx_ += dtau_ * x1_;
   if (pe_ > 0) dy_ += dtau_ * y1_;
   dkappa_ = (dk_rhs - kappa_ * dtau_) / tau_;
-  for (size_t b = 0; b < w_.size(); ++b) {
-    BlockWork& w = w_[b];
+  for (auto& w : w_) {
     // W dz = −Σ dx_j F̃_j − B̃0 − dτ F̃0;  W⁻ᵀds = U − W dz
-    w.Wdz = -w.Bt - dtau_ * w.F0t;
-    for (int j = 0; j < w.k; ++j) {
-      const Eigen::Map<const Eigen::MatrixXd> Fj(w.Ft.col(j).data(), w.n, w.n);
-      w.Wdz.noalias() -= dx_(w.vars[static_cast<size_t>(j)]) * Fj;
-    }
+    for (int j = 0; j < w.k; ++j) w.xl(j) = dx_(w.var[static_cast<size_t>(j)]);
+    w.ws = -w.bs - dtau_ * w.Fs.col(0);
+    kernels::gemv_n_add(w.sv, w.k, -1.0, w.Fs.data() + 2L * w.sv, w.xl.data(), w.ws.data());
+    kernels::svec_unpack(w.n, w.ws.data(), w.Wdz.data());
     w.Wds = w.U - w.Wdz;
   }
 }
@@ -630,13 +779,15 @@ inline void InteriorPointSolver::record_best(double merit) {
 inline void InteriorPointSolver::finish(SolveStatus status) {
   // Returns the best iterate for non-converged statuses, the current one otherwise.
   result_.status = status;
+  // Objective values and dual variables are those of the normalised objective c/cscale_.
+  const double cs = cscale_;
   if (status == SolveStatus::Optimal) {
     result_.x = x_ / tau_;
-    if (pe_ > 0) result_.y = y_ / tau_;
-    for (size_t b = 0; b < w_.size(); ++b) result_.Z[b] = w_[b].Z / tau_;
-    result_.objective = pcost_;
-    result_.dual_objective = dcost_;
-    result_.gap = gap_;
+    if (pe_ > 0) result_.y = y_ * (cs / tau_);
+    for (size_t b = 0; b < w_.size(); ++b) result_.Z[b] = w_[b].Z * (cs / tau_);
+    result_.objective = cs * pcost_;
+    result_.dual_objective = cs * dcost_;
+    result_.gap = cs * gap_;
     result_.relative_gap = relgap_;
     result_.primal_residual = pres_;
     result_.dual_residual = dres_;
@@ -644,11 +795,11 @@ inline void InteriorPointSolver::finish(SolveStatus status) {
     // set by caller
   } else {
     result_.x = best_x_;
-    if (pe_ > 0) result_.y = best_y_;
-    for (size_t b = 0; b < w_.size(); ++b) result_.Z[b] = w_[b].best_Z;
-    result_.objective = best_pcost_;
-    result_.dual_objective = best_dcost_;
-    result_.gap = best_gap_;
+    if (pe_ > 0) result_.y = cs * best_y_;
+    for (size_t b = 0; b < w_.size(); ++b) result_.Z[b] = cs * w_[b].best_Z;
+    result_.objective = cs * best_pcost_;
+    result_.dual_objective = cs * best_dcost_;
+    result_.gap = cs * best_gap_;
     result_.relative_gap = best_relgap_;
     result_.primal_residual = best_pres_;
     result_.dual_residual = best_dres_;
@@ -670,22 +821,27 @@ inline const SolveResult& InteriorPointSolver::solve() {
   if (p.structure_version() != version_) setup();
   p.require_solvable();
   if (p.num_blocks() == 0) throw InvalidArgumentError("blocks: the problem has no LMI block (add at least one)");
+  load_values();
 
-  resx0_ = std::max(1.0, p.objective().norm());
+  // A small objective (‖c‖ < 1) is scaled up to ‖c‖ = 1 inside the iteration: the gap
+  // tolerances are absolute below |objective| = 1, so min 1e-6·x stopped with x off by 1e-3.
+  // Larger objectives are left as they are (scaling them down cost iterations on the benchmark
+  // problems). Results are scaled back in finish().
+  {
+    const double cn = p.objective().norm();
+    cscale_ = (cn > 0 && std::isfinite(cn)) ? std::min(cn, 1.0) : 1.0;
+    c_ = p.objective() / cscale_;
+  }
+  resx0_ = std::max(1.0, c_.norm());
   resy0_ = std::max(1.0, pe_ > 0 ? p.eq_rhs().norm() : 0.0);
   double h2 = 0;
   for (const auto& blk : p.blocks()) h2 += blk.constant.squaredNorm();
   resz0_ = std::max(1.0, std::sqrt(h2));
   if (pe_ > 0) AtA_.noalias() = p.eq_matrix().transpose() * p.eq_matrix();
 
-  // Standard embedding start: x = 0, y = 0, S = Z = I, τ = κ = 1 (on the central ray).
-  x_.setZero();
-  y_.setZero();
-  for (auto& w : w_) {
-    w.S.setIdentity();
-    w.Z.setIdentity();
-  }
-  tau_ = kappa_ = 1.0;
+  // Start: the least-squares point of CVXOPT's conelp (falls back to the unit start x = 0,
+  // y = 0, S = Z = I, τ = κ = 1 when it cannot be formed).
+  least_squares_start();
   best_merit_ = std::numeric_limits<double>::infinity();
   result_.x.setZero();
   result_.margin = -std::numeric_limits<double>::infinity();
@@ -717,15 +873,16 @@ inline const SolveResult& InteriorPointSolver::solve() {
       for (size_t b = 0; b < w_.size(); ++b) hz += p.block(static_cast<int>(b)).constant.cwiseProduct(w_[b].Z).sum();
       const double ny = -(hz + (pe_ > 0 ? p.eq_rhs().dot(y_) : 0.0));
       if (ny > 0) {
-        // ‖Aᵀy + Gᵀz‖ = ‖rx − cτ‖
-        const double r = (rx_ - p.objective() * tau_).norm() / resx0_;
+        // ‖Aᵀy + Gᵀz‖ = ‖rx − cτ‖, which does not involve c: measured on its own (not relative
+        // to ‖c‖), so that the normalised certificate's residual is within feas.
+        const double r = (rx_ - c_ * tau_).norm();
         if (r <= opt_.feas * ny) {
           status = SolveStatus::Infeasible;
           break;
         }
       }
       // Dual infeasibility (unbounded): Gx + s ≈ 0, Ax ≈ 0, cᵀx < 0.
-      const double cx = -p.objective().dot(x_);
+      const double cx = -c_.dot(x_);
       if (cx > 0) {
         double r2 = 0;
         for (auto& w : w_) r2 = std::max(r2, (w.rz + tau_ * p.block(static_cast<int>(&w - w_.data())).constant).norm() / resz0_);
@@ -754,7 +911,7 @@ inline const SolveResult& InteriorPointSolver::solve() {
       break;
     }
     // τ-direction: K (x1, y1, z1) = (−c, b, h)
-    bx_ = -p.objective();
+    bx_ = -c_;
     if (pe_ > 0) by_ = p.eq_rhs();
     kkt_solve(bx_, by_, true, 0.0, false, x1_, y1_);
 
