@@ -421,7 +421,9 @@ TEST(LmiClasses, FeasibilityOfAnUnstableSystemIsCertifiedInfeasible) {
     EXPECT_GE(lambda_min(r.Z[static_cast<size_t>(b)]), -1e-9);
   }
   EXPECT_NEAR(f0z, -1.0, 1e-9);
-  for (double v : fiz) EXPECT_NEAR(v, 0.0, 1e-6);
+  // FeasibilitySolver accepts a certificate whose residual is within reduced_feas (1e-5): the
+  // auxiliary problem's dual residual (1e-8) is divided by its optimum t* when normalised
+  for (double v : fiz) EXPECT_NEAR(v, 0.0, SolverOptions{}.reduced_feas);
 }
 
 TEST(LmiClasses, MaxdetClosedForms) {

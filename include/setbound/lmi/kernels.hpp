@@ -879,11 +879,12 @@ inline void gemv_n_add(int s, int k, double alpha, const double* A, const double
   }
 }
 
-/// Solves L Lᵀ x = b in place (L lower triangular n×n, leading dimension n, from cholesky()).
-inline void cholesky_solve(int n, const double* L, double* b) {
+/// Solves L Lᵀ x = b in place (L lower triangular n×n, leading dimension n, from cholesky();
+/// dinv = 1 / diag(L), so that the substitutions multiply instead of dividing).
+inline void cholesky_solve(int n, const double* L, const double* dinv, double* b) {
   for (int j = 0; j < n; ++j) {  // L y = b, by columns of L
     const double* Lj = L + static_cast<long>(j) * n;
-    const double yj = b[j] / Lj[j];
+    const double yj = b[j] * dinv[j];
     b[j] = yj;
     for (int i = j + 1; i < n; ++i) b[i] -= Lj[i] * yj;
   }
@@ -891,7 +892,7 @@ inline void cholesky_solve(int n, const double* L, double* b) {
     const double* Lj = L + static_cast<long>(j) * n;
     double acc = b[j];
     for (int i = j + 1; i < n; ++i) acc -= Lj[i] * b[i];
-    b[j] = acc / Lj[j];
+    b[j] = acc * dinv[j];
   }
 }
 

@@ -216,10 +216,13 @@ class InteriorPointSolver {
     Eigen::VectorXd xl, gl, f0f;  // x gathered by `var`, products per column, ⟨F̃_j, F̃0⟩
     Eigen::VectorXd lambda, isq, wv, ev;
     double f0sq = 0;        // ‖F̃0‖²
+    double e = 1;           // equilibration: the block is solved as e·F_b (equilibrate())
+    std::vector<double> cs; // e·d_var per Fs column (scale of the stored coefficient)
   };
 
   // --- helpers (inline below) ---
   void load_values();
+  void equilibrate();
   void least_squares_start();
   void residuals();
   bool scaling();
@@ -263,13 +266,18 @@ class InteriorPointSolver {
   // iterate
   Eigen::VectorXd x_, y_;
   double tau_ = 1, kappa_ = 1;
-  Eigen::VectorXd c_;   // c / cscale_ (see solve())
+  Eigen::VectorXd c_;   // D c / cscale_ (see solve(), equilibrate())
   double cscale_ = 1;
+  Eigen::VectorXd d_, r_;  // equilibration: x = D x̂ (d_), equality rows scaled by r_
+  Eigen::MatrixXd Aeq_;    // R Aeq D
+  Eigen::VectorXd beq_;    // R beq
+  Eigen::VectorXd xo_, yo_;  // work: iterates in the problem's units
   // residuals
   Eigen::VectorXd rx_, ry_;
   double rtau_ = 0;
   // linear algebra
   Eigen::MatrixXd M_, K_, Lk_, KinvAt_, SA_, AtA_;
+  Eigen::VectorXd Ldinv_;  // 1 / diag(Lk_)
   Eigen::LLT<Eigen::MatrixXd> lltK_, lltSA_;
   double rho_ = 1;
   Eigen::VectorXd g_, gy_, t1_, t2_, t3_, ry2_, r1_, r2_, cdx_, cdy_;
@@ -318,16 +326,18 @@ inline void InteriorPointSolver::setup() {
     w.G.setZero(w.k, w.k);
     for (Eigen::VectorXd* v : {&w.a0, &w.ss, &w.zs, &w.rs, &w.bs, &w.ws}) v->setZero(w.sv);
     for (Eigen::VectorXd* v : {&w.xl, &w.gl, &w.f0f}) v->setZero(w.k);
+    w.cs.assign(static_cast<size_t>(w.k), 1.0);
     for (Eigen::VectorXd* v : {&w.lambda, &w.isq, &w.wv, &w.ev}) v->setZero(n);
   }
   margin_.setup(p);
-  for (Eigen::VectorXd* v : {&c_, &x_, &rx_, &g_, &t1_, &t2_, &r1_, &cdx_, &x1_, &dx_, &dx_a_, &bx_, &best_x_, &xhat_})
+  for (Eigen::VectorXd* v : {&c_, &d_, &xo_, &x_, &rx_, &g_, &t1_, &t2_, &r1_, &cdx_, &x1_, &dx_, &dx_a_, &bx_, &best_x_, &xhat_})
     v->setZero(m_);
-  for (Eigen::VectorXd* v : {&y_, &ry_, &gy_, &t3_, &ry2_, &r2_, &cdy_, &y1_, &dy_, &dy_a_, &by_, &best_y_})
+  for (Eigen::VectorXd* v : {&r_, &beq_, &yo_, &y_, &ry_, &gy_, &t3_, &ry2_, &r2_, &cdy_, &y1_, &dy_, &dy_a_, &by_, &best_y_})
     v->setZero(pe_);
   M_.setZero(m_, m_);
   K_.setZero(m_, m_);
   Lk_.setZero(m_ <= kSmallSchur ? m_ : 0, m_ <= kSmallSchur ? m_ : 0);
+  Ldinv_.setZero(m_);
   // Factorise identities once so that the LLT objects own storage of the right size (no
   // allocation in solve()); move-assigning size-only LLT temporaries copied uninitialised
   // flags (UBSan).
@@ -338,7 +348,7 @@ inline void InteriorPointSolver::setup() {
   SA_.setIdentity();
   lltSA_.compute(SA_);
   AtA_.setZero(m_, m_);
-  if (pe_ > 0) AtA_.noalias() = p.eq_matrix().transpose() * p.eq_matrix();
+  Aeq_.setZero(pe_, m_);
   result_.x.setZero(m_);
   result_.y.setZero(pe_);
   result_.Z.resize(nb);
@@ -354,7 +364,6 @@ inline void InteriorPointSolver::setup() {
 // x = 0, S = Z = I it saved 2–3 of 11–19 iterations on the online problems of papers.md §1.3
 // and on random dense LMIs (bench/bench_lmi.py).
 inline void InteriorPointSolver::least_squares_start() {
-  const LmiProblem& p = *p_;
   auto unit_start = [&] {
     x_.setZero();
     y_.setZero();
@@ -368,19 +377,23 @@ inline void InteriorPointSolver::least_squares_start() {
   residuals();
   if (!scaling() || !assemble_and_factor()) return unit_start();
   bx_.setZero();
-  if (pe_ > 0) by_ = p.eq_rhs();
+  if (pe_ > 0) by_ = beq_;
   kkt_solve(bx_, by_, true, 0.0, false, x1_, y1_);  // primal: x1 (S = F(x1))
   bx_ = -c_;
   if (pe_ > 0) by_.setZero();
   kkt_solve(bx_, by_, false, 0.0, false, dx_, dy_);  // dual: Z = −Σ dx_i F_i, y = dy
   if (!x1_.allFinite() || !dx_.allFinite() || !dy_.allFinite()) return unit_start();
   double ts = -std::numeric_limits<double>::infinity(), tz = ts, ns = 0, nz = 0;
-  for (size_t b = 0; b < w_.size(); ++b) {
-    const LmiBlock& blk = p.block(static_cast<int>(b));
-    BlockWork& w = w_[b];
-    p.evaluate_block(blk, x1_, w.S);
-    w.Z.setZero();
-    for (const auto& co : blk.coefficients) w.Z.noalias() -= dx_(co.var) * co.dense;
+  for (auto& w : w_) {
+    // S = F̂(x1), Z = −Σ dx_i F̂_i (equilibrated data, in svec)
+    for (int j = 0; j < w.k; ++j) w.xl(j) = x1_(w.var[static_cast<size_t>(j)]);
+    w.ws = w.a0;
+    kernels::gemv_n_add(w.sv, w.k, 1.0, w.As.data(), w.xl.data(), w.ws.data());
+    kernels::svec_unpack(w.n, w.ws.data(), w.S.data());
+    for (int j = 0; j < w.k; ++j) w.xl(j) = dx_(w.var[static_cast<size_t>(j)]);
+    w.ws.setZero();
+    kernels::gemv_n_add(w.sv, w.k, -1.0, w.As.data(), w.xl.data(), w.ws.data());
+    kernels::svec_unpack(w.n, w.ws.data(), w.Z.data());
     w.tmp = w.S;
     ts = std::max(ts, -kernels::sym_lambda_min(w.n, w.tmp.data(), w.wv.data(), w.ev.data()));
     w.tmp = w.Z;
@@ -400,9 +413,84 @@ inline void InteriorPointSolver::least_squares_start() {
   tau_ = kappa_ = 1.0;
 }
 
-// Copies the problem's current values into the solver's stacked / svec forms and orders each
-// block's coefficients (dense first). Runs at the start of every solve: values may have been
-// updated since setup (no allocation: every array was sized for the worst case).
+// Ruiz equilibration, as Clarabel does it (CVXOPT does not): the problem is solved in the
+// variables x̂ = D⁻¹x with every block multiplied by a scalar e_b (keeps the cone) and every
+// equality row by r_j. Five sweeps (Clarabel: ten; five did as well here, at half the cost)
+// scale the rows (svec entries, equality rows) and columns
+// (variables) of the constraint data by the inverse square roots of their largest entries
+// (a norm below 1e-4 is left alone, scalings stay below 1e4); a block's scale is then the mean
+// of its rows' scales. On the online ellipsoidal LMIs of papers.md §1.2 (which mix P̂ ~ 1 with
+// disturbance terms ~ 1e-2) it saved a fifth of the iterations. Works on the svec data held in
+// As (load_values()); termination is judged in the problem's own units (residuals()).
+inline void InteriorPointSolver::equilibrate() {
+  const LmiProblem& p = *p_;
+  d_.setOnes();
+  if (pe_ > 0) r_.setOnes();
+  for (auto& w : w_) w.ws.setOnes();  // per-row (svec entry) scales during the sweeps
+  constexpr double lo = 1e-4, hi = 1e4;
+  auto limit = [&](double v) { return v < lo ? 1.0 : std::min(v, hi); };
+  for (int sweep = 0; sweep < 5; ++sweep) {
+    xo_.setZero();  // column maxima
+    for (auto& w : w_) {
+      for (int j = 0; j < w.k; ++j) {
+        const int v = w.var[static_cast<size_t>(j)];
+        const double* a = w.As.col(j).data();
+        double cm = 0;
+        for (int t = 0; t < w.sv; ++t) {
+          const double x = std::abs(a[t]) * w.ws(t);
+          cm = std::max(cm, x);
+          w.bs(t) = j == 0 ? x * d_(v) : std::max(w.bs(t), x * d_(v));  // row maxima
+        }
+        xo_(v) = std::max(xo_(v), cm * d_(v));
+      }
+      if (w.k == 0) continue;
+      for (int t = 0; t < w.sv; ++t) w.ws(t) /= std::sqrt(limit(w.bs(t)));
+    }
+    for (int j = 0; j < pe_; ++j) {
+      double rm = 0;
+      for (int i = 0; i < m_; ++i) {
+        const double a = r_(j) * d_(i) * std::abs(p.eq_matrix()(j, i));
+        xo_(i) = std::max(xo_(i), a);
+        rm = std::max(rm, a);
+      }
+      r_(j) /= std::sqrt(limit(rm));
+    }
+    for (int i = 0; i < m_; ++i) d_(i) /= std::sqrt(limit(xo_(i)));
+  }
+  for (auto& w : w_) {
+    w.e = w.ws.mean();
+    if (!(w.e > 0) || !std::isfinite(w.e)) w.e = 1.0;
+  }
+  for (int i = 0; i < m_; ++i)
+    if (!(d_(i) > 0) || !std::isfinite(d_(i))) d_(i) = 1.0;
+  for (int j = 0; j < pe_; ++j)
+    if (!(r_(j) > 0) || !std::isfinite(r_(j))) r_(j) = 1.0;
+  // Apply: coefficients e_b d_i F_bi (As, the stacked V), constants e_b F_b0, cost D c.
+  for (auto& w : w_) {
+    const int n = w.n;
+    for (int j = 0; j < w.k; ++j) {
+      w.cs[static_cast<size_t>(j)] = w.e * d_(w.var[static_cast<size_t>(j)]);
+      w.As.col(j) *= w.cs[static_cast<size_t>(j)];
+    }
+    w.a0 *= w.e;
+    for (int c = 0; c < n; ++c)
+      for (int r = 0; r < n; ++r) w.V(r, c) *= w.e;
+    for (int j = 0; j < w.kd; ++j)
+      for (int c = 0; c < n; ++c)
+        for (int r = 0; r < n; ++r) w.V(static_cast<Eigen::Index>(2 + j) * n + r, c) *= w.cs[static_cast<size_t>(j)];
+  }
+  c_ = c_.cwiseProduct(d_);
+  if (pe_ > 0) {
+    Aeq_ = r_.asDiagonal() * p.eq_matrix() * d_.asDiagonal();
+    beq_ = r_.cwiseProduct(p.eq_rhs());
+    AtA_.noalias() = Aeq_.transpose() * Aeq_;
+  }
+}
+
+// Copies the problem's current values into the solver's stacked / svec forms (equilibrate()
+// then scales them) and orders each block's coefficients (dense first). Runs at the start of
+// every solve: values may have been updated since setup (no allocation: every array was sized
+// for the worst case).
 inline void InteriorPointSolver::load_values() {
   const LmiProblem& p = *p_;
   for (size_t b = 0; b < w_.size(); ++b) {
@@ -438,7 +526,6 @@ inline void InteriorPointSolver::load_values() {
 inline void InteriorPointSolver::residuals() {
   // rx = Aᵀy + Gᵀz + cτ;  ry = bτ − Ax;  rz = S − (F0 τ + Σ x_i F_i);  rτ = κ + cᵀx + bᵀy + hᵀz
   // In svec form (kernels.hpp): ⟨F_j, Z⟩ = svec(F_j)ᵀsvec(Z), one product per block.
-  const LmiProblem& p = *p_;
   rx_ = c_ * tau_;
   double hz = 0, sz = 0, rznorm2 = 0;
   for (auto& w : w_) {
@@ -452,23 +539,23 @@ inline void InteriorPointSolver::residuals() {
     kernels::svec_unpack(w.n, w.rs.data(), w.rz.data());
     hz += w.a0.dot(w.zs);
     sz += w.ss.dot(w.zs);
-    rznorm2 += w.rs.squaredNorm();
+    rznorm2 += w.rs.squaredNorm() / (w.e * w.e);  // in the problem's units (equilibrate())
   }
   double by = 0;
   if (pe_ > 0) {
-    rx_.noalias() += p.eq_matrix().transpose() * y_;
-    ry_ = p.eq_rhs() * tau_;
-    ry_.noalias() -= p.eq_matrix() * x_;
-    by = p.eq_rhs().dot(y_);
+    rx_.noalias() += Aeq_.transpose() * y_;
+    ry_ = beq_ * tau_;
+    ry_.noalias() -= Aeq_ * x_;
+    by = beq_.dot(y_);
   }
   rtau_ = kappa_ + c_.dot(x_) + by + hz;
   // Metrics of the current iterate (x/τ, y/τ, z/τ).
   pcost_ = c_.dot(x_) / tau_;
   dcost_ = -(by + hz) / tau_;
   gap_ = sz / (tau_ * tau_);
-  const double pres_y = pe_ > 0 ? ry_.norm() / resy0_ : 0.0;
+  const double pres_y = pe_ > 0 ? ry_.cwiseQuotient(r_).norm() / resy0_ : 0.0;
   pres_ = std::max(pres_y, std::sqrt(rznorm2) / resz0_) / tau_;
-  dres_ = rx_.norm() / resx0_ / tau_;
+  dres_ = rx_.cwiseQuotient(d_).norm() / resx0_ / tau_;
   const double dgap = std::max(gap_, std::abs(pcost_ - dcost_));
   relgap_ = dgap / std::max(1.0, std::min(std::abs(pcost_), std::abs(dcost_)));
 }
@@ -547,20 +634,22 @@ inline bool InteriorPointSolver::assemble_and_factor() {
     // (q_r = row r of Q = column r of Qᵀ), accumulated straight into svec (lower triangle).
     for (int j = w.kd; j < w.k; ++j) {
       const Coefficient& co = blk.coefficients[static_cast<size_t>(w.col[static_cast<size_t>(j)])];
+      const double sc = w.cs[static_cast<size_t>(j)];
       double* o = w.Fs.col(2 + j).data();
       std::fill(o, o + sv, 0.0);
       for (const auto& e : co.entries) {
         const double* qr = w.Qt.data() + static_cast<long>(e.row) * n;
         const double* qc = w.Qt.data() + static_cast<long>(e.col) * n;
+        const double ev = sc * e.value;
         int idx = 0;
         if (e.row == e.col) {
           for (int b2 = 0; b2 < n; ++b2) {
-            const double f = e.value * qr[b2];
+            const double f = ev * qr[b2];
             for (int a = b2; a < n; ++a) o[idx++] += qr[a] * f;
           }
         } else {
           for (int b2 = 0; b2 < n; ++b2) {
-            const double fc = e.value * qc[b2], fr = e.value * qr[b2];
+            const double fc = ev * qc[b2], fr = ev * qr[b2];
             for (int a = b2; a < n; ++a) o[idx++] += qr[a] * fc + qc[a] * fr;
           }
         }
@@ -600,9 +689,9 @@ inline bool InteriorPointSolver::assemble_and_factor() {
   K_.diagonal().array() += 1e-13 * mscale;
   if (!factor_schur()) return false;
   if (pe_ > 0) {
-    KinvAt_ = p.eq_matrix().transpose();
+    KinvAt_ = Aeq_.transpose();
     for (int i = 0; i < pe_; ++i) solve_schur(KinvAt_.col(i).data());
-    SA_.noalias() = p.eq_matrix() * KinvAt_;
+    SA_.noalias() = Aeq_ * KinvAt_;
     SA_.diagonal().array() += 1e-14 * std::max(1.0, SA_.diagonal().maxCoeff());
     lltSA_.compute(SA_);
     if (lltSA_.info() != Eigen::Success) return false;
@@ -614,27 +703,31 @@ inline bool InteriorPointSolver::assemble_and_factor() {
 // variables (Eigen's dynamic-size LLT costs more in dispatch than in flops there), Eigen's
 // blocked LLT above.
 inline bool InteriorPointSolver::factor_schur() {
-  if (m_ <= kSmallSchur) return kernels::cholesky(m_, K_.data(), Lk_.data());
+  if (m_ <= kSmallSchur) {
+    if (!kernels::cholesky(m_, K_.data(), Lk_.data())) return false;
+    for (int i = 0; i < m_; ++i) Ldinv_(i) = 1.0 / Lk_(i, i);  // the solves multiply
+    return true;
+  }
   lltK_.compute(K_);
   return lltK_.info() == Eigen::Success;
 }
 
 inline void InteriorPointSolver::solve_schur(double* b) {
-  if (m_ <= kSmallSchur) return kernels::cholesky_solve(m_, Lk_.data(), b);
+  if (m_ <= kSmallSchur) return kernels::cholesky_solve(m_, Lk_.data(), Ldinv_.data(), b);
   Eigen::Map<Eigen::VectorXd> v(b, m_);
   lltK_.solveInPlace(v);
 }
 
-// Solves M dx + Aᵀdy = g, A dx = by (K = M + ρAᵀA formulation), with one refinement step.
+// Solves M dx + Aᵀdy = g, A dx = by (K = M + ρAᵀA formulation), with up to two steps of
+// iterative refinement (the second only when the first still changed dx noticeably).
 inline void InteriorPointSolver::solve_reduced(const Eigen::VectorXd& g, const Eigen::VectorXd& by,
                                                 Eigen::VectorXd& dx, Eigen::VectorXd& dy) {
-  const LmiProblem& p = *p_;
   auto base = [&](const Eigen::VectorXd& gg, const Eigen::VectorXd& bb, Eigen::VectorXd& ox, Eigen::VectorXd& oy) {
     t1_ = gg;
-    if (pe_ > 0) t1_.noalias() += rho_ * p.eq_matrix().transpose() * bb;
+    if (pe_ > 0) t1_.noalias() += rho_ * Aeq_.transpose() * bb;
     solve_schur(t1_.data());  // t1 = K⁻¹(g + ρAᵀb)
     if (pe_ > 0) {
-      oy.noalias() = p.eq_matrix() * t1_;
+      oy.noalias() = Aeq_ * t1_;
       oy -= bb;
       lltSA_.solveInPlace(oy);
       ox = t1_;
@@ -649,13 +742,16 @@ inline void InteriorPointSolver::solve_reduced(const Eigen::VectorXd& g, const E
     kernels::gemv_t(m_, m_, M_.data(), dx.data(), t2_.data());  // M dx (M symmetric)
     r1_ -= t2_;
     if (pe_ > 0) {
-      r1_.noalias() -= p.eq_matrix().transpose() * dy;
+      r1_.noalias() -= Aeq_.transpose() * dy;
       r2_ = by;
-      r2_.noalias() -= p.eq_matrix() * dx;
+      r2_.noalias() -= Aeq_ * dx;
     }
     base(r1_, r2_, cdx_, cdy_);
     dx += cdx_;
     if (pe_ > 0) dy += cdy_;
+    if (cdx_.cwiseAbs().maxCoeff() <= 1e-14 * dx.cwiseAbs().maxCoeff() &&
+        (pe_ == 0 || cdy_.cwiseAbs().maxCoeff() <= 1e-14 * dy.cwiseAbs().maxCoeff()))
+      break;
   }
 }
 
@@ -703,7 +799,6 @@ inline double InteriorPointSolver::max_step_scaled(BlockWork& w, const Eigen::Ma
 // One Newton direction of the embedding. Predictor: eta = 1, sigma = 0; corrector adds the
 // second-order term (W⁻ᵀds_a)∘(W dz_a) and centring σμ (Mehrotra).
 inline void InteriorPointSolver::direction(double eta, double sigma, double mu, bool corrector) {
-  const LmiProblem& p = *p_;
   // ds_rhs = −λ∘λ + σμe − corr  ⇒  U = λ⁻¹◇ds_rhs: U_ij = 2 ds_rhs_ij / (λ_i + λ_j)
   for (auto& w : w_) {
     if (corrector) {
@@ -724,8 +819,8 @@ inline void InteriorPointSolver::direction(double eta, double sigma, double mu, 
   if (pe_ > 0) by_ = eta * ry_;
   kkt_solve(bx_, by_, false, eta, true, dx_, dy_);
   // hᵀdz0 = <F̃0, W dz0>,  W dz0 = −Σ dx_j F̃_j − B̃0
-  double cx0 = c_.dot(dx_) + (pe_ > 0 ? p.eq_rhs().dot(dy_) : 0.0);
-  double cx1 = c_.dot(x1_) + (pe_ > 0 ? p.eq_rhs().dot(y1_) : 0.0);
+  double cx0 = c_.dot(dx_) + (pe_ > 0 ? beq_.dot(dy_) : 0.0);
+  double cx1 = c_.dot(x1_) + (pe_ > 0 ? beq_.dot(y1_) : 0.0);
   for (auto& w : w_) {
     double hz0 = -w.Fs.col(0).dot(w.bs), hz1 = -w.f0sq;
     for (int j = 0; j < w.k; ++j) {
@@ -765,9 +860,10 @@ inline double InteriorPointSolver::step_length(double cap) {
 inline void InteriorPointSolver::record_best(double merit) {
   if (!(merit < best_merit_)) return;
   best_merit_ = merit;
-  best_x_ = x_ / tau_;
-  if (pe_ > 0) best_y_ = y_ / tau_;
-  for (auto& w : w_) w.best_Z = w.Z / tau_;
+  // In the problem's units (equilibrate()): x = D x̂, y = R ŷ, Z_b = e_b Ẑ_b.
+  best_x_ = x_.cwiseProduct(d_) / tau_;
+  if (pe_ > 0) best_y_ = y_.cwiseProduct(r_) / tau_;
+  for (auto& w : w_) w.best_Z = w.Z * (w.e / tau_);
   best_pcost_ = pcost_;
   best_dcost_ = dcost_;
   best_gap_ = gap_;
@@ -782,9 +878,9 @@ inline void InteriorPointSolver::finish(SolveStatus status) {
   // Objective values and dual variables are those of the normalised objective c/cscale_.
   const double cs = cscale_;
   if (status == SolveStatus::Optimal) {
-    result_.x = x_ / tau_;
-    if (pe_ > 0) result_.y = y_ * (cs / tau_);
-    for (size_t b = 0; b < w_.size(); ++b) result_.Z[b] = w_[b].Z * (cs / tau_);
+    result_.x = x_.cwiseProduct(d_) / tau_;
+    if (pe_ > 0) result_.y = y_.cwiseProduct(r_) * (cs / tau_);
+    for (size_t b = 0; b < w_.size(); ++b) result_.Z[b] = w_[b].Z * (cs * w_[b].e / tau_);
     result_.objective = cs * pcost_;
     result_.dual_objective = cs * dcost_;
     result_.gap = cs * gap_;
@@ -821,7 +917,6 @@ inline const SolveResult& InteriorPointSolver::solve() {
   if (p.structure_version() != version_) setup();
   p.require_solvable();
   if (p.num_blocks() == 0) throw InvalidArgumentError("blocks: the problem has no LMI block (add at least one)");
-  load_values();
 
   // A small objective (‖c‖ < 1) is scaled up to ‖c‖ = 1 inside the iteration: the gap
   // tolerances are absolute below |objective| = 1, so min 1e-6·x stopped with x off by 1e-3.
@@ -837,7 +932,8 @@ inline const SolveResult& InteriorPointSolver::solve() {
   double h2 = 0;
   for (const auto& blk : p.blocks()) h2 += blk.constant.squaredNorm();
   resz0_ = std::max(1.0, std::sqrt(h2));
-  if (pe_ > 0) AtA_.noalias() = p.eq_matrix().transpose() * p.eq_matrix();
+  load_values();
+  equilibrate();
 
   // Start: the least-squares point of CVXOPT's conelp (falls back to the unit start x = 0,
   // y = 0, S = Z = I, τ = κ = 1 when it cannot be formed).
@@ -861,7 +957,7 @@ inline const SolveResult& InteriorPointSolver::solve() {
       break;
     }
     if (opt_.feasibility_var >= 0 && x_(opt_.feasibility_var) < 0) {
-      xhat_ = x_ / tau_;
+      xhat_ = x_.cwiseProduct(d_) / tau_;
       if (mc.margin(p, xhat_, opt_.feasibility_var) > 0) {
         status = SolveStatus::Optimal;
         break;
@@ -870,12 +966,12 @@ inline const SolveResult& InteriorPointSolver::solve() {
     {
       // Primal infeasibility certificate: Gᵀz + Aᵀy ≈ 0 with hᵀz + bᵀy < 0.
       double hz = 0;
-      for (size_t b = 0; b < w_.size(); ++b) hz += p.block(static_cast<int>(b)).constant.cwiseProduct(w_[b].Z).sum();
-      const double ny = -(hz + (pe_ > 0 ? p.eq_rhs().dot(y_) : 0.0));
+      for (const auto& w : w_) hz += w.a0.dot(w.zs);  // zs: svec(Z) of this iterate (residuals())
+      const double ny = -(hz + (pe_ > 0 ? beq_.dot(y_) : 0.0));
       if (ny > 0) {
         // ‖Aᵀy + Gᵀz‖ = ‖rx − cτ‖, which does not involve c: measured on its own (not relative
         // to ‖c‖), so that the normalised certificate's residual is within feas.
-        const double r = (rx_ - c_ * tau_).norm();
+        const double r = (rx_ - c_ * tau_).cwiseQuotient(d_).norm();
         if (r <= opt_.feas * ny) {
           status = SolveStatus::Infeasible;
           break;
@@ -885,8 +981,8 @@ inline const SolveResult& InteriorPointSolver::solve() {
       const double cx = -c_.dot(x_);
       if (cx > 0) {
         double r2 = 0;
-        for (auto& w : w_) r2 = std::max(r2, (w.rz + tau_ * p.block(static_cast<int>(&w - w_.data())).constant).norm() / resz0_);
-        if (pe_ > 0) r2 = std::max(r2, (ry_ - p.eq_rhs() * tau_).norm() / resy0_);
+        for (auto& w : w_) r2 = std::max(r2, (w.rs + tau_ * w.a0).norm() / w.e / resz0_);
+        if (pe_ > 0) r2 = std::max(r2, (ry_ - beq_ * tau_).cwiseQuotient(r_).norm() / resy0_);
         if (r2 <= opt_.feas * cx) {
           status = SolveStatus::Unbounded;
           break;
@@ -912,7 +1008,7 @@ inline const SolveResult& InteriorPointSolver::solve() {
     }
     // τ-direction: K (x1, y1, z1) = (−c, b, h)
     bx_ = -c_;
-    if (pe_ > 0) by_ = p.eq_rhs();
+    if (pe_ > 0) by_ = beq_;
     kkt_solve(bx_, by_, true, 0.0, false, x1_, y1_);
 
     direction(1.0, 0.0, mu, false);
@@ -947,17 +1043,18 @@ inline const SolveResult& InteriorPointSolver::solve() {
   result_.iterations = iter;
   if (status == SolveStatus::Infeasible) {
     double hz = 0;
-    for (size_t b = 0; b < w_.size(); ++b) hz += p.block(static_cast<int>(b)).constant.cwiseProduct(w_[b].Z).sum();
-    const double ny = -(hz + (pe_ > 0 ? p.eq_rhs().dot(y_) : 0.0));
-    for (size_t b = 0; b < w_.size(); ++b) result_.Z[b] = w_[b].Z / ny;
-    if (pe_ > 0) result_.y = y_ / ny;
+    for (const auto& w : w_) hz += w.a0.dot(w.zs);
+    const double ny = -(hz + (pe_ > 0 ? beq_.dot(y_) : 0.0));
+    for (size_t b = 0; b < w_.size(); ++b) result_.Z[b] = w_[b].Z * (w_[b].e / ny);
+    if (pe_ > 0) result_.y = y_.cwiseProduct(r_) / ny;
     result_.x.setConstant(std::numeric_limits<double>::quiet_NaN());
     result_.objective = std::numeric_limits<double>::infinity();
     result_.dual_objective = std::numeric_limits<double>::infinity();
     finish(status);
   } else if (status == SolveStatus::Unbounded) {
-    const double cx = -p.objective().dot(x_);
-    result_.x = x_ / cx;  // ray with cᵀx = −1
+    xo_ = x_.cwiseProduct(d_);
+    const double cx = -p.objective().dot(xo_);
+    result_.x = xo_ / cx;  // ray with cᵀx = −1
     result_.objective = -std::numeric_limits<double>::infinity();
     result_.dual_objective = -std::numeric_limits<double>::infinity();
     finish(status);
