@@ -5,10 +5,14 @@
 //
 // (det((I − λcᵀ)H_S) = (1 − cᵀλ) det H_S; a subset with the new column φλ gives
 // φ det[H_T, λ] = φ w_Tᵀλ, w_T the cofactor vector of H_T, orthogonal to its columns with
-// norm the (n−1)-volume they span.) Convex piecewise linear in λ, hence the LP
-//   min a r + φ Σ_T s_T   s.t.  r ≥ ±(1 − cᵀλ),  s_T ≥ ±w_Tᵀλ.
-// Any λ is guaranteed; if the LP cannot be solved to optimality the segment-minimising λ
-// is used instead (documented fallback, still guaranteed).
+// norm the (n−1)-volume they span.) Convex piecewise linear in λ: the weighted least absolute
+// deviations problem  min a |cᵀλ − 1| + φ Σ_T |w_Tᵀλ|, the LP
+//   min a r + φ Σ_T s_T   s.t.  r ≥ ±(1 − cᵀλ),  s_T ≥ ±w_Tᵀλ,
+// solved by lmi::minimize_weighted_l1 (an interior-point method whose Newton systems are n×n;
+// on the general LMI solver the LP's dense Schur complement had one row per subset T, which made
+// a step cost seconds at a few hundred subsets). Any λ is guaranteed; if the minimisation stops
+// short of a relative gap of 1e-6 the segment-minimising λ is used instead (documented
+// fallback, still guaranteed).
 #pragma once
 
 #include <Eigen/Core>
@@ -19,12 +23,13 @@
 
 #include "setbound/core/error.hpp"
 #include "setbound/estimators/zonotopic.hpp"
-#include "setbound/lmi/lp.hpp"
+#include "setbound/lmi/l1.hpp"
 #include "setbound/sets/zonotope.hpp"
 
 namespace setbound {
 
-/// Largest number of (n−1)-subsets the LP accepts (its dense Schur complement grows with it).
+/// Largest number of (n−1)-subsets the volume minimisation accepts (the subsets are enumerated
+/// and each is a row of the L1 problem at every step).
 inline constexpr double kVolumeMinMaxSubsets = 2000;
 
 namespace detail {
@@ -75,37 +80,21 @@ inline Eigen::VectorXd volume_min_gain(const Zonotope& Z, const StripMeasurement
     });
   }
   if (w.empty() || phi == 0.0) return segment_min_gain(Z, meas);
-  // Variables: λ (0..n−1), r (n), s_T (n+1 …). Scale the objective to order one.
-  const int N = static_cast<int>(n) + 1 + static_cast<int>(w.size());
-  double scale = a;
-  for (const auto& wt : w) scale = std::max(scale, phi * wt.cwiseAbs().sum());
-  if (!(scale > 0)) return segment_min_gain(Z, meas);
-  lmi::LinearProgram lp(N);
-  Eigen::VectorXd obj = Eigen::VectorXd::Zero(N);
-  obj(n) = a / scale;
-  const int r = static_cast<int>(n);
-  for (std::size_t t = 0; t < w.size(); ++t) obj(r + 1 + static_cast<int>(t)) = phi / scale;
-  lp.set_objective(obj);
-  // r ≥ 1 − cᵀλ  ⇔  −r − cᵀλ ≤ −1 ;  r ≥ cᵀλ − 1  ⇔  −r + cᵀλ ≤ 1
-  lmi::LpRow lo{{r, -1.0}}, hi{{r, -1.0}};
-  for (Eigen::Index i = 0; i < n; ++i) lo.emplace_back(static_cast<int>(i), -c(i)), hi.emplace_back(static_cast<int>(i), c(i));
-  lp.add_le(lo, -1.0);
-  lp.add_le(hi, 1.0);
+  // Rows: a |cᵀλ − 1| and φ |w_Tᵀλ|.
+  const Eigen::Index T = static_cast<Eigen::Index>(w.size()) + 1;
+  Eigen::MatrixXd G(T, n);
+  Eigen::VectorXd h = Eigen::VectorXd::Zero(T), gamma(T);
+  G.row(0) = c.transpose();
+  h(0) = 1.0;
+  gamma(0) = a;
   for (std::size_t t = 0; t < w.size(); ++t) {
-    const int s = r + 1 + static_cast<int>(t);
-    lmi::LpRow p{{s, -1.0}}, q{{s, -1.0}};
-    for (Eigen::Index i = 0; i < n; ++i) {
-      if (w[t](i) == 0.0) continue;
-      p.emplace_back(static_cast<int>(i), w[t](i));
-      q.emplace_back(static_cast<int>(i), -w[t](i));
-    }
-    lp.add_le(p, 0.0);
-    lp.add_le(q, 0.0);
+    G.row(static_cast<Eigen::Index>(t) + 1) = w[t].transpose();
+    gamma(static_cast<Eigen::Index>(t) + 1) = phi;
   }
-  const lmi::SolveResult res = lp.solve();
-  if (res.status != lmi::SolveStatus::Optimal && res.status != lmi::SolveStatus::Inaccurate)
-    return segment_min_gain(Z, meas);
-  Eigen::VectorXd lambda = res.x.head(n);
+  if (!G.allFinite() || !std::isfinite(a)) return segment_min_gain(Z, meas);
+  const lmi::WeightedL1Result res = lmi::minimize_weighted_l1(G, h, gamma);
+  if (!(res.converged || res.relative_gap <= 1e-6)) return segment_min_gain(Z, meas);
+  Eigen::VectorXd lambda = res.x;
   if (!lambda.allFinite()) return segment_min_gain(Z, meas);
   return lambda;
 }
