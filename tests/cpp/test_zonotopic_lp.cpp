@@ -2,12 +2,15 @@
 // solver: optimality against brute force, and every estimator's hull containing the exact one.
 #include <gtest/gtest.h>
 
+#include <iomanip>
 #include <random>
 #include <vector>
 
 #include "setbound/estimators/exact_hull.hpp"
 #include "setbound/estimators/pradius.hpp"
 #include "setbound/estimators/volume_min.hpp"
+#include "setbound/lmi/l1.hpp"
+#include "setbound/lmi/lp.hpp"
 #include "test_helpers.hpp"
 
 using namespace setbound;
@@ -28,6 +31,76 @@ LinearSystem le13_known() {
   return LinearSystem(A, C, E, F);
 }
 }  // namespace
+
+// The weighted-L1 method of the volume minimisation against the same LP on the general solver.
+double l1_objective(const MatrixXd& G, const VectorXd& h, const VectorXd& gamma, const VectorXd& x) {
+  return (gamma.array() * (G * x - h).array().abs()).sum();
+}
+
+VectorXd l1_by_lp(const MatrixXd& G, const VectorXd& h, const VectorXd& gamma) {
+  const int T = static_cast<int>(G.rows()), n = static_cast<int>(G.cols());
+  lmi::LinearProgram lp(n + T);
+  VectorXd obj = VectorXd::Zero(n + T);
+  obj.tail(T) = gamma;
+  lp.set_objective(obj);
+  for (int t = 0; t < T; ++t) {  // s_t ≥ ±(g_tᵀx − h_t)
+    lmi::LpRow a{{n + t, -1.0}}, b{{n + t, -1.0}};
+    for (int i = 0; i < n; ++i) a.emplace_back(i, G(t, i)), b.emplace_back(i, -G(t, i));
+    lp.add_le(a, h(t));
+    lp.add_le(b, -h(t));
+  }
+  const lmi::SolveResult r = lp.solve();
+  EXPECT_TRUE(r.status == lmi::SolveStatus::Optimal || r.status == lmi::SolveStatus::Inaccurate);
+  return r.x.head(n);
+}
+
+TEST(WeightedL1, MatchesTheLpOnRandomProblems) {
+  std::mt19937 g(11);
+  std::normal_distribution<double> N;
+  std::uniform_real_distribution<double> U(0.01, 1.0);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = 1 + trial % 6, T = n + 1 + (trial * 13) % 60;
+    MatrixXd G(T, n);
+    VectorXd h(T), gamma(T);
+    for (int t = 0; t < T; ++t) {
+      for (int i = 0; i < n; ++i) G(t, i) = N(g) * std::pow(10.0, trial % 5 - 2);
+      h(t) = trial % 2 ? N(g) : (t == 0 ? 1.0 : 0.0);
+      gamma(t) = U(g) * (t == 0 ? 1.0 + trial : 1.0);
+    }
+    if (trial % 4 == 3) {  // repeated rows and tiny weights (as for repeated generators)
+      G.row(T - 1) = G.row(T - 2);
+      gamma(T - 1) = 1e-6;
+    }
+    const lmi::WeightedL1Result r = lmi::minimize_weighted_l1(G, h, gamma);
+    EXPECT_TRUE(r.converged) << "trial " << trial;
+    const double f = l1_objective(G, h, gamma, r.x), flp = l1_objective(G, h, gamma, l1_by_lp(G, h, gamma));
+    EXPECT_NEAR(r.objective, f, 1e-12 * std::max(1.0, f));
+    EXPECT_LE(f, flp + 1e-7 * std::max(1.0, flp)) << "trial " << trial << std::setprecision(17) << " " << f << " " << flp << " gap " << r.relative_gap << " lb " << r.lower_bound;  // at least as good as the LP
+    EXPECT_LE(r.lower_bound, f * (1 + 1e-9) + 1e-12);
+    EXPECT_GE(r.lower_bound, f - 1e-7 * std::max(1.0, f));  // the dual bound closes the gap
+  }
+}
+
+TEST(WeightedL1, TrivialAndBadInput) {
+  MatrixXd G(3, 2);
+  G << 1, 0, 0, 1, 0, 0;  // the last row is a constant term
+  VectorXd h(3), gamma(3);
+  h << 2, -1, 5;
+  gamma << 1, 0, 3;  // the second row has no weight
+  const lmi::WeightedL1Result r = lmi::minimize_weighted_l1(G, h, gamma);
+  EXPECT_TRUE(r.converged);
+  EXPECT_NEAR(r.x(0), 2.0, 1e-7);
+  EXPECT_NEAR(r.objective, 15.0, 1e-6);  // 3 |0 − 5|
+  EXPECT_THROW(lmi::minimize_weighted_l1(G, h.head(2), gamma), DimensionError);
+  VectorXd bad = gamma;
+  bad(0) = -1;
+  EXPECT_THROW(lmi::minimize_weighted_l1(G, h, bad), InvalidArgumentError);
+  MatrixXd Gn = G;
+  Gn(0, 0) = std::nan("");
+  EXPECT_THROW(lmi::minimize_weighted_l1(Gn, h, gamma), InvalidArgumentError);
+  const lmi::WeightedL1Result z = lmi::minimize_weighted_l1(MatrixXd(0, 2), VectorXd(0), VectorXd(0));
+  EXPECT_TRUE(z.converged && z.x.isZero(0) && z.objective == 0.0);
+}
 
 TEST(VolumeMin, LpOptimumBeatsEveryOtherGain) {
   std::mt19937 gen(8);

@@ -124,7 +124,9 @@ inline WeightedL1Result minimize_weighted_l1(const Eigen::MatrixXd& G, const Eig
     // p and q grow together, and their difference loses digits, while x stays exact.
     const double lower = b.dot(u) + r2.dot(x);
     if (r2.cwiseAbs().maxCoeff() <= 1e-9) {
-      out.relative_gap = std::max(0.0, best - lower) / std::max(1.0, std::abs(best));
+      // relative to the objective itself (the weights were scaled to max 1, so an objective well
+      // below 1 is common; max(1, ·) would make the test absolute there)
+      out.relative_gap = std::max(0.0, best - lower) / std::max(std::abs(best), 1e-12);
       out.lower_bound = wscale * lower;
     }
     if (out.relative_gap <= tol) {
