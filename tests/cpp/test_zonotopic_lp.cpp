@@ -129,6 +129,23 @@ TEST(VolumeMin, LpOptimumBeatsEveryOtherGain) {
   }
 }
 
+TEST(VolumeMin, TooManySubsetsIsAClearError) {
+  // C(22, 7) = 170544 subsets of n − 1 = 7 generators: above kVolumeMinMaxSubsets.
+  const Zonotope Z(VectorXd::Zero(8), MatrixXd::Identity(8, 22));
+  VectorXd c = VectorXd::Zero(8);
+  c(0) = 1;
+  try {
+    volume_min_gain(Z, StripMeasurement{Strip(c, 0.0, 0.1), 0});
+    FAIL() << "expected InvalidArgumentError";
+  } catch (const InvalidArgumentError& e) {
+    EXPECT_NE(std::string(e.what()).find("C(22, 7)"), std::string::npos) << e.what();
+  }
+  // C(14, 6) = 3003 (an n_x = 7 estimator with n_x + 2 generators kept and 5 disturbances) is fine.
+  const Zonotope Z7(VectorXd::Zero(7), MatrixXd::Random(7, 14));
+  const VectorXd lambda = volume_min_gain(Z7, StripMeasurement{Strip(VectorXd::Unit(7, 2), 0.1, 0.2), 0});
+  EXPECT_TRUE(lambda.allFinite());
+}
+
 TEST(VolumeMin, EstimatorContainsTruth) {
   const LinearSystem sys = le13_known();
   std::mt19937 gen(2);
