@@ -791,8 +791,22 @@ inline void stacked_mul(int rows, int n, const double* V, long ldv, const double
 SETBOUND_KERNEL_CLONES inline void stacked_congruence_svec(int n, int count, const double* V, long ld, const double* Q, double* P, double* T,
                                     double* out, long ldo) {
   with_size(n, [&](auto N) {
-    if constexpr (decltype(N)::value == 0) detail::stacked_congruence_svec_rt(n, count, V, ld, Q, P, T, out, ldo);
-    else fixed::stacked_congruence_svec<decltype(N)::value>(count, V, ld, Q, P, T, out, ldo);
+    constexpr int Nv = decltype(N)::value;
+    if constexpr (Nv == 0) {
+      detail::stacked_congruence_svec_rt(n, count, V, ld, Q, P, T, out, ldo);
+    } else if constexpr (Nv <= 8) {
+      fixed::stacked_congruence_svec<Nv>(count, V, ld, Q, P, T, out, ldo);
+    } else {
+      // From n = 9 on the tall products lose to one small congruence per matrix (measured:
+      // 1.4 against 2.0 µs for three 13×13 matrices; twice as fast the other way at n = 7).
+      for (int t = 0; t < count; ++t) {
+        double* F = T + static_cast<long>(t) * Nv * Nv;  // T has room: (count·n)·n entries
+        for (int c = 0; c < Nv; ++c)
+          for (int r = 0; r < Nv; ++r) F[r + c * Nv] = V[t * Nv + r + c * ld];
+        fixed::congruence_t<Nv>(Q, F, P, P + Nv * Nv);
+        fixed::svec_pack<Nv>(P + Nv * Nv, out + t * ldo);
+      }
+    }
   });
 }
 

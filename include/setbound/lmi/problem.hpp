@@ -67,6 +67,7 @@ class LmiProblem {
     has_logdet_ = false;
     logdet_ = LmiBlock{};
     ++version_;
+    ++values_version_;
   }
 
   int num_vars() const { return m_; }
@@ -87,6 +88,10 @@ class LmiProblem {
   }
   /// Incremented whenever the structure changes; solvers re-run their setup when it moves.
   std::uint64_t structure_version() const { return version_; }
+  /// Incremented whenever a block, the log-det term or the equalities change (structure or
+  /// values; not the objective): a solver re-reads and re-equilibrates the data only then, so
+  /// that problems re-solved with a new objective (the online estimators) skip that work.
+  std::uint64_t values_version() const { return values_version_; }
 
   void set_objective(const Eigen::Ref<const Eigen::VectorXd>& c) {
     require_configured();
@@ -114,6 +119,7 @@ class LmiProblem {
     LmiBlock blk = analyse(F0, terms, "F0", "Fs");
     blocks_.push_back(std::move(blk));
     ++version_;
+    ++values_version_;
     return num_blocks() - 1;
   }
 
@@ -125,6 +131,7 @@ class LmiProblem {
       throw InvalidArgumentError("block: index " + std::to_string(b) + " out of range [0, " +
                                  std::to_string(num_blocks()) + ")");
     update_values(blocks_[static_cast<size_t>(b)], F0, terms, "F0", "Fs");
+    ++values_version_;
   }
 
   void update_block(int b, const Eigen::Ref<const Eigen::MatrixXd>& F0, const std::vector<Eigen::MatrixXd>& Fs) {
@@ -142,6 +149,7 @@ class LmiProblem {
     logdet_ = analyse(G0, terms, "G0", "Gs");
     has_logdet_ = true;
     ++version_;
+    ++values_version_;
   }
   void set_logdet(const Eigen::Ref<const Eigen::MatrixXd>& G0, const std::vector<Eigen::MatrixXd>& Gs) {
     require_configured();
@@ -156,6 +164,7 @@ class LmiProblem {
     has_logdet_ = false;
     logdet_ = LmiBlock{};
     ++version_;
+    ++values_version_;
   }
 
   /// Aeq x = beq (replaces earlier equalities; 0 rows removes them).
@@ -173,6 +182,7 @@ class LmiProblem {
     Aeq_ = A;
     beq_ = b;
     if (!same_shape) ++version_;
+    ++values_version_;
   }
 
   /// F_b(x) (without any margin) into `out` (resized only if needed).
@@ -305,6 +315,7 @@ class LmiProblem {
   bool has_logdet_ = false;
   LmiBlock logdet_;
   std::uint64_t version_ = 0;
+  std::uint64_t values_version_ = 0;
 };
 
 }  // namespace setbound::lmi

@@ -268,6 +268,7 @@ class InteriorPointSolver {
   double tau_ = 1, kappa_ = 1;
   Eigen::VectorXd c_;   // D c / cscale_ (see solve(), equilibrate())
   double cscale_ = 1;
+  std::uint64_t values_loaded_ = ~std::uint64_t{0}, values_structure_ = ~std::uint64_t{0};
   Eigen::VectorXd d_, r_;  // equilibration: x = D x̂ (d_), equality rows scaled by r_
   Eigen::MatrixXd Aeq_;    // R Aeq D
   Eigen::VectorXd beq_;    // R beq
@@ -354,6 +355,7 @@ inline void InteriorPointSolver::setup() {
   result_.Z.resize(nb);
   for (size_t b = 0; b < nb; ++b) result_.Z[b].setZero(w_[b].n, w_[b].n);
   version_ = p.structure_version();
+  values_loaded_ = ~std::uint64_t{0};  // the arrays above are zero: re-read at the next solve
 }
 
 // The starting point of CVXOPT's conelp (and Clarabel's for symmetric cones): with the scaling
@@ -479,7 +481,6 @@ inline void InteriorPointSolver::equilibrate() {
       for (int c = 0; c < n; ++c)
         for (int r = 0; r < n; ++r) w.V(static_cast<Eigen::Index>(2 + j) * n + r, c) *= w.cs[static_cast<size_t>(j)];
   }
-  c_ = c_.cwiseProduct(d_);
   if (pe_ > 0) {
     Aeq_ = r_.asDiagonal() * p.eq_matrix() * d_.asDiagonal();
     beq_ = r_.cwiseProduct(p.eq_rhs());
@@ -932,8 +933,15 @@ inline const SolveResult& InteriorPointSolver::solve() {
   double h2 = 0;
   for (const auto& blk : p.blocks()) h2 += blk.constant.squaredNorm();
   resz0_ = std::max(1.0, std::sqrt(h2));
-  load_values();
-  equilibrate();
+  // The data are re-read and re-equilibrated only when they changed (values_version); a new
+  // objective alone keeps the scaling (it does not depend on c).
+  if (p.values_version() != values_loaded_ || p.structure_version() != values_structure_) {
+    load_values();
+    equilibrate();
+    values_loaded_ = p.values_version();
+    values_structure_ = p.structure_version();
+  }
+  c_ = c_.cwiseProduct(d_);
 
   // Start: the least-squares point of CVXOPT's conelp (falls back to the unit start x = 0,
   // y = 0, S = Z = I, τ = κ = 1 when it cannot be formed).
