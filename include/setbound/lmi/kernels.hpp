@@ -810,40 +810,6 @@ SETBOUND_KERNEL_CLONES inline void stacked_congruence_svec(int n, int count, con
   });
 }
 
-/// Upper triangle of the Gram matrix G = FᵀF of the k columns of F (length s each, leading
-/// dimension s); G is k×k with leading dimension ldg. Four columns of F are paired with one
-/// column at a time, so each loaded entry of F_j serves four products.
-SETBOUND_KERNEL_CLONES inline void gram_upper(int s, int k, const double* F, double* G, long ldg) {
-  for (int j = 0; j < k; ++j) {
-    const double* fj = F + static_cast<long>(j) * s;
-    int i = 0;
-    for (; i + 3 <= j; i += 4) {
-      const double* f0 = F + static_cast<long>(i) * s;
-      const double* f1 = f0 + s;
-      const double* f2 = f1 + s;
-      const double* f3 = f2 + s;
-      double a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0;
-      for (int t = 0; t < s; ++t) {
-        const double x = fj[t];
-        a0 += f0[t] * x;
-        a1 += f1[t] * x;
-        a2 += f2[t] * x;
-        a3 += f3[t] * x;
-      }
-      G[i + j * ldg] = a0;
-      G[i + 1 + j * ldg] = a1;
-      G[i + 2 + j * ldg] = a2;
-      G[i + 3 + j * ldg] = a3;
-    }
-    for (; i <= j; ++i) {
-      const double* fi = F + static_cast<long>(i) * s;
-      double a = 0.0;
-      for (int t = 0; t < s; ++t) a += fi[t] * fj[t];
-      G[i + j * ldg] = a;
-    }
-  }
-}
-
 /// y_j = ⟨a_j, x⟩ for the k columns a_j of A (length s each, leading dimension s): Aᵀx with
 /// four columns at a time (Eigen's dynamic-size GEMV costs more in dispatch than in flops at
 /// the solver's sizes, s ≤ 136, k ≤ a few dozen).
@@ -873,6 +839,13 @@ inline void gemv_t(int s, int k, const double* A, const double* x, double* y) {
     for (int t = 0; t < s; ++t) acc += a[t] * x[t];
     y[j] = acc;
   }
+}
+
+/// Upper triangle of the Gram matrix G = FᵀF of the k columns of F (length s each, leading
+/// dimension s); G is k×k with leading dimension ldg. Column j is F_{0..j}ᵀ f_j (gemv_t: four
+/// columns of F at a time, so each loaded entry of f_j serves four products).
+SETBOUND_KERNEL_CLONES inline void gram_upper(int s, int k, const double* F, double* G, long ldg) {
+  for (int j = 0; j < k; ++j) gemv_t(s, j + 1, F, F + static_cast<long>(j) * s, G + j * ldg);
 }
 
 /// y += alpha · A x for A s×k (leading dimension s).
