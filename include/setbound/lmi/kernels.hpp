@@ -37,6 +37,17 @@ namespace setbound::lmi::kernels {
 #define SETBOUND_KERNEL_CLONES
 #endif
 
+/// Complete unrolling of the short fixed-size inner loops (N ≤ 16): -O3 does it unasked, -O2
+/// (CMake's RelWithDebInfo) does not, and then the row loop around them is not vectorised
+/// (a solve of the 32-block benchmark took 5.8 ms instead of 3.9 ms).
+#if defined(__clang__)
+#define SETBOUND_UNROLL _Pragma("unroll")
+#elif defined(__GNUC__)
+#define SETBOUND_UNROLL _Pragma("GCC unroll 16")
+#else
+#define SETBOUND_UNROLL
+#endif
+
 /// Block sizes up to kFixedMax run on fixed-size instantiations (namespace `fixed`): with the
 /// size known at compile time the loops are unrolled and vectorised, and the column being
 /// accumulated lives in registers (a run-time-size loop must reload it: C may alias A or B).
@@ -378,7 +389,7 @@ inline void stacked_mul(int rows, const double* V, long ldv, const double* Q, do
     double* pc = P + c * ld;
     for (int r = 0; r < rows; ++r) {
       double acc = V[r] * q[0];
-      for (int l = 1; l < N; ++l) acc += V[r + l * ldv] * q[l];
+      SETBOUND_UNROLL for (int l = 1; l < N; ++l) acc += V[r + l * ldv] * q[l];
       pc[r] = acc;
     }
   }
