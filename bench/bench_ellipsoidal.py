@@ -2,8 +2,8 @@
 on the 3-state example of papers.md §1.4 (EX-BC14) and on random 6-state systems, from Python.
 
 Medians over >= 200 steps (each step timed on its own, after a short warm-up). Prints a
-Markdown table and, with --write, replaces the "Ellipsoidal estimators" section of
-docs/benchmarks.md. The C++-side figures come from bench/bench_ellipsoidal_cpp (built with
+Markdown table and, with --write, replaces it in the "Ellipsoidal estimators" section of
+docs/benchmarks.md (between the bench_ellipsoidal markers; the commentary around them stays). The C++-side figures come from bench/bench_ellipsoidal_cpp (built with
 -DSETBOUND_BUILD_BENCH=ON); pass its output file with --cpp to merge them into the table.
 
     python bench/bench_ellipsoidal.py [--steps 300] [--write] [--cpp FILE]
@@ -11,6 +11,7 @@ docs/benchmarks.md. The C++-side figures come from bench/bench_ellipsoidal_cpp (
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import platform
 import re
@@ -33,14 +34,40 @@ def bc14():
                            F=[[0, 0, 0, 0.15, 0], [0, 0, 0, 0, 0.15]])
 
 
+class SplitMix64:
+    """The generator bench_ellipsoidal_cpp.cpp uses too (splitmix64, uniform from the top 53 bits,
+    Box-Muller normals), so that both programs time the same random system."""
+
+    def __init__(self, seed):
+        self.state = seed & 0xFFFFFFFFFFFFFFFF
+
+    def next(self):
+        self.state = (self.state + 0x9E3779B97F4A7C15) & 0xFFFFFFFFFFFFFFFF
+        z = self.state
+        z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & 0xFFFFFFFFFFFFFFFF
+        z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & 0xFFFFFFFFFFFFFFFF
+        return z ^ (z >> 31)
+
+    def uniform(self):
+        return (self.next() >> 11) * 2.0**-53
+
+    def normal(self):
+        u1, u2 = self.uniform(), self.uniform()
+        return math.sqrt(-2.0 * math.log(1.0 - u1)) * math.cos(6.283185307179586 * u2)
+
+    def normals(self, rows, cols):
+        return np.array([[self.normal() for _ in range(cols)] for _ in range(rows)])
+
+
 def random6(seed):
-    """A random detectable 6-state system, 2 outputs, 6 disturbances (4 state, 2 output)."""
-    rng = np.random.default_rng(seed)
+    """A random detectable 6-state system, 2 outputs, 6 disturbances (4 state, 2 output); the same
+    draws as random6() in bench_ellipsoidal_cpp.cpp."""
+    g = SplitMix64(seed)
     while True:
-        A = rng.standard_normal((6, 6))
+        A = g.normals(6, 6)
         A *= 0.9 / max(abs(np.linalg.eigvals(A)))
-        C = rng.standard_normal((2, 6))
-        E = np.hstack([0.1 * rng.standard_normal((6, 4)), np.zeros((6, 2))])
+        C = g.normals(2, 6)
+        E = np.hstack([0.1 * g.normals(6, 4), np.zeros((6, 2))])
         F = np.hstack([np.zeros((2, 4)), 0.1 * np.eye(2)])
         s = sb.LinearSystem(A, C, E=E, F=F)
         if s.is_detectable():
@@ -106,15 +133,17 @@ def main():
     print(head)
     print(md)
     if a.write:
+        # Only the generated head and table (between the markers) are replaced; the commentary
+        # written around them in the section stays.
+        begin, end = "<!-- bench_ellipsoidal:begin -->", "<!-- bench_ellipsoidal:end -->"
+        block = f"{begin}\n{head}\n\n{md}\n{end}"
         doc = ROOT / "docs" / "benchmarks.md"
         text = doc.read_text() if doc.exists() else "# Benchmarks\n"
-        section = f"## Ellipsoidal estimators\n\n{head}\n\n{md}\n"
-        if "## Ellipsoidal estimators" in text:
-            text = re.sub(r"## Ellipsoidal estimators\n.*?(?=\n## |\Z)", section, text, flags=re.S)
+        if begin in text and end in text:
+            text = text[:text.index(begin)] + block + text[text.index(end) + len(end):]
         else:
-            text = text.rstrip() + "\n\n" + section
+            text = text.rstrip() + f"\n\n## Ellipsoidal estimators\n\n{block}\n"
         doc.write_text(text)
-
 
 if __name__ == "__main__":
     main()

@@ -7,6 +7,8 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -43,16 +45,37 @@ LinearSystem bc14() {
   return LinearSystem(A, C, E, F);
 }
 
-LinearSystem random6(unsigned seed) {
-  std::mt19937 gen(seed);
-  std::normal_distribution<double> N(0.0, 1.0);
+/// splitmix64 with uniforms from the top 53 bits and Box-Muller normals: the generator of
+/// bench_ellipsoidal.py too, so that both programs time the same random system.
+struct SplitMix64 {
+  std::uint64_t state;
+  std::uint64_t next() {
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+  double normal() {
+    const double u1 = uniform(), u2 = uniform();
+    return std::sqrt(-2.0 * std::log(1.0 - u1)) * std::cos(6.283185307179586 * u2);
+  }
+  Eigen::MatrixXd normals(int rows, int cols) {  // row by row, as the Python side
+    Eigen::MatrixXd M(rows, cols);
+    for (int i = 0; i < rows; ++i)
+      for (int j = 0; j < cols; ++j) M(i, j) = normal();
+    return M;
+  }
+};
+
+LinearSystem random6(std::uint64_t seed) {
+  SplitMix64 g{seed};
   for (;;) {
-    Eigen::MatrixXd A(6, 6), C(2, 6), E = Eigen::MatrixXd::Zero(6, 6), F = Eigen::MatrixXd::Zero(2, 6);
-    for (int i = 0; i < 36; ++i) A(i / 6, i % 6) = N(gen);
+    Eigen::MatrixXd A = g.normals(6, 6);
     A *= 0.9 / A.eigenvalues().cwiseAbs().maxCoeff();
-    for (int i = 0; i < 12; ++i) C(i / 6, i % 6) = N(gen);
-    for (int i = 0; i < 6; ++i)
-      for (int j = 0; j < 4; ++j) E(i, j) = 0.1 * N(gen);
+    const Eigen::MatrixXd C = g.normals(2, 6);
+    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(6, 6), F = Eigen::MatrixXd::Zero(2, 6);
+    E.leftCols(4) = 0.1 * g.normals(6, 4);
     F(0, 4) = 0.1;
     F(1, 5) = 0.1;
     if (check_detectability(A, C).detectable) return LinearSystem(A, C, E, F);
