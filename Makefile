@@ -18,6 +18,12 @@ export CXX
 # Paths under the checkout enter ccache's hash relative to it, so another clone of the project
 # (a CI checkout, a second worktree) reuses the same cache entries.
 export CCACHE_BASEDIR := $(CURDIR)
+# With debug information (the sanitized build's -g1) ccache also hashes the working directory,
+# so a CI clone at another path missed every sanitized object another checkout had compiled (seen
+# 2026-11-26: a warm cache, yet the sanitized build started from scratch). Not hashing it shares
+# them; the cost is that a cached object's debug information names the directory it was first
+# built in (file names and line numbers in sanitizer reports are unaffected).
+export CCACHE_NOHASHDIR := 1
 
 .PHONY: all deps venv install build-cpp test test-cpp test-python test-wheel test-sanitize sanitize-build sanitize-run campaign demo bench fuzz clean
 
