@@ -14,7 +14,6 @@ import argparse
 import math
 import os
 import platform
-import re
 import statistics
 import time
 from pathlib import Path
@@ -24,6 +23,8 @@ import numpy as np
 import setbound as sb
 from setbound import ellipsoidal as ell
 from setbound.simulation import simulate
+
+from doc_region import marked, replace_region
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -133,17 +134,15 @@ def main():
     print(head)
     print(md)
     if a.write:
-        # Only the generated head and table (between the markers) are replaced; the commentary
-        # written around them in the section stays.
-        begin, end = "<!-- bench_ellipsoidal:begin -->", "<!-- bench_ellipsoidal:end -->"
-        block = f"{begin}\n{head}\n\n{md}\n{end}"
+        # Only the generated head and table are replaced; the commentary around them stays.
+        body = f"{head}\n\n{md}"
         doc = ROOT / "docs" / "benchmarks.md"
         text = doc.read_text() if doc.exists() else "# Benchmarks\n"
-        if begin in text and end in text:
-            text = text[:text.index(begin)] + block + text[text.index(end) + len(end):]
-        else:
-            text = text.rstrip() + f"\n\n## Ellipsoidal estimators\n\n{block}\n"
-        doc.write_text(text)
+        new = replace_region(text, "bench_ellipsoidal", body)
+        if new is None:
+            new = text.rstrip() + f"\n\n## Ellipsoidal estimators\n\n{marked('bench_ellipsoidal', body)}\n"
+        doc.write_text(new)
+
 
 if __name__ == "__main__":
     main()

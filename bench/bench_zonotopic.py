@@ -24,6 +24,8 @@ from setbound.benchmarks import load_cora
 from setbound.zonotopic import (PRadiusEstimator, SegmentMinEstimator, VolumeMinEstimator, design_pradius,
                                 exact_hull)
 
+from doc_region import marked, replace_region
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -143,15 +145,13 @@ def main():
         pass
     # Only the region between the markers is ours: the rest of the file (the C++ per-step table of
     # bench/bench_zonotopic_cpp, the ellipsoidal, thesis and solver sections) is kept as it is.
-    begin, end = "<!-- bench_zonotopic:begin -->", "<!-- bench_zonotopic:end -->"
-    block = "\n".join([begin, *lines, end])
+    body = "\n".join(lines)
     out = Path(args.out)
     old = out.read_text() if out.exists() else "# Benchmarks\n"
-    if begin in old and end in old:
-        text = old[:old.index(begin)] + block + old[old.index(end) + len(end):]
-    else:
+    text = replace_region(old, "bench_zonotopic", body)
+    if text is None:
         title, _, rest = old.partition("\n")
-        text = f"{title}\n\n{block}\n{rest}"
+        text = f"{title}\n\n{marked('bench_zonotopic', body)}\n{rest}"
     out.write_text(text)
     print("\n".join(lines))
 
