@@ -395,43 +395,58 @@ inline void stacked_mul(int rows, const double* V, long ldv, const double* Q, do
   }
 }
 
-/// Block-wise transpose: block t of T (rows t·N … t·N+N−1, leading dimension ldt) = (block t
-/// of P)ᵀ, for t < count.
+/// Row i·count + t of T = row i of (block t of P)ᵀ: the blocks' transposes interleaved by row,
+/// so that the rows i ≥ c of all blocks are one contiguous range (stacked_mul_lower).
 template <int N>
-inline void stacked_transpose(int count, const double* P, long ldp, double* T, long ldt) {
+inline void stacked_transpose_interleaved(int count, const double* P, long ldp, double* T, long ldt) {
   for (int t = 0; t < count; ++t) {
     const double* Pt = P + static_cast<long>(t) * N;
-    double* Tt = T + static_cast<long>(t) * N;
     for (int j = 0; j < N; ++j)
-      for (int i = 0; i < N; ++i) Tt[i + j * ldt] = Pt[j + i * ldp];
+      for (int i = 0; i < N; ++i) T[static_cast<long>(i) * count + t + j * ldt] = Pt[j + i * ldp];
   }
 }
 
-/// out[:, t] = svec(block t of F) (lower triangle, off-diagonal × √2), t < count.
+/// Column c of P = T Q for the rows c·count … N·count−1 only (the lower triangles of the
+/// interleaved blocks of stacked_transpose_interleaved).
 template <int N>
-inline void stacked_pack_svec(int count, const double* F, long ldf, double* out, long ldo) {
+inline void stacked_mul_lower(int count, const double* T, long ldt, const double* Q, double* P, long ld) {
+  for (int c = 0; c < N; ++c) {
+    double q[N];
+    for (int l = 0; l < N; ++l) q[l] = Q[l + c * N];
+    double* pc = P + c * ld;
+    const int end = N * count;
+    for (int r = c * count; r < end; ++r) {
+      double acc = T[r] * q[0];
+      SETBOUND_UNROLL for (int l = 1; l < N; ++l) acc += T[r + l * ldt] * q[l];
+      pc[r] = acc;
+    }
+  }
+}
+
+/// out[:, t] = svec(block t), from the interleaved lower triangles of stacked_mul_lower.
+template <int N>
+inline void stacked_pack_svec_interleaved(int count, const double* P, long ld, double* out, long ldo) {
   for (int t = 0; t < count; ++t) {
-    const double* Ft = F + static_cast<long>(t) * N;
     double* o = out + t * ldo;
     int idx = 0;
     for (int c = 0; c < N; ++c) {
-      o[idx++] = Ft[c + c * ldf];
-      for (int r = c + 1; r < N; ++r) o[idx++] = kSqrt2 * Ft[r + c * ldf];
+      o[idx++] = P[static_cast<long>(c) * count + t + c * ld];
+      for (int r = c + 1; r < N; ++r) o[idx++] = kSqrt2 * P[static_cast<long>(r) * count + t + c * ld];
     }
   }
 }
 
 /// For t < count: out[:, t] = svec(Qᵀ F_t Q) where F_t (symmetric) = rows t·N … t·N+N−1 of
 /// V (leading dimension ld). P and T are work of the same shape as V: P = V Q, T = its
-/// block-wise transpose (blocks QᵀF_t), P = T Q (blocks QᵀF_tQ), then packed. Two tall
-/// products instead of count small ones.
+/// block-wise transpose (blocks QᵀF_t, interleaved by row), P = T Q on the lower triangles
+/// only, then packed. Two tall products instead of count small ones.
 template <int N>
 inline void stacked_congruence_svec(int count, const double* V, long ld, const double* Q, double* P, double* T,
                                     double* out, long ldo) {
   stacked_mul<N>(count * N, V, ld, Q, P, ld);
-  stacked_transpose<N>(count, P, ld, T, ld);
-  stacked_mul<N>(count * N, T, ld, Q, P, ld);
-  stacked_pack_svec<N>(count, P, ld, out, ldo);
+  stacked_transpose_interleaved<N>(count, P, ld, T, ld);
+  stacked_mul_lower<N>(count, T, ld, Q, P, ld);
+  stacked_pack_svec_interleaved<N>(count, P, ld, out, ldo);
 }
 
 }  // namespace fixed
@@ -856,6 +871,77 @@ inline void gemv_t(int s, int k, const double* A, const double* x, double* y) {
 /// dimension s); G is k×k with leading dimension ldg. Column j is F_{0..j}ᵀ f_j (gemv_t: four
 /// columns of F at a time, so each loaded entry of f_j serves four products).
 SETBOUND_KERNEL_CLONES inline void gram_upper(int s, int k, const double* F, double* G, long ldg) {
+  for (int j = 0; j < k; ++j) gemv_t(s, j + 1, F, F + static_cast<long>(j) * s, G + j * ldg);
+}
+
+#if defined(__GNUC__)
+namespace detail {
+typedef double v4d __attribute__((vector_size(32)));
+typedef double v4d_u __attribute__((vector_size(32), aligned(8), may_alias));  // unaligned loads
+
+/// Rows i0 … i0+3 × columns c0 … c0+4·NV−1 of FᵀF from the row-major copy Fr (s rows of kp
+/// entries): 4·NV accumulators of four lanes stay in registers over the s rows (rank-one
+/// updates: four broadcasts and NV loads per 4·NV fused multiply-adds). Entries with row or
+/// column ≥ k (the zero padding) are not stored.
+template <int NV>
+inline void gram_tile(int s, const double* Fr, int kp, int i0, int c0, int k, double* G, long ldg) {
+  v4d acc[4][NV];
+  for (int r = 0; r < 4; ++r)
+    for (int q = 0; q < NV; ++q) acc[r][q] = v4d{0.0, 0.0, 0.0, 0.0};
+  const double* row = Fr;
+  for (int t = 0; t < s; ++t, row += kp) {
+    v4d b[NV];
+    for (int q = 0; q < NV; ++q) b[q] = *reinterpret_cast<const v4d_u*>(row + c0 + 4 * q);
+    for (int r = 0; r < 4; ++r) {
+      const double a = row[i0 + r];
+      for (int q = 0; q < NV; ++q) acc[r][q] += a * b[q];
+    }
+  }
+  for (int r = 0; r < 4 && i0 + r < k; ++r)
+    for (int q = 0; q < NV; ++q)
+      for (int l = 0; l < 4; ++l) {
+        const int j = c0 + 4 * q + l;
+        if (j < k) G[i0 + r + static_cast<long>(j) * ldg] = acc[r][q][l];
+      }
+}
+}  // namespace detail
+#endif
+
+/// Number of columns of the row-major work copy gram_upper_rm() needs: k rounded up to 4.
+inline constexpr int gram_padded(int k) { return (k + 3) / 4 * 4; }
+
+/// The same upper triangle as gram_upper(), through a row-major copy of F (work Fr of
+/// s·gram_padded(k) entries) and register tiles of 4×12 (detail::gram_tile): 2–3× faster from
+/// k ≈ 8 on (1.15 → 0.53 µs at s = 28, k = 20, AVX2); gram_upper() below that. Some entries
+/// below the diagonal are written too (with their correct values).
+SETBOUND_KERNEL_CLONES inline void gram_upper_rm(int s, int k, const double* F, double* Fr, double* G, long ldg) {
+#if defined(__GNUC__)
+  if (k >= 8) {
+    const int kp = gram_padded(k);
+    for (int t = 0; t < s; ++t) {
+      double* o = Fr + static_cast<long>(t) * kp;
+      for (int j = 0; j < k; ++j) o[j] = F[t + static_cast<long>(j) * s];
+      for (int j = k; j < kp; ++j) o[j] = 0.0;
+    }
+    for (int i0 = 0; i0 < k; i0 += 4) {
+      for (int c0 = i0; c0 < k;) {
+        const int left = (k - c0 + 3) / 4;
+        if (left >= 3) {
+          detail::gram_tile<3>(s, Fr, kp, i0, c0, k, G, ldg);
+          c0 += 12;
+        } else if (left == 2) {
+          detail::gram_tile<2>(s, Fr, kp, i0, c0, k, G, ldg);
+          c0 += 8;
+        } else {
+          detail::gram_tile<1>(s, Fr, kp, i0, c0, k, G, ldg);
+          c0 += 4;
+        }
+      }
+    }
+    return;
+  }
+#endif
+  (void)Fr;
   for (int j = 0; j < k; ++j) gemv_t(s, j + 1, F, F + static_cast<long>(j) * s, G + j * ldg);
 }
 

@@ -32,6 +32,9 @@
 #include <cmath>
 #include <limits>
 #include <vector>
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
 
 #include "setbound/lmi/kernels.hpp"
 #include "setbound/lmi/problem.hpp"
@@ -73,6 +76,12 @@ struct SolverOptions {
   // Feasibility mode (classes.hpp): stop at the first iterate where x[feasibility_var] < 0
   // and the verified margin of all blocks, evaluated without that variable, is positive.
   int feasibility_var = -1;
+  // Threads over the blocks inside solve() (per-block scaling, Schur contributions, directions,
+  // step lengths, residuals). Takes effect in builds with OpenMP (the C ABI library is one);
+  // elsewhere solve() runs serially whatever is set. Results do not depend on it: every block
+  // does the same operations, and the reductions over blocks run serially in block order.
+  // Pays off from a few dozen blocks (docs/benchmarks.md "LMI solver"); 1 = serial.
+  int threads = 1;
 
   void validate() const {
     if (max_iterations <= 0) throw InvalidArgumentError("max_iterations: must be > 0");
@@ -85,6 +94,7 @@ struct SolverOptions {
     require_positive(reduced_feas, "reduced_feas");
     if (!(step_fraction > 0.5 && step_fraction < 1.0))
       throw InvalidArgumentError("step_fraction: must be in (0.5, 1)");
+    if (threads < 1 || threads > 256) throw InvalidArgumentError("threads: must be in 1 … 256");
   }
 };
 
@@ -212,29 +222,54 @@ class InteriorPointSolver {
     Eigen::MatrixXd Fs;     // sv×(k+2): svec(QᵀF0Q), svec(QᵀrzQ), svec(QᵀF_jQ) (see above)
     Eigen::MatrixXd As;     // sv×k: svec(F_j), unscaled, same column order (residuals)
     Eigen::MatrixXd G;      // k×k: Gram matrix of the scaled coefficients (upper triangle)
+    Eigen::VectorXd Fr;     // sv·gram_padded(k): row-major work copy for kernels::gram_upper_rm
     Eigen::VectorXd a0, ss, zs, rs, bs, ws;  // svec(F0), svec(S), svec(Z), svec(rz), svec(B̃), work
     Eigen::VectorXd xl, gl, f0f;  // x gathered by `var`, products per column, ⟨F̃_j, F̃0⟩
     Eigen::VectorXd lambda, isq, wv, ev;
     double f0sq = 0;        // ‖F̃0‖²
     double e = 1;           // equilibration: the block is solved as e·F_b (equilibrate())
     std::vector<double> cs; // e·d_var per Fs column (scale of the stored coefficient)
+    bool ok = true;         // scale_block succeeded
+  };
+  // Per-thread partial results of the loops over blocks (for_block_ranges): thread t > 0
+  // accumulates into part_[t] what thread 0 accumulates into the solver's own arrays, and the
+  // partials are added serially in thread order. Nothing a worker writes in one pass over its
+  // blocks is read by the others before the pass ends, and the blocks' own arrays stay with
+  // the thread that owns them (the first version, which reduced over the blocks' arrays on
+  // the calling thread, spent a fifth of its time moving cache lines between the cores).
+  struct Partial {
+    Eigen::MatrixXd M;      // Schur complement (threads > 0)
+    Eigen::VectorXd v;      // rx or g (threads > 0)
+    double hz = 0, sz = 0, rn = 0, amax = 0, hb = 0, f0sq = 0;
+    bool ok = true;
   };
 
   // --- helpers (inline below) ---
   void load_values();
   void equilibrate();
   void least_squares_start();
-  void residuals();
+  void residuals(double alpha = 0.0);
+  template <class F>
+  void for_block_ranges(F&& f);
+  template <class F>
+  void for_blocks(F&& f);
+  void scatter_schur(const BlockWork& w, Eigen::MatrixXd& M) const;
+  void scatter_sub(const BlockWork& w, Eigen::VectorXd& g) const;
+  bool scale_block(BlockWork& w);
+  void allocate_partials();
+  void assemble_block(int b);
   bool scaling();
   bool factor_schur();
   void solve_schur(double* b);
   bool assemble_and_factor();
+  bool factor_assembled();
   void solve_reduced(const Eigen::VectorXd& g, const Eigen::VectorXd& by, Eigen::VectorXd& dx, Eigen::VectorXd& dy);
+  void kkt_block_rhs(BlockWork& w, bool use_F0, double eta_rz, bool with_u);
+  void kkt_finish(const Eigen::VectorXd& by, Eigen::VectorXd& dx, Eigen::VectorXd& dy);
   void kkt_solve(const Eigen::VectorXd& bx, const Eigen::VectorXd& by, bool use_F0, double eta_rz,
                  bool with_u, Eigen::VectorXd& dx, Eigen::VectorXd& dy);
   double max_step_scaled(BlockWork& w, const Eigen::MatrixXd& X, double cap);
-  void direction(double eta, double sigma, double mu, bool corrector);
-  double step_length(double cap);
+  double direction(double eta, double sigma, double mu, bool corrector, double cap);
   void record_best(double merit);
   void finish(SolveStatus status);
 
@@ -262,6 +297,12 @@ class InteriorPointSolver {
   std::uint64_t version_ = ~std::uint64_t{0};
   int m_ = 0, pe_ = 0, nu_ = 0;
   std::vector<BlockWork> w_;
+  std::vector<Partial> part_;
+  size_t used_ = 1;              // partials written by the last for_block_ranges
+  double f0sq_ = 0;              // Σ_b ‖F̃0_b‖² (scaling pass)
+  bool pending_best_z_ = false;  // record_best() left the copy of Z to the next pass over the blocks
+  double best_z_scale_ = 1.0;
+  double hz_ = 0;                // hᵀz of the current iterate (residuals())
   MarginChecker margin_;
   // iterate
   Eigen::VectorXd x_, y_;
@@ -276,6 +317,8 @@ class InteriorPointSolver {
   // residuals
   Eigen::VectorXd rx_, ry_;
   double rtau_ = 0;
+  double step_alpha_ = 0;
+  double sz_ = 0;  // ⟨S, Z⟩ summed over the blocks (residuals())  // step taken by the last iteration, applied to S, Z in residuals()
   // linear algebra
   Eigen::MatrixXd M_, K_, Lk_, KinvAt_, SA_, AtA_;
   Eigen::VectorXd Ldinv_;  // 1 / diag(Lk_)
@@ -325,6 +368,7 @@ inline void InteriorPointSolver::setup() {
     w.Fs.setZero(w.sv, w.k + 2);
     w.As.setZero(w.sv, w.k);
     w.G.setZero(w.k, w.k);
+    w.Fr.setZero(static_cast<Eigen::Index>(w.sv) * kernels::gram_padded(w.k));
     for (Eigen::VectorXd* v : {&w.a0, &w.ss, &w.zs, &w.rs, &w.bs, &w.ws}) v->setZero(w.sv);
     for (Eigen::VectorXd* v : {&w.xl, &w.gl, &w.f0f}) v->setZero(w.k);
     w.cs.assign(static_cast<size_t>(w.k), 1.0);
@@ -354,6 +398,8 @@ inline void InteriorPointSolver::setup() {
   result_.y.setZero(pe_);
   result_.Z.resize(nb);
   for (size_t b = 0; b < nb; ++b) result_.Z[b].setZero(w_[b].n, w_[b].n);
+  part_.clear();
+  allocate_partials();
   version_ = p.structure_version();
   values_loaded_ = ~std::uint64_t{0};  // the arrays above are zero: re-read at the next solve
 }
@@ -524,24 +570,49 @@ inline void InteriorPointSolver::load_values() {
   }
 }
 
-inline void InteriorPointSolver::residuals() {
+// With alpha > 0, first applies the last step to each block's S and Z:
+// ds = R (W⁻ᵀds) Rᵀ, dz = Q (W dz) Qᵀ (x, y, τ, κ are updated by the caller).
+inline void InteriorPointSolver::residuals(double alpha) {
   // rx = Aᵀy + Gᵀz + cτ;  ry = bτ − Ax;  rz = S − (F0 τ + Σ x_i F_i);  rτ = κ + cᵀx + bᵀy + hᵀz
   // In svec form (kernels.hpp): ⟨F_j, Z⟩ = svec(F_j)ᵀsvec(Z), one product per block.
   rx_ = c_ * tau_;
-  double hz = 0, sz = 0, rznorm2 = 0;
-  for (auto& w : w_) {
+  for_block_ranges([&](int t, int begin, int end) {
+   Partial& pt = part_[static_cast<size_t>(t)];
+   Eigen::VectorXd& rx = t == 0 ? rx_ : pt.v;
+   if (t > 0) rx.setZero();
+   pt.hz = pt.sz = pt.rn = 0.0;
+   for (int b = begin; b < end; ++b) {
+    BlockWork& w = w_[static_cast<size_t>(b)];
+    if (pending_best_z_) w.best_Z = w.Z * (w.e * best_z_scale_);
+    if (alpha > 0.0) {
+      congruence_n(w.n, w.R, w.Wds, w.tmp, w.dS);  // symmetric by construction
+      congruence_n(w.n, w.Q, w.Wdz, w.tmp, w.dZ);
+      w.S += alpha * w.dS;
+      w.Z += alpha * w.dZ;
+    }
     kernels::svec_pack(w.n, w.S.data(), w.ss.data());
     kernels::svec_pack(w.n, w.Z.data(), w.zs.data());
     for (int j = 0; j < w.k; ++j) w.xl(j) = x_(w.var[static_cast<size_t>(j)]);
     kernels::gemv_t(w.sv, w.k, w.As.data(), w.zs.data(), w.gl.data());
-    for (int j = 0; j < w.k; ++j) rx_(w.var[static_cast<size_t>(j)]) -= w.gl(j);
     w.rs = w.ss - tau_ * w.a0;
     kernels::gemv_n_add(w.sv, w.k, -1.0, w.As.data(), w.xl.data(), w.rs.data());
     kernels::svec_unpack(w.n, w.rs.data(), w.rz.data());
-    hz += w.a0.dot(w.zs);
-    sz += w.ss.dot(w.zs);
-    rznorm2 += w.rs.squaredNorm() / (w.e * w.e);  // in the problem's units (equilibrate())
+    scatter_sub(w, rx);
+    pt.hz += w.a0.dot(w.zs);
+    pt.sz += w.ss.dot(w.zs);
+    pt.rn += w.rs.squaredNorm() / (w.e * w.e);  // in the problem's units (equilibrate())
+   }
+  });
+  pending_best_z_ = false;
+  double hz = 0, sz = 0, rznorm2 = 0;
+  for (size_t t = 0; t < used_; ++t) {
+    if (t > 0) rx_ += part_[t].v;  // the partials hold −Σ gl
+    hz += part_[t].hz;
+    sz += part_[t].sz;
+    rznorm2 += part_[t].rn;
   }
+  hz_ = hz;
+  sz_ = sz;
   double by = 0;
   if (pe_ > 0) {
     rx_.noalias() += Aeq_.transpose() * y_;
@@ -561,8 +632,77 @@ inline void InteriorPointSolver::residuals() {
   relgap_ = dgap / std::max(1.0, std::min(std::abs(pcost_), std::abs(dcost_)));
 }
 
+// One Partial per thread that for_block_ranges will use (allocates only when that number or
+// the problem's size changed: setup(), or set_options() with another thread count).
+inline void InteriorPointSolver::allocate_partials() {
+  int nt = 1;
+#if defined(_OPENMP)
+  nt = std::max(1, std::min(opt_.threads, static_cast<int>(w_.size())));
+#endif
+  if (static_cast<int>(part_.size()) == nt && (nt == 1 || part_[1].v.size() == m_)) return;
+  part_.assign(static_cast<size_t>(nt), Partial{});
+  for (size_t t = 1; t < part_.size(); ++t) {
+    part_[t].M.setZero(m_, m_);
+    part_[t].v.setZero(m_);
+  }
+}
+
+// Calls f(t, begin, end) for thread t on contiguous ranges of blocks that together cover all of them: one
+// range per thread when opt_.threads > 1 in an OpenMP build, else f(0, number of blocks). f
+// must write only the work of its own blocks (and may read shared state).
+template <class F>
+inline void InteriorPointSolver::for_block_ranges(F&& f) {
+  const int nb = static_cast<int>(w_.size());
+#if defined(_OPENMP)
+  const int nt = std::min(static_cast<int>(part_.size()), nb);
+  if (nt > 1) {
+#pragma omp parallel num_threads(nt)
+    {
+      const int t = omp_get_thread_num(), count = omp_get_num_threads();  // count ≤ nt
+      if (t == 0) used_ = static_cast<size_t>(count);
+      f(t, static_cast<int>(static_cast<long>(nb) * t / count), static_cast<int>(static_cast<long>(nb) * (t + 1) / count));
+    }
+    return;
+  }
+#endif
+  used_ = 1;
+  f(0, 0, nb);
+}
+
+template <class F>
+inline void InteriorPointSolver::for_blocks(F&& f) {
+  for_block_ranges([&](int, int begin, int end) {
+    for (int b = begin; b < end; ++b) f(b);
+  });
+}
+
+// M += block w's Gram matrix (upper half of its k×k G), scattered by its variables.
+inline void InteriorPointSolver::scatter_schur(const BlockWork& w, Eigen::MatrixXd& M) const {
+  for (int j = 0; j < w.k; ++j) {
+    const int vj = w.var[static_cast<size_t>(j)];
+    for (int i = 0; i <= j; ++i) {
+      const int vi = w.var[static_cast<size_t>(i)];
+      const double d = w.G(i, j);
+      M(vi, vj) += d;
+      if (vi != vj) M(vj, vi) += d;
+    }
+  }
+}
+
+// g −= block w's gl, scattered by its variables.
+inline void InteriorPointSolver::scatter_sub(const BlockWork& w, Eigen::VectorXd& g) const {
+  for (int j = 0; j < w.k; ++j) g(w.var[static_cast<size_t>(j)]) -= w.gl(j);
+}
+
 inline bool InteriorPointSolver::scaling() {
-  for (auto& w : w_) {
+  for_blocks([&](int b) { w_[static_cast<size_t>(b)].ok = scale_block(w_[static_cast<size_t>(b)]); });
+  for (const auto& w : w_)
+    if (!w.ok) return false;
+  return true;
+}
+
+inline bool InteriorPointSolver::scale_block(BlockWork& w) {
+  {
     const int n = w.n;
     double* Ls = w.Ls.data();
     double* Lz = w.Lz.data();
@@ -610,11 +750,51 @@ inline bool InteriorPointSolver::scaling() {
 }
 
 inline bool InteriorPointSolver::assemble_and_factor() {
-  const LmiProblem& p = *p_;
   M_.setZero();
-  for (size_t b = 0; b < w_.size(); ++b) {
-    const LmiBlock& blk = p.block(static_cast<int>(b));
-    BlockWork& w = w_[b];
+  for_block_ranges([&](int t, int begin, int end) {
+    Eigen::MatrixXd& M = t == 0 ? M_ : part_[static_cast<size_t>(t)].M;
+    if (t > 0) M.setZero();
+    for (int b = begin; b < end; ++b) {
+      assemble_block(b);
+      scatter_schur(w_[static_cast<size_t>(b)], M);
+    }
+  });
+  return factor_assembled();
+}
+
+// M_ = Σ_b (block b's Gram matrix, scattered by its variables), already summed per thread;
+// adds the threads' partials and factorises.
+inline bool InteriorPointSolver::factor_assembled() {
+  for (size_t t = 1; t < used_; ++t) M_ += part_[t].M;
+  // Equalities: K = M + ρAᵀA keeps K positive definite when M is singular on ker A;
+  // the reduced system is equivalent for any ρ > 0 (see solve_reduced).
+  const double mscale = std::max(1.0, M_.diagonal().cwiseAbs().maxCoeff());
+  K_ = M_;
+  if (pe_ > 0) {
+    rho_ = mscale / std::max(1.0, AtA_.diagonal().maxCoeff());
+    K_.noalias() += rho_ * AtA_;
+  }
+  // Tiny static regularisation against exact singularity; iterative refinement in
+  // solve_reduced removes its effect on the directions.
+  K_.diagonal().array() += 1e-13 * mscale;
+  if (!factor_schur()) return false;
+  if (pe_ > 0) {
+    KinvAt_ = Aeq_.transpose();
+    for (int i = 0; i < pe_; ++i) solve_schur(KinvAt_.col(i).data());
+    SA_.noalias() = Aeq_ * KinvAt_;
+    SA_.diagonal().array() += 1e-14 * std::max(1.0, SA_.diagonal().maxCoeff());
+    lltSA_.compute(SA_);
+    if (lltSA_.info() != Eigen::Success) return false;
+  }
+  return true;
+}
+
+// Block b's scaled coefficients F̃ (svec), their Gram matrix G and ⟨F̃_j, F̃0⟩, ‖F̃0‖².
+inline void InteriorPointSolver::assemble_block(int b) {
+  const LmiProblem& p = *p_;
+  {
+    const LmiBlock& blk = p.block(b);
+    BlockWork& w = w_[static_cast<size_t>(b)];
     const int n = w.n, sv = w.sv;
     // Slot 1 of V holds rz, so that QᵀF0Q, QᵀrzQ and every dense QᵀF_jQ come out of two tall
     // products (kernels::stacked_congruence_svec).
@@ -663,41 +843,11 @@ inline bool InteriorPointSolver::assemble_and_factor() {
     }
     // Schur complement: the Gram matrix of the scaled coefficients (upper half, mirrored).
     const double* Fc = w.Fs.data() + 2L * sv;
-    kernels::gram_upper(sv, w.k, Fc, w.G.data(), w.k);
-    for (int j = 0; j < w.k; ++j) {
-      const int vj = w.var[static_cast<size_t>(j)];
-      for (int i = 0; i <= j; ++i) {
-        const int vi = w.var[static_cast<size_t>(i)];
-        const double d = w.G(i, j);
-        M_(vi, vj) += d;
-        if (vi != vj) M_(vj, vi) += d;
-      }
-    }
+    kernels::gram_upper_rm(sv, w.k, Fc, w.Fr.data(), w.G.data(), w.k);
     // ⟨F̃_j, F̃0⟩ and ‖F̃0‖², used by both directions of the iteration.
     kernels::gemv_t(sv, w.k, Fc, w.Fs.data(), w.f0f.data());
     w.f0sq = w.Fs.col(0).squaredNorm();
   }
-  // Equalities: K = M + ρAᵀA keeps K positive definite when M is singular on ker A;
-  // the reduced system is equivalent for any ρ > 0 (see solve_reduced).
-  const double mscale = std::max(1.0, M_.diagonal().cwiseAbs().maxCoeff());
-  K_ = M_;
-  if (pe_ > 0) {
-    rho_ = mscale / std::max(1.0, AtA_.diagonal().maxCoeff());
-    K_.noalias() += rho_ * AtA_;
-  }
-  // Tiny static regularisation against exact singularity; iterative refinement in
-  // solve_reduced removes its effect on the directions.
-  K_.diagonal().array() += 1e-13 * mscale;
-  if (!factor_schur()) return false;
-  if (pe_ > 0) {
-    KinvAt_ = Aeq_.transpose();
-    for (int i = 0; i < pe_; ++i) solve_schur(KinvAt_.col(i).data());
-    SA_.noalias() = Aeq_ * KinvAt_;
-    SA_.diagonal().array() += 1e-14 * std::max(1.0, SA_.diagonal().maxCoeff());
-    lltSA_.compute(SA_);
-    if (lltSA_.info() != Eigen::Success) return false;
-  }
-  return true;
 }
 
 // Cholesky factorisation of K and solves with it: the kernels' loops up to kSmallSchur
@@ -762,20 +912,36 @@ inline void InteriorPointSolver::solve_reduced(const Eigen::VectorXd& g, const E
 inline void InteriorPointSolver::kkt_solve(const Eigen::VectorXd& bx, const Eigen::VectorXd& by, bool use_F0,
                                             double eta_rz, bool with_u, Eigen::VectorXd& dx, Eigen::VectorXd& dy) {
   g_ = bx;
-  for (auto& w : w_) {
-    if (use_F0) {
-      w.bs = w.Fs.col(0);
-    } else {
-      w.bs = -eta_rz * w.Fs.col(1);  // svec(Qᵀ rz Q), formed once per iteration
-      if (with_u) {                  // QᵀR U RᵀQ = U since QᵀR = I
-        kernels::svec_pack(w.n, w.U.data(), w.ws.data());
-        w.bs -= w.ws;
-      }
+  for_block_ranges([&](int t, int begin, int end) {
+    Eigen::VectorXd& g = t == 0 ? g_ : part_[static_cast<size_t>(t)].v;
+    if (t > 0) g.setZero();
+    for (int b = begin; b < end; ++b) {
+      kkt_block_rhs(w_[static_cast<size_t>(b)], use_F0, eta_rz, with_u);
+      scatter_sub(w_[static_cast<size_t>(b)], g);
     }
-    // g_i −= ⟨F̃_i, B̃⟩
-    kernels::gemv_t(w.sv, w.k, w.Fs.data() + 2L * w.sv, w.bs.data(), w.gl.data());
-    for (int j = 0; j < w.k; ++j) g_(w.var[static_cast<size_t>(j)]) -= w.gl(j);
+  });
+  kkt_finish(by, dx, dy);
+}
+
+// The block part of kkt_solve: w.bs = B̃ and w.gl_j = ⟨F̃_j, B̃⟩. For use_F0 these are F̃0 and
+// ⟨F̃_j, F̃0⟩ = f0f, which assemble_block computed already (with the same operations).
+inline void InteriorPointSolver::kkt_block_rhs(BlockWork& w, bool use_F0, double eta_rz, bool with_u) {
+  if (use_F0) {
+    w.bs = w.Fs.col(0);
+    w.gl = w.f0f;
+    return;
   }
+  w.bs = -eta_rz * w.Fs.col(1);  // svec(Qᵀ rz Q), formed once per iteration
+  if (with_u) {                  // QᵀR U RᵀQ = U since QᵀR = I
+    kernels::svec_pack(w.n, w.U.data(), w.ws.data());
+    w.bs -= w.ws;
+  }
+  kernels::gemv_t(w.sv, w.k, w.Fs.data() + 2L * w.sv, w.bs.data(), w.gl.data());
+}
+
+// The rest of kkt_solve: g_ = bx − Σ_b gl_b, summed per thread (thread 0's part in g_ itself).
+inline void InteriorPointSolver::kkt_finish(const Eigen::VectorXd& by, Eigen::VectorXd& dx, Eigen::VectorXd& dy) {
+  for (size_t t = 1; t < used_; ++t) g_ += part_[t].v;  // the partials hold −Σ gl
   solve_reduced(g_, by, dx, dy);
 }
 
@@ -799,9 +965,24 @@ inline double InteriorPointSolver::max_step_scaled(BlockWork& w, const Eigen::Ma
 
 // One Newton direction of the embedding. Predictor: eta = 1, sigma = 0; corrector adds the
 // second-order term (W⁻ᵀds_a)∘(W dz_a) and centring σμ (Mehrotra).
-inline void InteriorPointSolver::direction(double eta, double sigma, double mu, bool corrector) {
+// Returns the largest step keeping every cone interior, capped at `cap` (the caller uses
+// min(1, …)). Within a range of blocks the bound found so far is the cap of the next block
+// (max_step_scaled skips the eigenvalues of blocks that do not limit it); the minimum over
+// the ranges is the same exact λ_min bound whatever the ranges (up to near-ties within
+// rounding, where a block passing its Cholesky test at the cap returns the cap).
+inline double InteriorPointSolver::direction(double eta, double sigma, double mu, bool corrector, double cap) {
+  // u0: bx = −η rx, by = η ry, bz = −η rz − Wᵀ U.
+  bx_ = -eta * rx_;
+  if (pe_ > 0) by_ = eta * ry_;
+  g_ = bx_;
   // ds_rhs = −λ∘λ + σμe − corr  ⇒  U = λ⁻¹◇ds_rhs: U_ij = 2 ds_rhs_ij / (λ_i + λ_j)
-  for (auto& w : w_) {
+  for_block_ranges([&](int t, int begin, int end) {
+   Partial& pt = part_[static_cast<size_t>(t)];
+   Eigen::VectorXd& g = t == 0 ? g_ : pt.v;
+   if (t > 0) g.setZero();
+   pt.hb = 0.0;
+   for (int b = begin; b < end; ++b) {
+    BlockWork& w = w_[static_cast<size_t>(b)];
     if (corrector) {
       kernels::mul_nn(w.n, w.Wds_a.data(), w.Wdz_a.data(), w.tmp.data());
       w.tmp2 = 0.5 * (w.tmp + w.tmp.transpose());  // (Wds_a)∘(Wdz_a)
@@ -812,18 +993,21 @@ inline void InteriorPointSolver::direction(double eta, double sigma, double mu, 
         if (corrector) r -= w.tmp2(i, j);
         w.U(i, j) = 2.0 * r / (w.lambda(i) + w.lambda(j));
       }
-  }
+    kkt_block_rhs(w, false, eta, true);
+    scatter_sub(w, g);
+    pt.hb -= w.Fs.col(0).dot(w.bs);
+   }
+  });
   double dk_rhs = -tau_ * kappa_ + sigma * mu;
   if (corrector) dk_rhs -= dtau_a_ * dkappa_a_;
-  // u0: bx = −η rx, by = η ry, bz = −η rz − Wᵀ U.
-  bx_ = -eta * rx_;
-  if (pe_ > 0) by_ = eta * ry_;
-  kkt_solve(bx_, by_, false, eta, true, dx_, dy_);
+  kkt_finish(by_, dx_, dy_);
   // hᵀdz0 = <F̃0, W dz0>,  W dz0 = −Σ dx_j F̃_j − B̃0
   double cx0 = c_.dot(dx_) + (pe_ > 0 ? beq_.dot(dy_) : 0.0);
   double cx1 = c_.dot(x1_) + (pe_ > 0 ? beq_.dot(y1_) : 0.0);
-  for (auto& w : w_) {
-    double hz0 = -w.Fs.col(0).dot(w.bs), hz1 = -w.f0sq;
+  for (size_t t = 0; t < used_; ++t) cx0 += part_[t].hb;
+  cx1 -= f0sq_;
+  for (const auto& w : w_) {  // f0f: written in the scaling pass, read-only since
+    double hz0 = 0, hz1 = 0;
     for (int j = 0; j < w.k; ++j) {
       const int v = w.var[static_cast<size_t>(j)];
       hz0 -= dx_(v) * w.f0f(j);
@@ -836,23 +1020,27 @@ inline void InteriorPointSolver::direction(double eta, double sigma, double mu, 
   dx_ += dtau_ * x1_;
   if (pe_ > 0) dy_ += dtau_ * y1_;
   dkappa_ = (dk_rhs - kappa_ * dtau_) / tau_;
-  for (auto& w : w_) {
-    // W dz = −Σ dx_j F̃_j − B̃0 − dτ F̃0;  W⁻ᵀds = U − W dz
-    for (int j = 0; j < w.k; ++j) w.xl(j) = dx_(w.var[static_cast<size_t>(j)]);
-    w.ws = -w.bs - dtau_ * w.Fs.col(0);
-    kernels::gemv_n_add(w.sv, w.k, -1.0, w.Fs.data() + 2L * w.sv, w.xl.data(), w.ws.data());
-    kernels::svec_unpack(w.n, w.ws.data(), w.Wdz.data());
-    w.Wds = w.U - w.Wdz;
-  }
-}
-
-// Largest step keeping every cone interior, capped at `cap` (the caller uses min(1, …)).
-inline double InteriorPointSolver::step_length(double cap) {
+  for_block_ranges([&](int t, int begin, int end) {
+    double a = cap;
+    for (int b = begin; b < end; ++b) {
+      BlockWork& w = w_[static_cast<size_t>(b)];
+      // W dz = −Σ dx_j F̃_j − B̃0 − dτ F̃0;  W⁻ᵀds = U − W dz
+      for (int j = 0; j < w.k; ++j) w.xl(j) = dx_(w.var[static_cast<size_t>(j)]);
+      w.ws = -w.bs - dtau_ * w.Fs.col(0);
+      kernels::gemv_n_add(w.sv, w.k, -1.0, w.Fs.data() + 2L * w.sv, w.xl.data(), w.ws.data());
+      kernels::svec_unpack(w.n, w.ws.data(), w.Wdz.data());
+      w.Wds = w.U - w.Wdz;
+      a = std::min(a, max_step_scaled(w, w.Wds, a));
+      a = std::min(a, max_step_scaled(w, w.Wdz, a));
+      if (!corrector) {  // kept for the corrector's second-order term
+        w.Wds_a = w.Wds;
+        w.Wdz_a = w.Wdz;
+      }
+    }
+    part_[static_cast<size_t>(t)].amax = a;
+  });
   double amax = cap;
-  for (auto& w : w_) {
-    amax = std::min(amax, max_step_scaled(w, w.Wds, amax));
-    amax = std::min(amax, max_step_scaled(w, w.Wdz, amax));
-  }
+  for (size_t t = 0; t < used_; ++t) amax = std::min(amax, part_[t].amax);
   if (dtau_ < 0) amax = std::min(amax, -tau_ / dtau_);
   if (dkappa_ < 0) amax = std::min(amax, -kappa_ / dkappa_);
   return amax;
@@ -864,7 +1052,8 @@ inline void InteriorPointSolver::record_best(double merit) {
   // In the problem's units (equilibrate()): x = D x̂, y = R ŷ, Z_b = e_b Ẑ_b.
   best_x_ = x_.cwiseProduct(d_) / tau_;
   if (pe_ > 0) best_y_ = y_.cwiseProduct(r_) / tau_;
-  for (auto& w : w_) w.best_Z = w.Z * (w.e / tau_);
+  pending_best_z_ = true;  // w.best_Z = w.Z·e/τ, done in the next pass over the blocks (residuals())
+  best_z_scale_ = 1.0 / tau_;
   best_pcost_ = pcost_;
   best_dcost_ = dcost_;
   best_gap_ = gap_;
@@ -876,6 +1065,10 @@ inline void InteriorPointSolver::record_best(double merit) {
 inline void InteriorPointSolver::finish(SolveStatus status) {
   // Returns the best iterate for non-converged statuses, the current one otherwise.
   result_.status = status;
+  if (pending_best_z_) {
+    for (auto& w : w_) w.best_Z = w.Z * (w.e * best_z_scale_);
+    pending_best_z_ = false;
+  }
   // Objective values and dual variables are those of the normalised objective c/cscale_.
   const double cs = cscale_;
   if (status == SolveStatus::Optimal) {
@@ -945,6 +1138,9 @@ inline const SolveResult& InteriorPointSolver::solve() {
 
   // Start: the least-squares point of CVXOPT's conelp (falls back to the unit start x = 0,
   // y = 0, S = Z = I, τ = κ = 1 when it cannot be formed).
+  step_alpha_ = 0.0;
+  pending_best_z_ = false;
+  allocate_partials();
   least_squares_start();
   best_merit_ = std::numeric_limits<double>::infinity();
   result_.x.setZero();
@@ -955,7 +1151,8 @@ inline const SolveResult& InteriorPointSolver::solve() {
   SolveStatus status = SolveStatus::MaxIterations;
   MarginChecker& mc = margin_;
   for (;; ++iter) {
-    residuals();
+    residuals(step_alpha_);
+    step_alpha_ = 0.0;
     const double merit = std::max({pres_, dres_, std::min(relgap_, gap_ / opt_.gap_abs * opt_.gap_rel)});
     if (std::isfinite(merit)) record_best(merit);
 
@@ -973,9 +1170,7 @@ inline const SolveResult& InteriorPointSolver::solve() {
     }
     {
       // Primal infeasibility certificate: Gᵀz + Aᵀy ≈ 0 with hᵀz + bᵀy < 0.
-      double hz = 0;
-      for (const auto& w : w_) hz += w.a0.dot(w.zs);  // zs: svec(Z) of this iterate (residuals())
-      const double ny = -(hz + (pe_ > 0 ? beq_.dot(y_) : 0.0));
+      const double ny = -(hz_ + (pe_ > 0 ? beq_.dot(y_) : 0.0));  // hᵀz of this iterate (residuals())
       if (ny > 0) {
         // ‖Aᵀy + Gᵀz‖ = ‖rx − cτ‖, which does not involve c: measured on its own (not relative
         // to ‖c‖), so that the normalised certificate's residual is within feas.
@@ -1007,45 +1202,61 @@ inline const SolveResult& InteriorPointSolver::solve() {
     }
 
     // --- Newton system ---
-    double sz = 0;
-    for (auto& w : w_) sz += w.S.cwiseProduct(w.Z).sum();
-    const double mu = (sz + tau_ * kappa_) / nu1;
-    if (!scaling() || !assemble_and_factor()) {
+    const double mu = (sz_ + tau_ * kappa_) / nu1;  // ⟨S, Z⟩ from residuals()
+    // Scaling, Schur contributions and the right-hand side of the τ-direction
+    // K (x1, y1, z1) = (−c, b, h), in one pass over the blocks.
+    M_.setZero();
+    g_ = -c_;
+    for_block_ranges([&](int t, int begin, int end) {
+      Partial& pt = part_[static_cast<size_t>(t)];
+      Eigen::MatrixXd& M = t == 0 ? M_ : pt.M;
+      Eigen::VectorXd& g = t == 0 ? g_ : pt.v;
+      if (t > 0) {
+        M.setZero();
+        g.setZero();
+      }
+      pt.ok = true;
+      pt.f0sq = 0.0;
+      for (int b = begin; b < end && pt.ok; ++b) {
+        BlockWork& w = w_[static_cast<size_t>(b)];
+        pt.ok = scale_block(w);
+        if (!pt.ok) break;
+        assemble_block(b);
+        scatter_schur(w, M);
+        kkt_block_rhs(w, true, 0.0, false);
+        scatter_sub(w, g);
+        pt.f0sq += w.f0sq;
+      }
+    });
+    bool scaled = true;
+    f0sq_ = 0.0;
+    for (size_t t = 0; t < used_; ++t) {
+      scaled = scaled && part_[t].ok;
+      f0sq_ += part_[t].f0sq;
+    }
+    if (!scaled || !factor_assembled()) {
       status = SolveStatus::NumericalError;
       break;
     }
-    // τ-direction: K (x1, y1, z1) = (−c, b, h)
-    bx_ = -c_;
     if (pe_ > 0) by_ = beq_;
-    kkt_solve(bx_, by_, true, 0.0, false, x1_, y1_);
+    kkt_finish(by_, x1_, y1_);
 
-    direction(1.0, 0.0, mu, false);
-    double alpha_a = std::min(1.0, step_length(1.0));
-    for (auto& w : w_) {
-      w.Wds_a = w.Wds;
-      w.Wdz_a = w.Wdz;
-    }
+    const double alpha_a = std::min(1.0, direction(1.0, 0.0, mu, false, 1.0));
     dtau_a_ = dtau_;
     dkappa_a_ = dkappa_;
     const double sigma = std::pow(1.0 - alpha_a, 3);
-    direction(1.0 - sigma, sigma, mu, true);
-    const double amax = step_length(1.0 / opt_.step_fraction);
+    const double amax = direction(1.0 - sigma, sigma, mu, true, 1.0 / opt_.step_fraction);
     const double alpha = std::min(1.0, opt_.step_fraction * amax);
     if (!(alpha > 1e-12) || !dx_.allFinite()) {
       status = SolveStatus::NumericalError;
       break;
     }
-    // Update: ds = R (W⁻ᵀds) Rᵀ, dz = Q (W dz) Qᵀ.
+    // Update; the blocks' S and Z follow in residuals() (one pass over the blocks).
     x_ += alpha * dx_;
     if (pe_ > 0) y_ += alpha * dy_;
-    for (auto& w : w_) {
-      congruence_n(w.n, w.R, w.Wds, w.tmp, w.dS);  // symmetric by construction
-      congruence_n(w.n, w.Q, w.Wdz, w.tmp, w.dZ);
-      w.S += alpha * w.dS;
-      w.Z += alpha * w.dZ;
-    }
     tau_ += alpha * dtau_;
     kappa_ += alpha * dkappa_;
+    step_alpha_ = alpha;  // the blocks' S and Z are updated by the next residuals()
   }
 
   result_.iterations = iter;
