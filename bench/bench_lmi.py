@@ -3,7 +3,8 @@ Clarabel called directly, on the same problems in the same run.
 
     SETBOUND_LIBRARY=build/libsetbound.so PYTHONPATH=python python3 bench/bench_lmi.py [--reps 50]
 
-Problems: (a) online-sized (4 blocks up to 7×7, 12 variables), (b) 32 blocks of 7×7 with 20
+The 32-block problem (b) is also timed with threads=2 (SolverOptions::threads, OpenMP over the
+blocks). Problems: (a) online-sized (4 blocks up to 7×7, 12 variables), (b) 32 blocks of 7×7 with 20
 variables, (c) maxdet (−log det of a 4×4 affine G with 8 variables, 9 LMI blocks).
 Reported: median wall time per solve from Python (ours through setbound.lmi.Problem, the
 competitors end to end), our C++-measured solve time, Clarabel's own solve time,
@@ -60,9 +61,10 @@ def median_time(fn, reps):
 
 
 # ---- ours ---------------------------------------------------------------------------------
-def bench_ours(c, blocks, logdet, reps):
+def bench_ours(c, blocks, logdet, reps, threads=1):
     p = lmi.Problem(len(c))
     p.set_objective(c)
+    p.set_options(threads=threads)
     for F0, Fs in blocks:
         p.add_block(F0, Fs)
     if logdet is not None:
@@ -160,6 +162,8 @@ def main():
     results = {}
     for name, (c, blocks, logdet) in problems.items():
         res = {"ours": bench_ours(c, blocks, logdet, args.reps)}
+        if len(blocks) >= 16:  # SolverOptions::threads pays off from a few dozen blocks
+            res["ours, 2 threads"] = bench_ours(c, blocks, logdet, args.reps, threads=2)
         res["cvxpy+clarabel"] = bench_cvxpy(c, blocks, logdet, "CLARABEL", args.cvxpy_reps)
         res["cvxpy+scs"] = bench_cvxpy(c, blocks, logdet, "SCS", args.cvxpy_reps)
         if logdet is None:
@@ -170,6 +174,10 @@ def main():
         print(f"  {'solver':<18}{'median/solve':>14}{'iters':>7}{'objective':>20}  status     ratio vs ours")
         print(f"  {'ours (Python)':<18}{o['time']*1e3:>11.3f} ms{o['iters']:>7}{o['obj']:>20.10g}  {o['status']:<10}")
         print(f"  {'ours (C++ time)':<18}{o['cpp']*1e3:>11.3f} ms")
+        if "ours, 2 threads" in res:
+            o2 = res["ours, 2 threads"]
+            print(f"  {'ours, 2 threads':<18}{o2['time']*1e3:>11.3f} ms{o2['iters']:>7}{o2['obj']:>20.10g}  {o2['status']:<10}")
+            print(f"  {'  (C++ time)':<18}{o2['cpp']*1e3:>11.3f} ms")
         for k in ("clarabel", "cvxpy+clarabel", "cvxpy+scs"):
             if k not in res:
                 continue
@@ -182,7 +190,9 @@ def main():
     print("\nTargets (issue 3):")
     checks = [
         ("(a) <= 0.2 ms median from Python", a["ours"]["time"] <= 2e-4, f"{a['ours']['time']*1e3:.3f} ms"),
-        ("(b) <= 2 ms median", b["ours"]["time"] <= 2e-3, f"{b['ours']['time']*1e3:.3f} ms"),
+        ("(b) <= 2 ms median from Python, serial", b["ours"]["time"] <= 2e-3, f"{b['ours']['time']*1e3:.3f} ms"),
+        ("(b) <= 2 ms median from Python, threads=2 (both cores)", b["ours, 2 threads"]["time"] <= 2e-3,
+         f"{b['ours, 2 threads']['time']*1e3:.3f} ms"),
         (">= 5x faster than Clarabel's own solve time on (a)", a["clarabel"]["own"] >= 5 * a["ours"]["time"],
          f"{a['clarabel']['own']/a['ours']['time']:.1f}x"),
         (">= 100x faster than CVXPY+Clarabel end to end on (a)", a["cvxpy+clarabel"]["time"] >= 100 * a["ours"]["time"],

@@ -153,11 +153,32 @@ extern "C" int sb_lmi_set_options(sb_lmi_problem* problem, int max_iterations, d
       o.reduced_feas = std::max(o.reduced_feas, 10 * feas);
     }
     if (time_limit > 0) o.time_limit = time_limit;
+    o.threads = h->options.threads;  // set by sb_lmi_set_threads
     o.validate();
     h->options = o;
     if (h->solver) h->solver->set_options(o);
     h->feasibility.reset();
   });
+}
+
+extern "C" int sb_lmi_set_threads(sb_lmi_problem* problem, int threads) {
+  return capi::guard("sb_lmi_set_threads", [&] {
+    auto* h = handle(problem);
+    lmi::SolverOptions o = h->options;
+    o.threads = threads;
+    o.validate();
+    h->options = o;
+    if (h->solver) h->solver->set_options(o);
+    h->feasibility.reset();
+  });
+}
+
+extern "C" int sb_lmi_threads_available(void) {
+#if defined(_OPENMP)
+  return 1;
+#else
+  return 0;
+#endif
 }
 
 extern "C" int sb_lmi_problem_size(const sb_lmi_problem* problem, int* num_vars, int* num_blocks) {

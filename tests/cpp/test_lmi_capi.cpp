@@ -75,7 +75,13 @@ TEST(LmiCApi, UpdateOptionsEqualitiesFeasibilityInfeasibility) {
   add_simple_blocks(h.p);
   const double c[2] = {1, 1};
   ASSERT_EQ(sb_lmi_set_objective(h.p, c), SB_OK);
+  ASSERT_EQ(sb_lmi_set_threads(h.p, 2), SB_OK) << last();  // kept by set_options; 3 blocks: 2 threads
   ASSERT_EQ(sb_lmi_set_options(h.p, 50, 1e-8, 1e-9, 5.0), SB_OK) << last();
+#if defined(_OPENMP)
+  EXPECT_EQ(sb_lmi_threads_available(), 1);  // the objects are compiled like this test (CMake: SETBOUND_OPENMP)
+#else
+  EXPECT_EQ(sb_lmi_threads_available(), 0);
+#endif
   // x1 ≥ 4 now (update of block 1 values only).
   const double G0[1] = {-4}, Gs[2] = {0, 1};
   ASSERT_EQ(sb_lmi_update_block(h.p, 1, 1, G0, Gs), SB_OK) << last();
@@ -192,6 +198,9 @@ TEST(LmiCApi, BadInputsGiveErrorsNamingTheArgument) {
   EXPECT_EQ(sb_lmi_set_equalities(h.p, 1, nullptr, nullptr), SB_ERR_INVALID_ARGUMENT);
   EXPECT_EQ(sb_lmi_set_equalities(h.p, -1, id, id), SB_ERR_DIMENSION);
   EXPECT_EQ(sb_lmi_set_options(h.p, 0, NAN, 0, 0), SB_ERR_NOT_FINITE);
+  EXPECT_EQ(sb_lmi_set_threads(h.p, 0), SB_ERR_INVALID_ARGUMENT);
+  EXPECT_EQ(last().rfind("sb_lmi_set_threads: threads:", 0), 0u) << last();
+  EXPECT_EQ(sb_lmi_set_threads(nullptr, 2), SB_ERR_INVALID_ARGUMENT);
   EXPECT_EQ(sb_lmi_set_logdet(h.p, 2, ns, Fs), SB_ERR_NOT_SYMMETRIC);
   EXPECT_EQ(sb_lmi_solve(h.p, nullptr, x), SB_ERR_INVALID_ARGUMENT);
   double margin;

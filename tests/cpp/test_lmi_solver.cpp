@@ -197,6 +197,110 @@ TEST(LmiSolver, UpdateValuesWithoutReanalysisAndReuseSolver) {
   EXPECT_NE(q.structure_version(), v0);
 }
 
+namespace {
+
+// Random strictly feasible, bounded problem with `nb` dense blocks of size n (as the (b)
+// benchmark), plus sparse coefficients (a variable on one entry) and optionally an equality.
+LmiProblem random_block_problem(std::mt19937& rng, int nb, int n, int m, bool equality) {
+  std::normal_distribution<double> N(0.0, 1.0);
+  VectorXd x0(m), c = VectorXd::Zero(m);
+  for (int i = 0; i < m; ++i) x0(i) = N(rng);
+  LmiProblem p(m);
+  for (int b = 0; b < nb; ++b) {
+    std::vector<MatrixXd> Fs;
+    MatrixXd F0 = (1.0 + 0.5 * (b % 3)) * MatrixXd::Identity(n, n);
+    const MatrixXd R = random_symmetric(rng, n);
+    const MatrixXd Z0 = R * R + 0.1 * MatrixXd::Identity(n, n);  // strictly dual feasible: bounded
+    for (int i = 0; i < m; ++i) {
+      MatrixXd Fi = random_symmetric(rng, n);
+      if (i % 5 == 4) {  // sparse coefficient: one symmetric pair of entries
+        Fi.setZero();
+        Fi(b % n, (b + 1) % n) = Fi((b + 1) % n, b % n) = 1.0;
+      }
+      F0 -= x0(i) * Fi;
+      c(i) += (Fi * Z0).trace();
+      Fs.push_back(Fi);
+    }
+    p.add_block(F0, Fs);
+  }
+  p.set_objective(c);
+  if (equality) {
+    MatrixXd Aeq = MatrixXd::Zero(1, m);
+    Aeq(0, 0) = 1.0;
+    Aeq(0, 1) = -1.0;
+    VectorXd beq(1);
+    beq << x0(0) - x0(1);
+    p.set_equalities(Aeq, beq);
+  }
+  return p;
+}
+
+}  // namespace
+
+TEST(LmiSolver, ThreadsGiveTheSerialResultToRounding) {
+  // SolverOptions::threads splits the loops over blocks (OpenMP builds; serial otherwise).
+  // The threads' partial sums are added in another order than the serial loop's, so results
+  // may differ by rounding only; statuses, certificates and iterations must not.
+  std::mt19937 rng(41);
+  for (int trial = 0; trial < 4; ++trial) {
+    const int nb = trial == 3 ? 3 : 16 + 8 * trial;  // trial 3: fewer blocks than threads
+    LmiProblem p = random_block_problem(rng, nb, trial == 1 ? 5 : 7, 12, trial == 2);
+    SolverOptions serial;
+    const SolveResult r1 = solve_linear(p, serial);
+    ASSERT_EQ(r1.status, SolveStatus::Optimal) << "trial " << trial;
+    for (int threads : {2, 4}) {
+      SolverOptions o;
+      o.threads = threads;
+      InteriorPointSolver solver(p, o);
+      for (int rep = 0; rep < 2; ++rep) {  // a second solve reuses the threads' work arrays
+        const SolveResult& r2 = solver.solve();
+        ASSERT_EQ(r2.status, SolveStatus::Optimal) << "trial " << trial << " threads " << threads;
+        EXPECT_LE(std::abs(r2.iterations - r1.iterations), 1);
+        EXPECT_NEAR(r2.objective, r1.objective, 1e-8 * std::max(1.0, std::abs(r1.objective)));
+        // x itself is only determined to about √(gap) along flat directions of the optimum
+        // (1e-4 relative differences seen here); the objective and feasibility decide.
+        EXPECT_LE((r2.x - r1.x).norm(), 1e-3 * std::max(1.0, r1.x.norm()));
+        EXPECT_GT(r2.margin, 0.0);
+        for (int b = 0; b < p.num_blocks(); ++b) EXPECT_GE(lambda_min(block_value(p, b, r2.x)), 0.0);
+      }
+    }
+  }
+  // An infeasible problem keeps its certificate with threads: the (b)-sized problem plus a
+  // block that contradicts it (x0 ≥ 1 and x0 ≤ −1).
+  LmiProblem q = random_block_problem(rng, 20, 6, 8, false);
+  MatrixXd F0 = -MatrixXd::Identity(2, 2), F1 = MatrixXd::Zero(2, 2);
+  F1(0, 0) = 1.0;
+  F1(1, 1) = -1.0;
+  std::vector<MatrixXd> Fs(8, MatrixXd::Zero(2, 2));
+  Fs[0] = F1;
+  q.add_block(F0, Fs);
+  SolverOptions o;
+  o.threads = 2;
+  const SolveResult r = solve_linear(q, o);
+  ASSERT_EQ(r.status, SolveStatus::Infeasible);
+  double f0z = 0;
+  for (int b = 0; b < q.num_blocks(); ++b) {
+    f0z += (q.block(b).constant * r.Z[static_cast<size_t>(b)]).trace();
+    EXPECT_GE(lambda_min(r.Z[static_cast<size_t>(b)]), -1e-9);
+  }
+  EXPECT_NEAR(f0z, -1.0, 1e-8);
+  // Bad thread counts are refused by name.
+  for (int bad : {0, -1, 257}) {
+    SolverOptions b;
+    b.threads = bad;
+    EXPECT_THROW(
+        {
+          try {
+            InteriorPointSolver s(q, b);
+          } catch (const InvalidArgumentError& e) {
+            EXPECT_NE(std::string(e.what()).find("threads"), std::string::npos);
+            throw;
+          }
+        },
+        InvalidArgumentError);
+  }
+}
+
 TEST(LmiSolver, StatusesForLimits) {
   std::mt19937 rng(2);
   const LmiProblem p = max_eigenvalue_problem(random_symmetric(rng, 6));

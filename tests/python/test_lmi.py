@@ -157,6 +157,48 @@ def test_errors_name_the_argument():
         p.solve()
 
 
+def test_threads_option_matches_serial_and_checks_its_value():
+    """``threads`` splits each solve over the blocks (the library is built with OpenMP); the
+    result is the serial one to rounding, for linear and maxdet problems, and it survives
+    set_options. Bad values are refused by name."""
+    import sys
+
+    sys.path.insert(0, str(__import__("pathlib").Path(__file__).resolve().parents[2] / "bench"))
+    from bench_lmi import maxdet_problem, random_lmi
+
+    assert lmi.threads_available()
+    c, blocks = random_lmi(7, [7] * 24 + [3] * 4, 14)
+    r1 = lmi.solve(c, blocks)
+    r2 = lmi.solve(c, blocks, threads=2)
+    assert r1.status == r2.status == "optimal"
+    assert abs(r1.iterations - r2.iterations) <= 1
+    assert r2.objective == pytest.approx(r1.objective, rel=1e-8, abs=1e-8)
+    # x is only determined to about sqrt(gap) along flat directions; objective and feasibility decide
+    assert np.linalg.norm(r2.x - r1.x) <= 1e-3 * max(1.0, np.linalg.norm(r1.x))
+    for F0, Fs in blocks:
+        assert np.linalg.eigvalsh(F0 + np.einsum("i,ijk->jk", r2.x, Fs))[0] >= 0
+    assert r2.margin > 0
+    p = lmi.Problem(len(c))
+    p.set_objective(c)
+    for F0, Fs in blocks:
+        p.add_block(F0, Fs)
+    p.set_options(threads=2)
+    p.set_options(tol=1e-8)  # keeps threads
+    r3 = p.solve()
+    assert r3.status == "optimal" and r3.objective == pytest.approx(r1.objective, rel=1e-7)
+    cm, bm, logdet = maxdet_problem(3)
+    m1 = lmi.solve(cm, bm, logdet=logdet)
+    m2 = lmi.solve(cm, bm, logdet=logdet, threads=2)
+    assert m1.status == m2.status == "optimal"
+    assert m2.objective == pytest.approx(m1.objective, rel=1e-7, abs=1e-8)
+    for bad in (0, -2, 1000):
+        with pytest.raises(InvalidArgumentError, match="threads"):
+            p.set_options(threads=bad)
+    for bad in (1.5, "2", True):
+        with pytest.raises(InvalidArgumentError, match="threads"):
+            lmi.solve(c, blocks, threads=bad)
+
+
 # ---- maxdet -----------------------------------------------------------------------------
 def test_maxdet_closed_form_x_below_s():
     rng = np.random.default_rng(3)
