@@ -48,6 +48,35 @@ def test_feasible_matches_clarabel(seed):
     assert_feasible(blocks, r.x)
 
 
+@pytest.mark.parametrize("sizes", [[8, 3], [9, 12], [17, 1], [20, 2], [26], [6] * 12])
+def test_every_block_size_path_matches_clarabel(sizes):
+    """The solver scales a block's coefficients by different kernels by size (up to 8 rows:
+    interleaved products; 9-16: one fixed-size congruence per coefficient; 17-24: run-time
+    loops; above: Eigen), dense and sparse coefficients mixed: each agrees with Clarabel,
+    serially and with threads=2."""
+    rng = np.random.default_rng(sum(sizes) * 7 + len(sizes))
+    m = 6
+    x0 = rng.standard_normal(m)
+    blocks, c = [], np.zeros(m)
+    for n in sizes:
+        Fs = np.array([sym(rng, n) for _ in range(m)])
+        for i in (2, 5):  # sparse coefficients: one symmetric pair of entries
+            Fs[i] = 0.0
+            a, b = int(rng.integers(n)), int(rng.integers(n))
+            Fs[i, a, b] = Fs[i, b, a] = 1.0
+        F0 = -np.einsum("i,ijk->jk", x0, Fs) + np.eye(n) * (0.5 + rng.random())
+        R = rng.standard_normal((n, n))
+        c += np.einsum("ijk,jk->i", Fs, R @ R.T + 0.1 * np.eye(n))
+        blocks.append((F0, Fs))
+    status, value, _ = solve_with_clarabel(c, blocks)
+    assert status == "optimal"
+    for threads in (1, 2):
+        r = lmi.solve(c, blocks, threads=threads)
+        assert r.status == "optimal", (threads, r)
+        assert abs(r.objective - value) <= 1e-6 * max(1.0, abs(value)), (threads, r.objective, value)
+        assert_feasible(blocks, r.x)
+
+
 @pytest.mark.parametrize("seed", range(30))
 def test_feasible_with_equalities_matches_clarabel(seed):
     c, blocks = feasible_instance(1000 + seed)

@@ -395,58 +395,31 @@ inline void stacked_mul(int rows, const double* V, long ldv, const double* Q, do
   }
 }
 
-/// Row i·count + t of T = row i of (block t of P)ᵀ: the blocks' transposes interleaved by row,
-/// so that the rows i ≥ c of all blocks are one contiguous range (stacked_mul_lower).
+/// Row-major scaled coefficients (solver.hpp): for the blocks of up to 8 rows the stacked
+/// matrices are interleaved by row (row r·cp + t of V = row r of matrix t, cp = padded count),
+/// and out (svec length × cp, row-major: entry (idx, t) at out[idx·cp + t]) gets svec(QᵀF_tQ)
+/// in column t. P is work of V's shape. First P = V Q (rows r·cp + t = row r of F_tQ = column
+/// r of QᵀF_t, F_t symmetric), then each lower-triangle entry (i, c) of all the QᵀF_tQ at once:
+/// Σ_r P(r·cp + t, i) Q(r, c), contiguous in t. No transposes; the Gram kernel and the
+/// products with the coefficients read `out` as it is.
 template <int N>
-inline void stacked_transpose_interleaved(int count, const double* P, long ldp, double* T, long ldt) {
-  for (int t = 0; t < count; ++t) {
-    const double* Pt = P + static_cast<long>(t) * N;
-    for (int j = 0; j < N; ++j)
-      for (int i = 0; i < N; ++i) T[static_cast<long>(i) * count + t + j * ldt] = Pt[j + i * ldp];
-  }
-}
-
-/// Column c of P = T Q for the rows c·count … N·count−1 only (the lower triangles of the
-/// interleaved blocks of stacked_transpose_interleaved).
-template <int N>
-inline void stacked_mul_lower(int count, const double* T, long ldt, const double* Q, double* P, long ld) {
+inline void interleaved_congruence_svec(int cp, const double* V, long ld, const double* Q, double* P, double* out) {
+  stacked_mul<N>(N * cp, V, ld, Q, P, ld);
+  int idx = 0;
   for (int c = 0; c < N; ++c) {
     double q[N];
-    for (int l = 0; l < N; ++l) q[l] = Q[l + c * N];
-    double* pc = P + c * ld;
-    const int end = N * count;
-    for (int r = c * count; r < end; ++r) {
-      double acc = T[r] * q[0];
-      SETBOUND_UNROLL for (int l = 1; l < N; ++l) acc += T[r + l * ldt] * q[l];
-      pc[r] = acc;
+    for (int r = 0; r < N; ++r) q[r] = Q[r + c * N];
+    for (int i = c; i < N; ++i, ++idx) {
+      const double s = i == c ? 1.0 : kSqrt2;
+      const double* Pi = P + static_cast<long>(i) * ld;
+      double* o = out + static_cast<long>(idx) * cp;
+      for (int t = 0; t < cp; ++t) {
+        double acc = Pi[t] * q[0];
+        SETBOUND_UNROLL for (int r = 1; r < N; ++r) acc += Pi[t + static_cast<long>(r) * cp] * q[r];
+        o[t] = s * acc;
+      }
     }
   }
-}
-
-/// out[:, t] = svec(block t), from the interleaved lower triangles of stacked_mul_lower.
-template <int N>
-inline void stacked_pack_svec_interleaved(int count, const double* P, long ld, double* out, long ldo) {
-  for (int t = 0; t < count; ++t) {
-    double* o = out + t * ldo;
-    int idx = 0;
-    for (int c = 0; c < N; ++c) {
-      o[idx++] = P[static_cast<long>(c) * count + t + c * ld];
-      for (int r = c + 1; r < N; ++r) o[idx++] = kSqrt2 * P[static_cast<long>(r) * count + t + c * ld];
-    }
-  }
-}
-
-/// For t < count: out[:, t] = svec(Qᵀ F_t Q) where F_t (symmetric) = rows t·N … t·N+N−1 of
-/// V (leading dimension ld). P and T are work of the same shape as V: P = V Q, T = its
-/// block-wise transpose (blocks QᵀF_t, interleaved by row), P = T Q on the lower triangles
-/// only, then packed. Two tall products instead of count small ones.
-template <int N>
-inline void stacked_congruence_svec(int count, const double* V, long ld, const double* Q, double* P, double* T,
-                                    double* out, long ldo) {
-  stacked_mul<N>(count * N, V, ld, Q, P, ld);
-  stacked_transpose_interleaved<N>(count, P, ld, T, ld);
-  stacked_mul_lower<N>(count, T, ld, Q, P, ld);
-  stacked_pack_svec_interleaved<N>(count, P, ld, out, ldo);
 }
 
 }  // namespace fixed
@@ -487,7 +460,7 @@ inline void stacked_mul_rt(int rows, int n, const double* V, long ldv, const dou
 }
 
 inline void stacked_congruence_svec_rt(int n, int count, const double* V, long ld, const double* Q, double* P,
-                                       double* T, double* out, long ldo) {
+                                       double* T, double* out, long cp) {
   const int rows = count * n;
   stacked_mul_rt(rows, n, V, ld, Q, P, ld);
   for (int t = 0; t < count; ++t)
@@ -495,11 +468,10 @@ inline void stacked_congruence_svec_rt(int n, int count, const double* V, long l
       for (int i = 0; i < n; ++i) T[t * n + i + j * ld] = P[t * n + j + i * ld];
   stacked_mul_rt(rows, n, T, ld, Q, P, ld);
   for (int t = 0; t < count; ++t) {
-    double* o = out + t * ldo;
-    int idx = 0;
+    long idx = 0;
     for (int c = 0; c < n; ++c) {
-      o[idx++] = P[t * n + c + c * ld];
-      for (int r = c + 1; r < n; ++r) o[idx++] = kSqrt2 * P[t * n + r + c * ld];
+      out[idx++ * cp + t] = P[t * n + c + c * ld];
+      for (int r = c + 1; r < n; ++r) out[idx++ * cp + t] = kSqrt2 * P[t * n + r + c * ld];
     }
   }
 }
@@ -811,17 +783,23 @@ inline void stacked_mul(int rows, int n, const double* V, long ldv, const double
   });
 }
 
-/// out[:, t] = svec(Qᵀ F_t Q) for t < count, F_t = rows t·n … t·n+n−1 of V (leading dimension
-/// ld, symmetric blocks); P and T are work arrays of V's shape; out has leading dimension
-/// ldo ≥ n(n+1)/2.
-SETBOUND_KERNEL_CLONES inline void stacked_congruence_svec(int n, int count, const double* V, long ld, const double* Q, double* P, double* T,
-                                    double* out, long ldo) {
+/// Blocks of up to this size keep their coefficients interleaved by row (see
+/// fixed::interleaved_congruence_svec); larger ones stacked (rows t·n + r of V = row r of F_t).
+inline constexpr int kInterleavedMax = 8;
+
+/// Column t of out (row-major, svec length × cp: entry (idx, t) at out[idx·cp + t]) =
+/// svec(Qᵀ F_t Q) for t < count. n ≤ kInterleavedMax: V interleaved (row r·cp + t = row r of
+/// F_t, cp ≥ count, rows of t ≥ count zero) and every column t < cp is written. Larger n: V
+/// stacked (row t·n + r = row r of F_t, leading dimension ld), columns t < count written.
+/// P and T are work arrays of V's shape.
+SETBOUND_KERNEL_CLONES inline void congruence_svec(int n, int count, int cp, const double* V, long ld, const double* Q,
+                                                   double* P, double* T, double* out) {
   with_size(n, [&](auto N) {
     constexpr int Nv = decltype(N)::value;
     if constexpr (Nv == 0) {
-      detail::stacked_congruence_svec_rt(n, count, V, ld, Q, P, T, out, ldo);
-    } else if constexpr (Nv <= 8) {
-      fixed::stacked_congruence_svec<Nv>(count, V, ld, Q, P, T, out, ldo);
+      detail::stacked_congruence_svec_rt(n, count, V, ld, Q, P, T, out, cp);
+    } else if constexpr (Nv <= kInterleavedMax) {
+      fixed::interleaved_congruence_svec<Nv>(cp, V, ld, Q, P, out);
     } else {
       // From n = 9 on the tall products lose to one small congruence per matrix (measured:
       // 1.4 against 2.0 µs for three 13×13 matrices; twice as fast the other way at n = 7).
@@ -829,8 +807,13 @@ SETBOUND_KERNEL_CLONES inline void stacked_congruence_svec(int n, int count, con
         double* F = T + static_cast<long>(t) * Nv * Nv;  // T has room: (count·n)·n entries
         for (int c = 0; c < Nv; ++c)
           for (int r = 0; r < Nv; ++r) F[r + c * Nv] = V[t * Nv + r + c * ld];
-        fixed::congruence_t<Nv>(Q, F, P, P + Nv * Nv);
-        fixed::svec_pack<Nv>(P + Nv * Nv, out + t * ldo);
+        double* C = P + Nv * Nv;
+        fixed::congruence_t<Nv>(Q, F, P, C);
+        long idx = 0;
+        for (int c = 0; c < Nv; ++c) {
+          out[idx++ * cp + t] = C[c + c * Nv];
+          for (int r = c + 1; r < Nv; ++r) out[idx++ * cp + t] = kSqrt2 * C[r + c * Nv];
+        }
       }
     }
   });
@@ -867,29 +850,22 @@ inline void gemv_t(int s, int k, const double* A, const double* x, double* y) {
   }
 }
 
-/// Upper triangle of the Gram matrix G = FᵀF of the k columns of F (length s each, leading
-/// dimension s); G is k×k with leading dimension ldg. Column j is F_{0..j}ᵀ f_j (gemv_t: four
-/// columns of F at a time, so each loaded entry of f_j serves four products).
-SETBOUND_KERNEL_CLONES inline void gram_upper(int s, int k, const double* F, double* G, long ldg) {
-  for (int j = 0; j < k; ++j) gemv_t(s, j + 1, F, F + static_cast<long>(j) * s, G + j * ldg);
-}
-
 #if defined(__GNUC__)
 namespace detail {
 typedef double v4d __attribute__((vector_size(32)));
 typedef double v4d_u __attribute__((vector_size(32), aligned(8), may_alias));  // unaligned loads
 
-/// Rows i0 … i0+3 × columns c0 … c0+4·NV−1 of FᵀF from the row-major copy Fr (s rows of kp
-/// entries): 4·NV accumulators of four lanes stay in registers over the s rows (rank-one
+/// Rows i0 … i0+3 × columns c0 … c0+4·NV−1 of FᵀF from the row-major F (s rows, leading
+/// dimension ldf): 4·NV accumulators of four lanes stay in registers over the s rows (rank-one
 /// updates: four broadcasts and NV loads per 4·NV fused multiply-adds). Entries with row or
-/// column ≥ k (the zero padding) are not stored.
+/// column ≥ k are not stored.
 template <int NV>
-inline void gram_tile(int s, const double* Fr, int kp, int i0, int c0, int k, double* G, long ldg) {
+inline void gram_tile(int s, const double* F, long ldf, int i0, int c0, int k, double* G, long ldg) {
   v4d acc[4][NV];
   for (int r = 0; r < 4; ++r)
     for (int q = 0; q < NV; ++q) acc[r][q] = v4d{0.0, 0.0, 0.0, 0.0};
-  const double* row = Fr;
-  for (int t = 0; t < s; ++t, row += kp) {
+  const double* row = F;
+  for (int t = 0; t < s; ++t, row += ldf) {
     v4d b[NV];
     for (int q = 0; q < NV; ++q) b[q] = *reinterpret_cast<const v4d_u*>(row + c0 + 4 * q);
     for (int r = 0; r < 4; ++r) {
@@ -907,42 +883,61 @@ inline void gram_tile(int s, const double* Fr, int kp, int i0, int c0, int k, do
 }  // namespace detail
 #endif
 
-/// Number of columns of the row-major work copy gram_upper_rm() needs: k rounded up to 4.
+/// Columns a row of F must have for gram_upper(): k rounded up to a multiple of 4 (the tiles
+/// read them; entries past k may hold anything finite).
 inline constexpr int gram_padded(int k) { return (k + 3) / 4 * 4; }
 
-/// The same upper triangle as gram_upper(), through a row-major copy of F (work Fr of
-/// s·gram_padded(k) entries) and register tiles of 4×12 (detail::gram_tile): 2–3× faster from
-/// k ≈ 8 on (1.15 → 0.53 µs at s = 28, k = 20, AVX2); gram_upper() below that. Some entries
-/// below the diagonal are written too (with their correct values).
-SETBOUND_KERNEL_CLONES inline void gram_upper_rm(int s, int k, const double* F, double* Fr, double* G, long ldg) {
+/// Upper triangle of the Gram matrix G = FᵀF of the k columns of the row-major F (s rows,
+/// leading dimension ldf ≥ gram_padded(k) readable entries per row); G is k×k with leading
+/// dimension ldg. Register tiles of 4×12 (detail::gram_tile): 1.15 → 0.36 µs against column
+/// dot products at s = 28, k = 20 (AVX2). Some entries below the diagonal are written too
+/// (with their correct values).
+SETBOUND_KERNEL_CLONES inline void gram_upper(int s, int k, const double* F, long ldf, double* G, long ldg) {
 #if defined(__GNUC__)
-  if (k >= 8) {
-    const int kp = gram_padded(k);
-    for (int t = 0; t < s; ++t) {
-      double* o = Fr + static_cast<long>(t) * kp;
-      for (int j = 0; j < k; ++j) o[j] = F[t + static_cast<long>(j) * s];
-      for (int j = k; j < kp; ++j) o[j] = 0.0;
-    }
-    for (int i0 = 0; i0 < k; i0 += 4) {
-      for (int c0 = i0; c0 < k;) {
-        const int left = (k - c0 + 3) / 4;
-        if (left >= 3) {
-          detail::gram_tile<3>(s, Fr, kp, i0, c0, k, G, ldg);
-          c0 += 12;
-        } else if (left == 2) {
-          detail::gram_tile<2>(s, Fr, kp, i0, c0, k, G, ldg);
-          c0 += 8;
-        } else {
-          detail::gram_tile<1>(s, Fr, kp, i0, c0, k, G, ldg);
-          c0 += 4;
-        }
+  for (int i0 = 0; i0 < k; i0 += 4) {
+    for (int c0 = i0; c0 < k;) {
+      const int left = (k - c0 + 3) / 4;
+      if (left >= 3) {
+        detail::gram_tile<3>(s, F, ldf, i0, c0, k, G, ldg);
+        c0 += 12;
+      } else if (left == 2) {
+        detail::gram_tile<2>(s, F, ldf, i0, c0, k, G, ldg);
+        c0 += 8;
+      } else {
+        detail::gram_tile<1>(s, F, ldf, i0, c0, k, G, ldg);
+        c0 += 4;
       }
     }
-    return;
   }
+#else
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i <= j; ++i) {
+      double acc = 0.0;
+      for (int t = 0; t < s; ++t) acc += F[t * ldf + i] * F[t * ldf + j];
+      G[i + static_cast<long>(j) * ldg] = acc;
+    }
 #endif
-  (void)Fr;
-  for (int j = 0; j < k; ++j) gemv_t(s, j + 1, F, F + static_cast<long>(j) * s, G + j * ldg);
+}
+
+/// y_j = Σ_t A(t, j) x_t for the row-major A (s×k, leading dimension lda): Aᵀx as a sum of
+/// rows (vectorised along the row).
+inline void gemv_rm_t(int s, int k, const double* A, long lda, const double* x, double* y) {
+  for (int j = 0; j < k; ++j) y[j] = 0.0;
+  for (int t = 0; t < s; ++t) {
+    const double xt = x[t];
+    const double* a = A + t * lda;
+    for (int j = 0; j < k; ++j) y[j] += a[j] * xt;
+  }
+}
+
+/// y_t += alpha · Σ_j A(t, j) x_j for the row-major A (s×k, leading dimension lda).
+inline void gemv_rm_n_add(int s, int k, double alpha, const double* A, long lda, const double* x, double* y) {
+  for (int t = 0; t < s; ++t) {
+    const double* a = A + t * lda;
+    double acc = 0.0;
+    for (int j = 0; j < k; ++j) acc += a[j] * x[j];
+    y[t] += alpha * acc;
+  }
 }
 
 /// y += alpha · A x for A s×k (leading dimension s).

@@ -217,12 +217,17 @@ class InteriorPointSolver {
     std::vector<int> col;   // coefficient index (into LmiBlock::coefficients) of Fs column 2 + j
     std::vector<int> var;   // its variable
     Eigen::MatrixXd S, Z, dS, dZ, rz, R, Q, Qt, Ls, Lz, tmp, tmp2, Wds, Wdz, Wds_a, Wdz_a, U, best_Z;
-    Eigen::MatrixXd V;      // (n·(kd+2))×n: [F0; rz; dense coefficients in `col` order] stacked
-    Eigen::MatrixXd P, T;   // work of V's shape (kernels::stacked_congruence_svec)
-    Eigen::MatrixXd Fs;     // sv×(k+2): svec(QᵀF0Q), svec(QᵀrzQ), svec(QᵀF_jQ) (see above)
+    // V holds F0, rz and the dense coefficients in `col` order as matrices ("slots") 0, 1, 2…:
+    // for n ≤ kernels::kInterleavedMax interleaved by row (row r·cp + slot = row r of the
+    // slot's matrix; (n·cp)×n, unused slots zero), else stacked (row slot·n + r; (n·(k+2))×n).
+    Eigen::MatrixXd V;
+    Eigen::MatrixXd P, T;   // work of V's shape (kernels::congruence_svec)
+    // sv×cp, row-major: column 0 svec(QᵀF0Q), 1 svec(QᵀrzQ), 2 + j svec(QᵀF_jQ) (see above);
+    // columns from k + 2 on are zero padding for the Gram kernel's tiles.
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> Fs;
+    Eigen::VectorXd f0;     // column 0 of Fs, contiguous
     Eigen::MatrixXd As;     // sv×k: svec(F_j), unscaled, same column order (residuals)
     Eigen::MatrixXd G;      // k×k: Gram matrix of the scaled coefficients (upper triangle)
-    Eigen::VectorXd Fr;     // sv·gram_padded(k): row-major work copy for kernels::gram_upper_rm
     Eigen::VectorXd a0, ss, zs, rs, bs, ws;  // svec(F0), svec(S), svec(Z), svec(rz), svec(B̃), work
     Eigen::VectorXd xl, gl, f0f;  // x gathered by `var`, products per column, ⟨F̃_j, F̃0⟩
     Eigen::VectorXd lambda, isq, wv, ev;
@@ -230,6 +235,11 @@ class InteriorPointSolver {
     double e = 1;           // equilibration: the block is solved as e·F_b (equilibrate())
     std::vector<double> cs; // e·d_var per Fs column (scale of the stored coefficient)
     bool ok = true;         // scale_block succeeded
+    bool il = false;        // V interleaved (n ≤ kernels::kInterleavedMax)
+    int cp = 0;             // columns of Fs (and slots of an interleaved V)
+    Eigen::Index vrow(int slot, int r) const {
+      return il ? static_cast<Eigen::Index>(r) * cp + slot : static_cast<Eigen::Index>(slot) * n + r;
+    }
   };
   // Per-thread partial results of the loops over blocks (for_block_ranges): thread t > 0
   // accumulates into part_[t] what thread 0 accumulates into the solver's own arrays, and the
@@ -362,13 +372,15 @@ inline void InteriorPointSolver::setup() {
     for (Eigen::MatrixXd* M : {&w.S, &w.Z, &w.dS, &w.dZ, &w.rz, &w.R, &w.Q, &w.Qt, &w.Ls, &w.Lz, &w.tmp, &w.tmp2,
                                &w.Wds, &w.Wdz, &w.Wds_a, &w.Wdz_a, &w.U, &w.best_Z})
       M->setZero(n, n);
-    w.V.setZero(static_cast<Eigen::Index>(n) * (w.k + 2), n);  // room for every coefficient dense
+    w.il = n <= kernels::kInterleavedMax;
+    w.cp = kernels::gram_padded(w.k) + 4;  // ≥ k + 2 columns, and the Gram tiles' reach from column 2
+    w.V.setZero(static_cast<Eigen::Index>(n) * (w.il ? w.cp : w.k + 2), n);  // room for every coefficient dense
     w.P.setZero(w.V.rows(), n);
     w.T.setZero(w.V.rows(), n);
-    w.Fs.setZero(w.sv, w.k + 2);
+    w.Fs.setZero(w.sv, w.cp);
+    w.f0.setZero(w.sv);
     w.As.setZero(w.sv, w.k);
     w.G.setZero(w.k, w.k);
-    w.Fr.setZero(static_cast<Eigen::Index>(w.sv) * kernels::gram_padded(w.k));
     for (Eigen::VectorXd* v : {&w.a0, &w.ss, &w.zs, &w.rs, &w.bs, &w.ws}) v->setZero(w.sv);
     for (Eigen::VectorXd* v : {&w.xl, &w.gl, &w.f0f}) v->setZero(w.k);
     w.cs.assign(static_cast<size_t>(w.k), 1.0);
@@ -522,10 +534,10 @@ inline void InteriorPointSolver::equilibrate() {
     }
     w.a0 *= w.e;
     for (int c = 0; c < n; ++c)
-      for (int r = 0; r < n; ++r) w.V(r, c) *= w.e;
+      for (int r = 0; r < n; ++r) w.V(w.vrow(0, r), c) *= w.e;
     for (int j = 0; j < w.kd; ++j)
       for (int c = 0; c < n; ++c)
-        for (int r = 0; r < n; ++r) w.V(static_cast<Eigen::Index>(2 + j) * n + r, c) *= w.cs[static_cast<size_t>(j)];
+        for (int r = 0; r < n; ++r) w.V(w.vrow(2 + j, r), c) *= w.cs[static_cast<size_t>(j)];
   }
   if (pe_ > 0) {
     Aeq_ = r_.asDiagonal() * p.eq_matrix() * d_.asDiagonal();
@@ -558,13 +570,15 @@ inline void InteriorPointSolver::load_values() {
     w.kd = 0;
     for (int j = 0; j < w.k; ++j)
       if (blk.coefficients[static_cast<size_t>(w.col[static_cast<size_t>(j)])].kind == CoefficientKind::Dense) ++w.kd;
-    // V: rows block 0 = F0, block 1 = rz (per iteration), blocks 2… = dense coefficients.
-    auto put = [&](int slot, const Eigen::MatrixXd& F) {
+    // V: slot 0 = F0, slot 1 = rz (per iteration), slots 2… = dense coefficients; the slots of
+    // coefficients that are sparse now are zeroed (their columns of Fs are filled from entries).
+    auto put = [&](int slot, const Eigen::MatrixXd* F) {
       for (int c = 0; c < n; ++c)
-        for (int r = 0; r < n; ++r) w.V(static_cast<Eigen::Index>(slot) * n + r, c) = F(r, c);
+        for (int r = 0; r < n; ++r) w.V(w.vrow(slot, r), c) = F ? (*F)(r, c) : 0.0;
     };
-    put(0, blk.constant);
-    for (int j = 0; j < w.kd; ++j) put(2 + j, blk.coefficients[static_cast<size_t>(w.col[static_cast<size_t>(j)])].dense);
+    put(0, &blk.constant);
+    for (int j = 0; j < w.k; ++j)
+      put(2 + j, j < w.kd ? &blk.coefficients[static_cast<size_t>(w.col[static_cast<size_t>(j)])].dense : nullptr);
     (void)rows;
     kernels::svec_pack(n, blk.constant.data(), w.a0.data());
   }
@@ -796,19 +810,20 @@ inline void InteriorPointSolver::assemble_block(int b) {
     const LmiBlock& blk = p.block(b);
     BlockWork& w = w_[static_cast<size_t>(b)];
     const int n = w.n, sv = w.sv;
-    // Slot 1 of V holds rz, so that QᵀF0Q, QᵀrzQ and every dense QᵀF_jQ come out of two tall
-    // products (kernels::stacked_congruence_svec).
+    // Slot 1 of V holds rz, so that QᵀF0Q, QᵀrzQ and every dense QᵀF_jQ come out of the same
+    // products (kernels::congruence_svec).
     for (int c = 0; c < n; ++c)
-      for (int r = 0; r < n; ++r) w.V(n + r, c) = w.rz(r, c);
+      for (int r = 0; r < n; ++r) w.V(w.vrow(1, r), c) = w.rz(r, c);
     const int cnt = w.kd + 2;
     const long ldv = w.V.rows();
     if (n <= kLargeBlock) {
-      kernels::stacked_congruence_svec(n, cnt, w.V.data(), ldv, w.Q.data(), w.P.data(), w.T.data(), w.Fs.data(), sv);
+      kernels::congruence_svec(n, cnt, w.cp, w.V.data(), ldv, w.Q.data(), w.P.data(), w.T.data(), w.Fs.data());
     } else {
       w.P.topRows(static_cast<Eigen::Index>(cnt) * n).noalias() = w.V.topRows(static_cast<Eigen::Index>(cnt) * n) * w.Q;
       for (int t = 0; t < cnt; ++t) {
         w.tmp.noalias() = w.P.middleRows(static_cast<Eigen::Index>(t) * n, n).transpose() * w.Q;
-        kernels::svec_pack(n, w.tmp.data(), w.Fs.col(t).data());
+        kernels::svec_pack(n, w.tmp.data(), w.ws.data());
+        w.Fs.col(t) = w.ws;
       }
     }
     // Sparse coefficients: QᵀFQ = Σ f_rc (q_r q_cᵀ + q_c q_rᵀ) over the upper-triangle entries
@@ -816,7 +831,7 @@ inline void InteriorPointSolver::assemble_block(int b) {
     for (int j = w.kd; j < w.k; ++j) {
       const Coefficient& co = blk.coefficients[static_cast<size_t>(w.col[static_cast<size_t>(j)])];
       const double sc = w.cs[static_cast<size_t>(j)];
-      double* o = w.Fs.col(2 + j).data();
+      double* o = w.ws.data();  // work; copied into column 2 + j of Fs below
       std::fill(o, o + sv, 0.0);
       for (const auto& e : co.entries) {
         const double* qr = w.Qt.data() + static_cast<long>(e.row) * n;
@@ -840,13 +855,15 @@ inline void InteriorPointSolver::assemble_block(int b) {
         ++idx;  // diagonal
         for (int a = b2 + 1; a < n; ++a) o[idx++] *= kernels::kSqrt2;
       }
+      w.Fs.col(2 + j) = w.ws;
     }
     // Schur complement: the Gram matrix of the scaled coefficients (upper half, mirrored).
-    const double* Fc = w.Fs.data() + 2L * sv;
-    kernels::gram_upper_rm(sv, w.k, Fc, w.Fr.data(), w.G.data(), w.k);
+    const double* Fc = w.Fs.data() + 2;  // columns 2 … k + 1 of the row-major Fs
+    kernels::gram_upper(sv, w.k, Fc, w.cp, w.G.data(), w.k);
     // ⟨F̃_j, F̃0⟩ and ‖F̃0‖², used by both directions of the iteration.
-    kernels::gemv_t(sv, w.k, Fc, w.Fs.data(), w.f0f.data());
-    w.f0sq = w.Fs.col(0).squaredNorm();
+    w.f0 = w.Fs.col(0);
+    kernels::gemv_rm_t(sv, w.k, Fc, w.cp, w.f0.data(), w.f0f.data());
+    w.f0sq = w.f0.squaredNorm();
   }
 }
 
@@ -927,7 +944,7 @@ inline void InteriorPointSolver::kkt_solve(const Eigen::VectorXd& bx, const Eige
 // ⟨F̃_j, F̃0⟩ = f0f, which assemble_block computed already (with the same operations).
 inline void InteriorPointSolver::kkt_block_rhs(BlockWork& w, bool use_F0, double eta_rz, bool with_u) {
   if (use_F0) {
-    w.bs = w.Fs.col(0);
+    w.bs = w.f0;
     w.gl = w.f0f;
     return;
   }
@@ -936,7 +953,7 @@ inline void InteriorPointSolver::kkt_block_rhs(BlockWork& w, bool use_F0, double
     kernels::svec_pack(w.n, w.U.data(), w.ws.data());
     w.bs -= w.ws;
   }
-  kernels::gemv_t(w.sv, w.k, w.Fs.data() + 2L * w.sv, w.bs.data(), w.gl.data());
+  kernels::gemv_rm_t(w.sv, w.k, w.Fs.data() + 2, w.cp, w.bs.data(), w.gl.data());
 }
 
 // The rest of kkt_solve: g_ = bx − Σ_b gl_b, summed per thread (thread 0's part in g_ itself).
@@ -995,7 +1012,7 @@ inline double InteriorPointSolver::direction(double eta, double sigma, double mu
       }
     kkt_block_rhs(w, false, eta, true);
     scatter_sub(w, g);
-    pt.hb -= w.Fs.col(0).dot(w.bs);
+    pt.hb -= w.f0.dot(w.bs);
    }
   });
   double dk_rhs = -tau_ * kappa_ + sigma * mu;
@@ -1026,8 +1043,8 @@ inline double InteriorPointSolver::direction(double eta, double sigma, double mu
       BlockWork& w = w_[static_cast<size_t>(b)];
       // W dz = −Σ dx_j F̃_j − B̃0 − dτ F̃0;  W⁻ᵀds = U − W dz
       for (int j = 0; j < w.k; ++j) w.xl(j) = dx_(w.var[static_cast<size_t>(j)]);
-      w.ws = -w.bs - dtau_ * w.Fs.col(0);
-      kernels::gemv_n_add(w.sv, w.k, -1.0, w.Fs.data() + 2L * w.sv, w.xl.data(), w.ws.data());
+      w.ws = -w.bs - dtau_ * w.f0;
+      kernels::gemv_rm_n_add(w.sv, w.k, -1.0, w.Fs.data() + 2, w.cp, w.xl.data(), w.ws.data());
       kernels::svec_unpack(w.n, w.ws.data(), w.Wdz.data());
       w.Wds = w.U - w.Wdz;
       a = std::min(a, max_step_scaled(w, w.Wds, a));
