@@ -510,8 +510,9 @@ inline void tridiagonalize(int n, double* a, double* d, double* e, bool vectors)
       if (scale == 0.0) {
         e[i] = A(i, l);
       } else {
+        const double iscale = 1.0 / scale;
         for (int k = 0; k <= l; ++k) {
-          A(i, k) /= scale;
+          A(i, k) *= iscale;
           h += A(i, k) * A(i, k);
         }
         double f = A(i, l);
@@ -520,12 +521,13 @@ inline void tridiagonalize(int n, double* a, double* d, double* e, bool vectors)
         h -= f * g;
         A(i, l) = f - g;
         f = 0.0;
+        const double ih = 1.0 / h;
         for (int j = 0; j <= l; ++j) {
-          if (vectors) A(j, i) = A(i, j) / h;
+          if (vectors) A(j, i) = A(i, j) * ih;
           g = 0.0;
           for (int k = 0; k <= j; ++k) g += A(j, k) * A(i, k);
           for (int k = j + 1; k <= l; ++k) g += A(k, j) * A(i, k);
-          e[j] = g / h;
+          e[j] = g * ih;
           f += e[j] * A(i, j);
         }
         const double hh = f / (h + h);
@@ -930,13 +932,22 @@ inline void gemv_rm_t(int s, int k, const double* A, long lda, const double* x, 
   }
 }
 
-/// y_t += alpha · Σ_j A(t, j) x_j for the row-major A (s×k, leading dimension lda).
+/// y_t += alpha · Σ_j A(t, j) x_j for the row-major A (s×k, leading dimension lda). Four
+/// partial sums per row (a single one is a chain of dependent additions the compiler may not
+/// reorder: it took a third of the direction pass).
 inline void gemv_rm_n_add(int s, int k, double alpha, const double* A, long lda, const double* x, double* y) {
+  const int k4 = k / 4 * 4;
   for (int t = 0; t < s; ++t) {
     const double* a = A + t * lda;
-    double acc = 0.0;
-    for (int j = 0; j < k; ++j) acc += a[j] * x[j];
-    y[t] += alpha * acc;
+    double a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0;
+    for (int j = 0; j < k4; j += 4) {
+      a0 += a[j] * x[j];
+      a1 += a[j + 1] * x[j + 1];
+      a2 += a[j + 2] * x[j + 2];
+      a3 += a[j + 3] * x[j + 3];
+    }
+    for (int j = k4; j < k; ++j) a0 += a[j] * x[j];
+    y[t] += alpha * ((a0 + a1) + (a2 + a3));
   }
 }
 
@@ -960,18 +971,21 @@ inline void gemv_n_add(int s, int k, double alpha, const double* A, const double
 
 /// Solves L Lᵀ x = b in place (L lower triangular n×n, leading dimension n, from cholesky();
 /// dinv = 1 / diag(L), so that the substitutions multiply instead of dividing).
-inline void cholesky_solve(int n, const double* L, const double* dinv, double* b) {
+/// Both substitutions run by columns (axpy updates, no chains of dependent additions): L y = b
+/// with the columns of L, Lᵀ x = y with the columns of U = Lᵀ (leading dimension n, the
+/// caller's copy).
+inline void cholesky_solve(int n, const double* L, const double* U, const double* dinv, double* b) {
   for (int j = 0; j < n; ++j) {  // L y = b, by columns of L
     const double* Lj = L + static_cast<long>(j) * n;
     const double yj = b[j] * dinv[j];
     b[j] = yj;
     for (int i = j + 1; i < n; ++i) b[i] -= Lj[i] * yj;
   }
-  for (int j = n - 1; j >= 0; --j) {  // Lᵀ x = y: row j of Lᵀ is column j of L
-    const double* Lj = L + static_cast<long>(j) * n;
-    double acc = b[j];
-    for (int i = j + 1; i < n; ++i) acc -= Lj[i] * b[i];
-    b[j] = acc * dinv[j];
+  for (int j = n - 1; j >= 0; --j) {  // Lᵀ x = y, by columns of U = Lᵀ
+    const double* Uj = U + static_cast<long>(j) * n;
+    const double xj = b[j] * dinv[j];
+    b[j] = xj;
+    for (int i = 0; i < j; ++i) b[i] -= Uj[i] * xj;
   }
 }
 

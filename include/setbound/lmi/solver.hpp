@@ -330,7 +330,7 @@ class InteriorPointSolver {
   double step_alpha_ = 0;
   double sz_ = 0;  // ⟨S, Z⟩ summed over the blocks (residuals())  // step taken by the last iteration, applied to S, Z in residuals()
   // linear algebra
-  Eigen::MatrixXd M_, K_, Lk_, KinvAt_, SA_, AtA_;
+  Eigen::MatrixXd M_, K_, Lk_, Uk_, KinvAt_, SA_, AtA_;  // Uk_ = Lk_ᵀ
   Eigen::VectorXd Ldinv_;  // 1 / diag(Lk_)
   Eigen::LLT<Eigen::MatrixXd> lltK_, lltSA_;
   double rho_ = 1;
@@ -394,6 +394,7 @@ inline void InteriorPointSolver::setup() {
   M_.setZero(m_, m_);
   K_.setZero(m_, m_);
   Lk_.setZero(m_ <= kSmallSchur ? m_ : 0, m_ <= kSmallSchur ? m_ : 0);
+  Uk_.setZero(Lk_.rows(), Lk_.cols());
   Ldinv_.setZero(m_);
   // Factorise identities once so that the LLT objects own storage of the right size (no
   // allocation in solve()); move-assigning size-only LLT temporaries copied uninitialised
@@ -874,6 +875,7 @@ inline bool InteriorPointSolver::factor_schur() {
   if (m_ <= kSmallSchur) {
     if (!kernels::cholesky(m_, K_.data(), Lk_.data())) return false;
     for (int i = 0; i < m_; ++i) Ldinv_(i) = 1.0 / Lk_(i, i);  // the solves multiply
+    Uk_ = Lk_.transpose();
     return true;
   }
   lltK_.compute(K_);
@@ -881,7 +883,7 @@ inline bool InteriorPointSolver::factor_schur() {
 }
 
 inline void InteriorPointSolver::solve_schur(double* b) {
-  if (m_ <= kSmallSchur) return kernels::cholesky_solve(m_, Lk_.data(), Ldinv_.data(), b);
+  if (m_ <= kSmallSchur) return kernels::cholesky_solve(m_, Lk_.data(), Uk_.data(), Ldinv_.data(), b);
   Eigen::Map<Eigen::VectorXd> v(b, m_);
   lltK_.solveInPlace(v);
 }
