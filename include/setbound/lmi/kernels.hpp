@@ -510,9 +510,8 @@ inline void tridiagonalize(int n, double* a, double* d, double* e, bool vectors)
       if (scale == 0.0) {
         e[i] = A(i, l);
       } else {
-        const double iscale = 1.0 / scale;
         for (int k = 0; k <= l; ++k) {
-          A(i, k) *= iscale;
+          A(i, k) /= scale;
           h += A(i, k) * A(i, k);
         }
         double f = A(i, l);
@@ -521,13 +520,12 @@ inline void tridiagonalize(int n, double* a, double* d, double* e, bool vectors)
         h -= f * g;
         A(i, l) = f - g;
         f = 0.0;
-        const double ih = 1.0 / h;
         for (int j = 0; j <= l; ++j) {
-          if (vectors) A(j, i) = A(i, j) * ih;
+          if (vectors) A(j, i) = A(i, j) / h;
           g = 0.0;
           for (int k = 0; k <= j; ++k) g += A(j, k) * A(i, k);
           for (int k = j + 1; k <= l; ++k) g += A(k, j) * A(i, k);
-          e[j] = g * ih;
+          e[j] = g / h;
           f += e[j] * A(i, j);
         }
         const double hh = f / (h + h);
