@@ -341,7 +341,7 @@ inline void congruence_n(int n, const double* Q, const double* X, double* T, dou
 }
 
 // ---------------------------------------------------------------------------------------
-// Kernels of the Schur complement (solver.hpp, assemble_and_factor). A block's coefficients are
+// Kernels of the Schur complement (solver.hpp, assemble_block). A block's coefficients are
 // handled in the symmetric vectorisation svec: the lower triangle by columns with the
 // off-diagonal entries multiplied by √2, so that ⟨X, Y⟩_F = svec(X)ᵀsvec(Y) at n(n+1)/2
 // instead of n² products. The dense coefficients F_t of a block are stacked vertically,
@@ -403,8 +403,12 @@ inline void stacked_mul(int rows, const double* V, long ldv, const double* Q, do
 /// Σ_r P(r·cp + t, i) Q(r, c), contiguous in t. No transposes; the Gram kernel and the
 /// products with the coefficients read `out` as it is.
 template <int N>
-inline void interleaved_congruence_svec(int cp, const double* V, long ld, const double* Q, double* P, double* out) {
-  stacked_mul<N>(N * cp, V, ld, Q, P, ld);
+inline void interleaved_congruence_svec(int count, int cp, const double* V, long ld, const double* Q, double* P,
+                                        double* out) {
+  // Only the first `count` slots hold matrices (the others: sparse coefficients, whose columns
+  // the caller fills, and padding), rounded up to whole vectors.
+  const int tn = std::min(cp, (count + 3) / 4 * 4);
+  for (int r = 0; r < N; ++r) stacked_mul<N>(tn, V + static_cast<long>(r) * cp, ld, Q, P + static_cast<long>(r) * cp, ld);
   int idx = 0;
   for (int c = 0; c < N; ++c) {
     double q[N];
@@ -413,7 +417,7 @@ inline void interleaved_congruence_svec(int cp, const double* V, long ld, const 
       const double s = i == c ? 1.0 : kSqrt2;
       const double* Pi = P + static_cast<long>(i) * ld;
       double* o = out + static_cast<long>(idx) * cp;
-      for (int t = 0; t < cp; ++t) {
+      for (int t = 0; t < tn; ++t) {
         double acc = Pi[t] * q[0];
         SETBOUND_UNROLL for (int r = 1; r < N; ++r) acc += Pi[t + static_cast<long>(r) * cp] * q[r];
         o[t] = s * acc;
@@ -459,6 +463,15 @@ inline void stacked_mul_rt(int rows, int n, const double* V, long ldv, const dou
   }
 }
 
+/// Column t of the row-major out (svec length × cp) = svec(C), C n×n with leading dimension ldc.
+inline void svec_pack_column(int n, const double* C, long ldc, double* out, long cp, int t) {
+  long idx = 0;
+  for (int c = 0; c < n; ++c) {
+    out[idx++ * cp + t] = C[c + c * ldc];
+    for (int r = c + 1; r < n; ++r) out[idx++ * cp + t] = kSqrt2 * C[r + c * ldc];
+  }
+}
+
 inline void stacked_congruence_svec_rt(int n, int count, const double* V, long ld, const double* Q, double* P,
                                        double* T, double* out, long cp) {
   const int rows = count * n;
@@ -467,13 +480,7 @@ inline void stacked_congruence_svec_rt(int n, int count, const double* V, long l
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) T[t * n + i + j * ld] = P[t * n + j + i * ld];
   stacked_mul_rt(rows, n, T, ld, Q, P, ld);
-  for (int t = 0; t < count; ++t) {
-    long idx = 0;
-    for (int c = 0; c < n; ++c) {
-      out[idx++ * cp + t] = P[t * n + c + c * ld];
-      for (int r = c + 1; r < n; ++r) out[idx++ * cp + t] = kSqrt2 * P[t * n + r + c * ld];
-    }
-  }
+  for (int t = 0; t < count; ++t) svec_pack_column(n, P + static_cast<long>(t) * n, ld, out, cp, t);
 }
 
 }  // namespace detail
@@ -789,8 +796,9 @@ inline constexpr int kInterleavedMax = 8;
 
 /// Column t of out (row-major, svec length × cp: entry (idx, t) at out[idx·cp + t]) =
 /// svec(Qᵀ F_t Q) for t < count. n ≤ kInterleavedMax: V interleaved (row r·cp + t = row r of
-/// F_t, cp ≥ count, rows of t ≥ count zero) and every column t < cp is written. Larger n: V
-/// stacked (row t·n + r = row r of F_t, leading dimension ld), columns t < count written.
+/// F_t, cp ≥ count rounded up to 4, finite rows past count); columns up to count rounded up
+/// to 4 are written. Larger n: V stacked (row t·n + r = row r of F_t, leading dimension ld),
+/// columns t < count written.
 /// P and T are work arrays of V's shape.
 SETBOUND_KERNEL_CLONES inline void congruence_svec(int n, int count, int cp, const double* V, long ld, const double* Q,
                                                    double* P, double* T, double* out) {
@@ -799,7 +807,7 @@ SETBOUND_KERNEL_CLONES inline void congruence_svec(int n, int count, int cp, con
     if constexpr (Nv == 0) {
       detail::stacked_congruence_svec_rt(n, count, V, ld, Q, P, T, out, cp);
     } else if constexpr (Nv <= kInterleavedMax) {
-      fixed::interleaved_congruence_svec<Nv>(cp, V, ld, Q, P, out);
+      fixed::interleaved_congruence_svec<Nv>(count, cp, V, ld, Q, P, out);
     } else {
       // From n = 9 on the tall products lose to one small congruence per matrix (measured:
       // 1.4 against 2.0 µs for three 13×13 matrices; twice as fast the other way at n = 7).
@@ -809,11 +817,7 @@ SETBOUND_KERNEL_CLONES inline void congruence_svec(int n, int count, int cp, con
           for (int r = 0; r < Nv; ++r) F[r + c * Nv] = V[t * Nv + r + c * ld];
         double* C = P + Nv * Nv;
         fixed::congruence_t<Nv>(Q, F, P, C);
-        long idx = 0;
-        for (int c = 0; c < Nv; ++c) {
-          out[idx++ * cp + t] = C[c + c * Nv];
-          for (int r = c + 1; r < Nv; ++r) out[idx++ * cp + t] = kSqrt2 * C[r + c * Nv];
-        }
+        detail::svec_pack_column(Nv, C, Nv, out, cp, t);
       }
     }
   });

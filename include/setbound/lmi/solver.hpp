@@ -78,9 +78,10 @@ struct SolverOptions {
   int feasibility_var = -1;
   // Threads over the blocks inside solve() (per-block scaling, Schur contributions, directions,
   // step lengths, residuals). Takes effect in builds with OpenMP (the C ABI library is one);
-  // elsewhere solve() runs serially whatever is set. Results do not depend on it: every block
-  // does the same operations, and the reductions over blocks run serially in block order.
-  // Pays off from a few dozen blocks (docs/benchmarks.md "LMI solver"); 1 = serial.
+  // elsewhere solve() runs serially whatever is set. Every block does the same operations
+  // whatever the thread count; the sums over blocks are formed per thread and then added, so
+  // results agree with the serial solve to rounding. Pays off from a few dozen blocks
+  // (docs/benchmarks.md "LMI solver"); 1 = serial.
   int threads = 1;
 
   void validate() const {
@@ -234,7 +235,6 @@ class InteriorPointSolver {
     double f0sq = 0;        // ‖F̃0‖²
     double e = 1;           // equilibration: the block is solved as e·F_b (equilibrate())
     std::vector<double> cs; // e·d_var per Fs column (scale of the stored coefficient)
-    bool ok = true;         // scale_block succeeded
     bool il = false;        // V interleaved (n ≤ kernels::kInterleavedMax)
     int cp = 0;             // columns of Fs (and slots of an interleaved V)
     Eigen::Index vrow(int slot, int r) const {
@@ -261,17 +261,14 @@ class InteriorPointSolver {
   void residuals(double alpha = 0.0);
   template <class F>
   void for_block_ranges(F&& f);
-  template <class F>
-  void for_blocks(F&& f);
   void scatter_schur(const BlockWork& w, Eigen::MatrixXd& M) const;
   void scatter_sub(const BlockWork& w, Eigen::VectorXd& g) const;
   bool scale_block(BlockWork& w);
   void allocate_partials();
   void assemble_block(int b);
-  bool scaling();
   bool factor_schur();
   void solve_schur(double* b);
-  bool assemble_and_factor();
+  bool scale_and_assemble();
   bool factor_assembled();
   void solve_reduced(const Eigen::VectorXd& g, const Eigen::VectorXd& by, Eigen::VectorXd& dx, Eigen::VectorXd& dy);
   void kkt_block_rhs(BlockWork& w, bool use_F0, double eta_rz, bool with_u);
@@ -327,8 +324,8 @@ class InteriorPointSolver {
   // residuals
   Eigen::VectorXd rx_, ry_;
   double rtau_ = 0;
-  double step_alpha_ = 0;
-  double sz_ = 0;  // ⟨S, Z⟩ summed over the blocks (residuals())  // step taken by the last iteration, applied to S, Z in residuals()
+  double step_alpha_ = 0;  // step taken by the last iteration, applied to S, Z in residuals()
+  double sz_ = 0;          // ⟨S, Z⟩ summed over the blocks (residuals())
   // linear algebra
   Eigen::MatrixXd M_, K_, Lk_, Uk_, KinvAt_, SA_, AtA_;  // Uk_ = Lk_ᵀ
   Eigen::VectorXd Ldinv_;  // 1 / diag(Lk_)
@@ -436,7 +433,7 @@ inline void InteriorPointSolver::least_squares_start() {
   };
   unit_start();
   residuals();
-  if (!scaling() || !assemble_and_factor()) return unit_start();
+  if (!scale_and_assemble()) return unit_start();
   bx_.setZero();
   if (pe_ > 0) by_ = beq_;
   kkt_solve(bx_, by_, true, 0.0, false, x1_, y1_);  // primal: x1 (S = F(x1))
@@ -592,31 +589,31 @@ inline void InteriorPointSolver::residuals(double alpha) {
   // In svec form (kernels.hpp): ⟨F_j, Z⟩ = svec(F_j)ᵀsvec(Z), one product per block.
   rx_ = c_ * tau_;
   for_block_ranges([&](int t, int begin, int end) {
-   Partial& pt = part_[static_cast<size_t>(t)];
-   Eigen::VectorXd& rx = t == 0 ? rx_ : pt.v;
-   if (t > 0) rx.setZero();
-   pt.hz = pt.sz = pt.rn = 0.0;
-   for (int b = begin; b < end; ++b) {
-    BlockWork& w = w_[static_cast<size_t>(b)];
-    if (pending_best_z_) w.best_Z = w.Z * (w.e * best_z_scale_);
-    if (alpha > 0.0) {
-      congruence_n(w.n, w.R, w.Wds, w.tmp, w.dS);  // symmetric by construction
-      congruence_n(w.n, w.Q, w.Wdz, w.tmp, w.dZ);
-      w.S += alpha * w.dS;
-      w.Z += alpha * w.dZ;
+    Partial& pt = part_[static_cast<size_t>(t)];
+    Eigen::VectorXd& rx = t == 0 ? rx_ : pt.v;
+    if (t > 0) rx.setZero();
+    pt.hz = pt.sz = pt.rn = 0.0;
+    for (int b = begin; b < end; ++b) {
+      BlockWork& w = w_[static_cast<size_t>(b)];
+      if (pending_best_z_) w.best_Z = w.Z * (w.e * best_z_scale_);
+      if (alpha > 0.0) {
+        congruence_n(w.n, w.R, w.Wds, w.tmp, w.dS);  // symmetric by construction
+        congruence_n(w.n, w.Q, w.Wdz, w.tmp, w.dZ);
+        w.S += alpha * w.dS;
+        w.Z += alpha * w.dZ;
+      }
+      kernels::svec_pack(w.n, w.S.data(), w.ss.data());
+      kernels::svec_pack(w.n, w.Z.data(), w.zs.data());
+      for (int j = 0; j < w.k; ++j) w.xl(j) = x_(w.var[static_cast<size_t>(j)]);
+      kernels::gemv_t(w.sv, w.k, w.As.data(), w.zs.data(), w.gl.data());
+      w.rs = w.ss - tau_ * w.a0;
+      kernels::gemv_n_add(w.sv, w.k, -1.0, w.As.data(), w.xl.data(), w.rs.data());
+      kernels::svec_unpack(w.n, w.rs.data(), w.rz.data());
+      scatter_sub(w, rx);
+      pt.hz += w.a0.dot(w.zs);
+      pt.sz += w.ss.dot(w.zs);
+      pt.rn += w.rs.squaredNorm() / (w.e * w.e);  // in the problem's units (equilibrate())
     }
-    kernels::svec_pack(w.n, w.S.data(), w.ss.data());
-    kernels::svec_pack(w.n, w.Z.data(), w.zs.data());
-    for (int j = 0; j < w.k; ++j) w.xl(j) = x_(w.var[static_cast<size_t>(j)]);
-    kernels::gemv_t(w.sv, w.k, w.As.data(), w.zs.data(), w.gl.data());
-    w.rs = w.ss - tau_ * w.a0;
-    kernels::gemv_n_add(w.sv, w.k, -1.0, w.As.data(), w.xl.data(), w.rs.data());
-    kernels::svec_unpack(w.n, w.rs.data(), w.rz.data());
-    scatter_sub(w, rx);
-    pt.hz += w.a0.dot(w.zs);
-    pt.sz += w.ss.dot(w.zs);
-    pt.rn += w.rs.squaredNorm() / (w.e * w.e);  // in the problem's units (equilibrate())
-   }
   });
   pending_best_z_ = false;
   double hz = 0, sz = 0, rznorm2 = 0;
@@ -684,13 +681,6 @@ inline void InteriorPointSolver::for_block_ranges(F&& f) {
   f(0, 0, nb);
 }
 
-template <class F>
-inline void InteriorPointSolver::for_blocks(F&& f) {
-  for_block_ranges([&](int, int begin, int end) {
-    for (int b = begin; b < end; ++b) f(b);
-  });
-}
-
 // M += block w's Gram matrix (upper half of its k×k G), scattered by its variables.
 inline void InteriorPointSolver::scatter_schur(const BlockWork& w, Eigen::MatrixXd& M) const {
   for (int j = 0; j < w.k; ++j) {
@@ -709,72 +699,86 @@ inline void InteriorPointSolver::scatter_sub(const BlockWork& w, Eigen::VectorXd
   for (int j = 0; j < w.k; ++j) g(w.var[static_cast<size_t>(j)]) -= w.gl(j);
 }
 
-inline bool InteriorPointSolver::scaling() {
-  for_blocks([&](int b) { w_[static_cast<size_t>(b)].ok = scale_block(w_[static_cast<size_t>(b)]); });
-  for (const auto& w : w_)
-    if (!w.ok) return false;
-  return true;
-}
-
 inline bool InteriorPointSolver::scale_block(BlockWork& w) {
-  {
-    const int n = w.n;
-    double* Ls = w.Ls.data();
-    double* Lz = w.Lz.data();
-    if (!kernels::cholesky(n, w.S.data(), Ls) || !kernels::cholesky(n, w.Z.data(), Lz)) return false;
-    // G = L_zᵀ L_s (in tmp), H = GᵀG = L_sᵀ Z L_s (in tmp2) = V Λ² Vᵀ.
-    double* G = w.tmp.data();
-    double* V = w.tmp2.data();
-    kernels::mul_tn(n, Lz, Ls, G);
-    kernels::mul_tn(n, G, G, V);
-    bool ok = kernels::sym_eig(n, V, w.wv.data(), w.ev.data());
-    if (ok) {
-      const double lo = w.wv.minCoeff(), hi = w.wv.maxCoeff();
-      ok = lo > 1e-10 * hi;
-      if (ok) w.lambda = w.wv.cwiseSqrt();
-    }
-    if (!ok) {
-      // Badly centred pair: the squared singular values lose the small ones; the one-sided
-      // Jacobi SVD of G itself (still in tmp: sym_eig only wrote V) keeps them accurate.
-      if (!kernels::one_sided_jacobi(n, G, V, w.lambda.data())) return false;
-    }
-    for (int i = 0; i < n; ++i) {
-      const double l = w.lambda(i);
-      if (!(l > 0) || !std::isfinite(l)) return false;
-      w.isq(i) = 1.0 / std::sqrt(l);
-    }
-    // R = L_s V Λ^{-1/2}
-    if (n <= kLargeBlock) kernels::mul_nn(n, Ls, V, w.R.data());
-    else w.R.noalias() = w.Ls * w.tmp2;
-    for (int j = 0; j < n; ++j) w.R.col(j) *= w.isq(j);
-    // Q = L_s⁻ᵀ V Λ^{1/2}: back substitution with the upper triangular L_sᵀ.
-    for (int j = 0; j < n; ++j) {
-      const double sq = 1.0 / w.isq(j);
-      double* q = w.Q.data() + static_cast<long>(j) * n;
-      const double* v = V + static_cast<long>(j) * n;
-      for (int i = n - 1; i >= 0; --i) {
-        double acc = v[i] * sq;
-        const double* Li = Ls + static_cast<long>(i) * n;  // column i of L_s = row i of L_sᵀ
-        for (int k = i + 1; k < n; ++k) acc -= Li[k] * q[k];
-        q[i] = acc / Li[i];
-      }
-    }
-    w.Qt = w.Q.transpose();
+  const int n = w.n;
+  double* Ls = w.Ls.data();
+  double* Lz = w.Lz.data();
+  if (!kernels::cholesky(n, w.S.data(), Ls) || !kernels::cholesky(n, w.Z.data(), Lz)) return false;
+  // G = L_zᵀ L_s (in tmp), H = GᵀG = L_sᵀ Z L_s (in tmp2) = V Λ² Vᵀ.
+  double* G = w.tmp.data();
+  double* V = w.tmp2.data();
+  kernels::mul_tn(n, Lz, Ls, G);
+  kernels::mul_tn(n, G, G, V);
+  bool ok = kernels::sym_eig(n, V, w.wv.data(), w.ev.data());
+  if (ok) {
+    const double lo = w.wv.minCoeff(), hi = w.wv.maxCoeff();
+    ok = lo > 1e-10 * hi;
+    if (ok) w.lambda = w.wv.cwiseSqrt();
   }
+  if (!ok) {
+    // Badly centred pair: the squared singular values lose the small ones; the one-sided
+    // Jacobi SVD of G itself (still in tmp: sym_eig only wrote V) keeps them accurate.
+    if (!kernels::one_sided_jacobi(n, G, V, w.lambda.data())) return false;
+  }
+  for (int i = 0; i < n; ++i) {
+    const double l = w.lambda(i);
+    if (!(l > 0) || !std::isfinite(l)) return false;
+    w.isq(i) = 1.0 / std::sqrt(l);
+  }
+  // R = L_s V Λ^{-1/2}
+  if (n <= kLargeBlock) kernels::mul_nn(n, Ls, V, w.R.data());
+  else w.R.noalias() = w.Ls * w.tmp2;
+  for (int j = 0; j < n; ++j) w.R.col(j) *= w.isq(j);
+  // Q = L_s⁻ᵀ V Λ^{1/2}: back substitution with the upper triangular L_sᵀ.
+  for (int j = 0; j < n; ++j) {
+    const double sq = 1.0 / w.isq(j);
+    double* q = w.Q.data() + static_cast<long>(j) * n;
+    const double* v = V + static_cast<long>(j) * n;
+    for (int i = n - 1; i >= 0; --i) {
+      double acc = v[i] * sq;
+      const double* Li = Ls + static_cast<long>(i) * n;  // column i of L_s = row i of L_sᵀ
+      for (int k = i + 1; k < n; ++k) acc -= Li[k] * q[k];
+      q[i] = acc / Li[i];
+    }
+  }
+  w.Qt = w.Q.transpose();
   return true;
 }
 
-inline bool InteriorPointSolver::assemble_and_factor() {
+// One pass over the blocks: NT scaling, Schur contribution (into M_), and the block part of
+// the τ-direction's right-hand side (g_ = −c − Σ ⟨F̃_j, F̃0⟩, kkt_block_rhs with F0); then the
+// factorisations. false if a block's scaling or the Schur complement failed.
+inline bool InteriorPointSolver::scale_and_assemble() {
   M_.setZero();
+  g_ = -c_;
   for_block_ranges([&](int t, int begin, int end) {
-    Eigen::MatrixXd& M = t == 0 ? M_ : part_[static_cast<size_t>(t)].M;
-    if (t > 0) M.setZero();
+    Partial& pt = part_[static_cast<size_t>(t)];
+    Eigen::MatrixXd& M = t == 0 ? M_ : pt.M;
+    Eigen::VectorXd& g = t == 0 ? g_ : pt.v;
+    if (t > 0) {
+      M.setZero();
+      g.setZero();
+    }
+    pt.ok = true;
+    pt.f0sq = 0.0;
     for (int b = begin; b < end; ++b) {
+      BlockWork& w = w_[static_cast<size_t>(b)];
+      pt.ok = scale_block(w);
+      if (!pt.ok) break;
       assemble_block(b);
-      scatter_schur(w_[static_cast<size_t>(b)], M);
+      scatter_schur(w, M);
+      kkt_block_rhs(w, true, 0.0, false);
+      scatter_sub(w, g);
+      pt.f0sq += w.f0sq;
     }
   });
-  return factor_assembled();
+  bool scaled = true;
+  f0sq_ = 0.0;
+  for (size_t t = 0; t < used_; ++t) {
+    scaled = scaled && part_[t].ok;
+    f0sq_ += part_[t].f0sq;
+  }
+  return scaled && factor_assembled();
 }
 
 // M_ = Σ_b (block b's Gram matrix, scattered by its variables), already summed per thread;
@@ -807,65 +811,62 @@ inline bool InteriorPointSolver::factor_assembled() {
 // Block b's scaled coefficients F̃ (svec), their Gram matrix G and ⟨F̃_j, F̃0⟩, ‖F̃0‖².
 inline void InteriorPointSolver::assemble_block(int b) {
   const LmiProblem& p = *p_;
-  {
-    const LmiBlock& blk = p.block(b);
-    BlockWork& w = w_[static_cast<size_t>(b)];
-    const int n = w.n, sv = w.sv;
-    // Slot 1 of V holds rz, so that QᵀF0Q, QᵀrzQ and every dense QᵀF_jQ come out of the same
-    // products (kernels::congruence_svec).
-    for (int c = 0; c < n; ++c)
-      for (int r = 0; r < n; ++r) w.V(w.vrow(1, r), c) = w.rz(r, c);
-    const int cnt = w.kd + 2;
-    const long ldv = w.V.rows();
-    if (n <= kLargeBlock) {
-      kernels::congruence_svec(n, cnt, w.cp, w.V.data(), ldv, w.Q.data(), w.P.data(), w.T.data(), w.Fs.data());
-    } else {
-      w.P.topRows(static_cast<Eigen::Index>(cnt) * n).noalias() = w.V.topRows(static_cast<Eigen::Index>(cnt) * n) * w.Q;
-      for (int t = 0; t < cnt; ++t) {
-        w.tmp.noalias() = w.P.middleRows(static_cast<Eigen::Index>(t) * n, n).transpose() * w.Q;
-        kernels::svec_pack(n, w.tmp.data(), w.ws.data());
-        w.Fs.col(t) = w.ws;
-      }
+  const LmiBlock& blk = p.block(b);
+  BlockWork& w = w_[static_cast<size_t>(b)];
+  const int n = w.n, sv = w.sv;
+  // Slot 1 of V holds rz, so that QᵀF0Q, QᵀrzQ and every dense QᵀF_jQ come out of the same
+  // products (kernels::congruence_svec).
+  for (int c = 0; c < n; ++c)
+    for (int r = 0; r < n; ++r) w.V(w.vrow(1, r), c) = w.rz(r, c);
+  const int cnt = w.kd + 2;
+  const long ldv = w.V.rows();
+  if (n <= kLargeBlock) {
+    kernels::congruence_svec(n, cnt, w.cp, w.V.data(), ldv, w.Q.data(), w.P.data(), w.T.data(), w.Fs.data());
+  } else {
+    w.P.topRows(static_cast<Eigen::Index>(cnt) * n).noalias() = w.V.topRows(static_cast<Eigen::Index>(cnt) * n) * w.Q;
+    for (int t = 0; t < cnt; ++t) {
+      w.tmp.noalias() = w.P.middleRows(static_cast<Eigen::Index>(t) * n, n).transpose() * w.Q;
+      kernels::detail::svec_pack_column(n, w.tmp.data(), n, w.Fs.data(), w.cp, t);
     }
-    // Sparse coefficients: QᵀFQ = Σ f_rc (q_r q_cᵀ + q_c q_rᵀ) over the upper-triangle entries
-    // (q_r = row r of Q = column r of Qᵀ), accumulated straight into svec (lower triangle).
-    for (int j = w.kd; j < w.k; ++j) {
-      const Coefficient& co = blk.coefficients[static_cast<size_t>(w.col[static_cast<size_t>(j)])];
-      const double sc = w.cs[static_cast<size_t>(j)];
-      double* o = w.ws.data();  // work; copied into column 2 + j of Fs below
-      std::fill(o, o + sv, 0.0);
-      for (const auto& e : co.entries) {
-        const double* qr = w.Qt.data() + static_cast<long>(e.row) * n;
-        const double* qc = w.Qt.data() + static_cast<long>(e.col) * n;
-        const double ev = sc * e.value;
-        int idx = 0;
-        if (e.row == e.col) {
-          for (int b2 = 0; b2 < n; ++b2) {
-            const double f = ev * qr[b2];
-            for (int a = b2; a < n; ++a) o[idx++] += qr[a] * f;
-          }
-        } else {
-          for (int b2 = 0; b2 < n; ++b2) {
-            const double fc = ev * qc[b2], fr = ev * qr[b2];
-            for (int a = b2; a < n; ++a) o[idx++] += qr[a] * fc + qc[a] * fr;
-          }
+  }
+  // Sparse coefficients: QᵀFQ = Σ f_rc (q_r q_cᵀ + q_c q_rᵀ) over the upper-triangle entries
+  // (q_r = row r of Q = column r of Qᵀ), accumulated straight into svec (lower triangle).
+  for (int j = w.kd; j < w.k; ++j) {
+    const Coefficient& co = blk.coefficients[static_cast<size_t>(w.col[static_cast<size_t>(j)])];
+    const double sc = w.cs[static_cast<size_t>(j)];
+    double* o = w.ws.data();  // work; copied into column 2 + j of Fs below
+    std::fill(o, o + sv, 0.0);
+    for (const auto& e : co.entries) {
+      const double* qr = w.Qt.data() + static_cast<long>(e.row) * n;
+      const double* qc = w.Qt.data() + static_cast<long>(e.col) * n;
+      const double ev = sc * e.value;
+      int idx = 0;
+      if (e.row == e.col) {
+        for (int b2 = 0; b2 < n; ++b2) {
+          const double f = ev * qr[b2];
+          for (int a = b2; a < n; ++a) o[idx++] += qr[a] * f;
+        }
+      } else {
+        for (int b2 = 0; b2 < n; ++b2) {
+          const double fc = ev * qc[b2], fr = ev * qr[b2];
+          for (int a = b2; a < n; ++a) o[idx++] += qr[a] * fc + qc[a] * fr;
         }
       }
-      int idx = 0;
-      for (int b2 = 0; b2 < n; ++b2) {
-        ++idx;  // diagonal
-        for (int a = b2 + 1; a < n; ++a) o[idx++] *= kernels::kSqrt2;
-      }
-      w.Fs.col(2 + j) = w.ws;
     }
-    // Schur complement: the Gram matrix of the scaled coefficients (upper half, mirrored).
-    const double* Fc = w.Fs.data() + 2;  // columns 2 … k + 1 of the row-major Fs
-    kernels::gram_upper(sv, w.k, Fc, w.cp, w.G.data(), w.k);
-    // ⟨F̃_j, F̃0⟩ and ‖F̃0‖², used by both directions of the iteration.
-    w.f0 = w.Fs.col(0);
-    kernels::gemv_rm_t(sv, w.k, Fc, w.cp, w.f0.data(), w.f0f.data());
-    w.f0sq = w.f0.squaredNorm();
+    int idx = 0;
+    for (int b2 = 0; b2 < n; ++b2) {
+      ++idx;  // diagonal
+      for (int a = b2 + 1; a < n; ++a) o[idx++] *= kernels::kSqrt2;
+    }
+    w.Fs.col(2 + j) = w.ws;
   }
+  // Schur complement: the Gram matrix of the scaled coefficients (upper half, mirrored).
+  const double* Fc = w.Fs.data() + 2;  // columns 2 … k + 1 of the row-major Fs
+  kernels::gram_upper(sv, w.k, Fc, w.cp, w.G.data(), w.k);
+  // ⟨F̃_j, F̃0⟩ and ‖F̃0‖², used by both directions of the iteration.
+  w.f0 = w.Fs.col(0);
+  kernels::gemv_rm_t(sv, w.k, Fc, w.cp, w.f0.data(), w.f0f.data());
+  w.f0sq = w.f0.squaredNorm();
 }
 
 // Cholesky factorisation of K and solves with it: the kernels' loops up to kSmallSchur
@@ -996,26 +997,26 @@ inline double InteriorPointSolver::direction(double eta, double sigma, double mu
   g_ = bx_;
   // ds_rhs = −λ∘λ + σμe − corr  ⇒  U = λ⁻¹◇ds_rhs: U_ij = 2 ds_rhs_ij / (λ_i + λ_j)
   for_block_ranges([&](int t, int begin, int end) {
-   Partial& pt = part_[static_cast<size_t>(t)];
-   Eigen::VectorXd& g = t == 0 ? g_ : pt.v;
-   if (t > 0) g.setZero();
-   pt.hb = 0.0;
-   for (int b = begin; b < end; ++b) {
-    BlockWork& w = w_[static_cast<size_t>(b)];
-    if (corrector) {
-      kernels::mul_nn(w.n, w.Wds_a.data(), w.Wdz_a.data(), w.tmp.data());
-      w.tmp2 = 0.5 * (w.tmp + w.tmp.transpose());  // (Wds_a)∘(Wdz_a)
-    }
-    for (int j = 0; j < w.n; ++j)
-      for (int i = 0; i < w.n; ++i) {
-        double r = (i == j) ? (-w.lambda(i) * w.lambda(i) + sigma * mu) : 0.0;
-        if (corrector) r -= w.tmp2(i, j);
-        w.U(i, j) = 2.0 * r / (w.lambda(i) + w.lambda(j));
+    Partial& pt = part_[static_cast<size_t>(t)];
+    Eigen::VectorXd& g = t == 0 ? g_ : pt.v;
+    if (t > 0) g.setZero();
+    pt.hb = 0.0;
+    for (int b = begin; b < end; ++b) {
+      BlockWork& w = w_[static_cast<size_t>(b)];
+      if (corrector) {
+        kernels::mul_nn(w.n, w.Wds_a.data(), w.Wdz_a.data(), w.tmp.data());
+        w.tmp2 = 0.5 * (w.tmp + w.tmp.transpose());  // (Wds_a)∘(Wdz_a)
       }
-    kkt_block_rhs(w, false, eta, true);
-    scatter_sub(w, g);
-    pt.hb -= w.f0.dot(w.bs);
-   }
+      for (int j = 0; j < w.n; ++j)
+        for (int i = 0; i < w.n; ++i) {
+          double r = (i == j) ? (-w.lambda(i) * w.lambda(i) + sigma * mu) : 0.0;
+          if (corrector) r -= w.tmp2(i, j);
+          w.U(i, j) = 2.0 * r / (w.lambda(i) + w.lambda(j));
+        }
+      kkt_block_rhs(w, false, eta, true);
+      scatter_sub(w, g);
+      pt.hb -= w.f0.dot(w.bs);
+    }
   });
   double dk_rhs = -tau_ * kappa_ + sigma * mu;
   if (corrector) dk_rhs -= dtau_a_ * dkappa_a_;
@@ -1222,38 +1223,8 @@ inline const SolveResult& InteriorPointSolver::solve() {
 
     // --- Newton system ---
     const double mu = (sz_ + tau_ * kappa_) / nu1;  // ⟨S, Z⟩ from residuals()
-    // Scaling, Schur contributions and the right-hand side of the τ-direction
-    // K (x1, y1, z1) = (−c, b, h), in one pass over the blocks.
-    M_.setZero();
-    g_ = -c_;
-    for_block_ranges([&](int t, int begin, int end) {
-      Partial& pt = part_[static_cast<size_t>(t)];
-      Eigen::MatrixXd& M = t == 0 ? M_ : pt.M;
-      Eigen::VectorXd& g = t == 0 ? g_ : pt.v;
-      if (t > 0) {
-        M.setZero();
-        g.setZero();
-      }
-      pt.ok = true;
-      pt.f0sq = 0.0;
-      for (int b = begin; b < end && pt.ok; ++b) {
-        BlockWork& w = w_[static_cast<size_t>(b)];
-        pt.ok = scale_block(w);
-        if (!pt.ok) break;
-        assemble_block(b);
-        scatter_schur(w, M);
-        kkt_block_rhs(w, true, 0.0, false);
-        scatter_sub(w, g);
-        pt.f0sq += w.f0sq;
-      }
-    });
-    bool scaled = true;
-    f0sq_ = 0.0;
-    for (size_t t = 0; t < used_; ++t) {
-      scaled = scaled && part_[t].ok;
-      f0sq_ += part_[t].f0sq;
-    }
-    if (!scaled || !factor_assembled()) {
+    // τ-direction: K (x1, y1, z1) = (−c, b, h), its g_ formed in the pass over the blocks.
+    if (!scale_and_assemble()) {
       status = SolveStatus::NumericalError;
       break;
     }
@@ -1280,9 +1251,7 @@ inline const SolveResult& InteriorPointSolver::solve() {
 
   result_.iterations = iter;
   if (status == SolveStatus::Infeasible) {
-    double hz = 0;
-    for (const auto& w : w_) hz += w.a0.dot(w.zs);
-    const double ny = -(hz + (pe_ > 0 ? beq_.dot(y_) : 0.0));
+    const double ny = -(hz_ + (pe_ > 0 ? beq_.dot(y_) : 0.0));  // as in the certificate test
     for (size_t b = 0; b < w_.size(); ++b) result_.Z[b] = w_[b].Z * (w_[b].e / ny);
     if (pe_ > 0) result_.y = y_.cwiseProduct(r_) / ny;
     result_.x.setConstant(std::numeric_limits<double>::quiet_NaN());
