@@ -9,6 +9,8 @@ variables, (c) maxdet (−log det of a 4×4 affine G with 8 variables, 9 LMI blo
 Reported: median wall time per solve from Python (ours through setbound.lmi.Problem, the
 competitors end to end), our C++-measured solve time, Clarabel's own solve time,
 iterations, ratios, and which issue-3 targets are met. Timings are never asserted in tests.
+With --iterations: only the total iteration counts over seeded random families, ours against
+Clarabel's (the measure behind the solver's step rule, docs/benchmarks.md "LMI solver").
 """
 from __future__ import annotations
 
@@ -147,11 +149,65 @@ def bench_clarabel(c, blocks, reps):
     return {"time": t, "own": float(np.median(own)), "iters": sol.iterations, "obj": sol.obj_val, "status": str(sol.status)}
 
 
+def census_families():
+    """Seeded random families for the iteration census (none of them is (a), (b) or (c)):
+    'small' and 'large' as random_lmi; 'scaled' with variables scaled over three decades, F0's
+    margin from 0.01 to 3 and c from a low-rank dual point (optimal points near the boundary)."""
+    rng = np.random.default_rng(123)
+    small = []
+    for i in range(60):
+        sizes = [int(rng.integers(2, 9)) for _ in range(int(rng.integers(1, 6)))]
+        small.append(random_lmi(1000 + i, sizes, int(rng.integers(3, 14))))
+    large = []
+    for i in range(12):
+        sizes = [int(rng.integers(4, 9)) for _ in range(int(rng.integers(16, 40)))]
+        large.append(random_lmi(2000 + i, sizes, int(rng.integers(10, 25))))
+    rng = np.random.default_rng(777)
+    scaled = []
+    for i in range(60):
+        sizes = [int(rng.integers(3, 9)) for _ in range(int(rng.integers(1, 6)))]
+        m = int(rng.integers(2, 14))
+        x0 = rng.standard_normal(m)
+        sc = 10 ** rng.uniform(-1.5, 1.5, m)
+        c = np.zeros(m)
+        blocks = []
+        for n in sizes:
+            Fs = np.array([sym(rng, n) * sc[j] for j in range(m)])
+            F0 = -np.einsum("i,ijk->jk", x0, Fs) + np.eye(n) * 10 ** rng.uniform(-2, 0.5)
+            R = rng.standard_normal((n, int(rng.integers(1, n + 1))))
+            c += np.einsum("ijk,jk->i", Fs, R @ R.T + 1e-3 * np.eye(n))
+            blocks.append((F0, Fs))
+        scaled.append((c, blocks))
+    return {"small (60: 1-5 blocks of 2-8, 3-13 vars)": small,
+            "large (12: 16-39 blocks of 4-8, 10-24 vars)": large,
+            "scaled (60: 1-5 blocks of 3-8, 2-13 vars)": scaled}
+
+
+def iteration_census():
+    """Total iterations of ours and of Clarabel (called directly, same data) per family."""
+    print(f"  {'family':<46}{'ours':>8}{'clarabel':>10}  not optimal (ours / clarabel)")
+    for name, family in census_families().items():
+        ours = theirs = bad_ours = bad_theirs = 0
+        for c, blocks in family:
+            o = bench_ours(c, blocks, None, 1)
+            r = bench_clarabel(c, blocks, 1)
+            ours += o["iters"]
+            theirs += r["iters"]
+            bad_ours += o["status"] != "optimal"
+            bad_theirs += r["status"] != "Solved"
+        print(f"  {name:<46}{ours:>8}{theirs:>10}  {bad_ours} / {bad_theirs}")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--reps", type=int, default=50)
     ap.add_argument("--cvxpy-reps", type=int, default=50)
+    ap.add_argument("--iterations", action="store_true",
+                    help="only the iteration census over seeded random families (ours and Clarabel)")
     args = ap.parse_args()
+    if args.iterations:
+        iteration_census()
+        return
 
     problems = {
         "(a) online 4 blocks 7/7/5/3, 12 vars": (*random_lmi(1, [7, 7, 5, 3], 12), None),

@@ -71,7 +71,7 @@ struct SolverOptions {
   double reduced_gap_rel = 5e-5;     // "inaccurate" tier
   double reduced_gap_abs = 5e-7;
   double reduced_feas = 1e-5;
-  double step_fraction = 0.99;
+  double step_fraction = 0.99;       // of the largest step, after a full predictor step (solve())
   bool compute_margin = true;
   // Feasibility mode (classes.hpp): stop at the first iterate where x[feasibility_var] < 0
   // and the verified margin of all blocks, evaluated without that variable, is positive.
@@ -1234,9 +1234,16 @@ inline const SolveResult& InteriorPointSolver::solve() {
     const double alpha_a = std::min(1.0, direction(1.0, 0.0, mu, false, 1.0));
     dtau_a_ = dtau_;
     dkappa_a_ = dkappa_;
-    const double sigma = std::pow(1.0 - alpha_a, 3);
-    const double amax = direction(1.0 - sigma, sigma, mu, true, 1.0 / opt_.step_fraction);
-    const double alpha = std::min(1.0, opt_.step_fraction * amax);
+    // Centring and step fraction adapt to the predictor's step α_a (as in SDPT3): after a
+    // short α_a the iterate is far from the central path, so σ = (1 − α_a)^e uses e = 1.5 rather
+    // than Mehrotra's 3 (more centring), rising to 3 only for α_a → 1 (e = max(1.5, 3α_a²)); the
+    // fraction of the largest step goes from step_fraction − 0.09 up to step_fraction as α_a → 1.
+    // Against the fixed (1 − α_a)³ and 0.99: 8–10 % fewer iterations over random sets of small
+    // and of 16–40-block problems (docs/benchmarks.md, "LMI solver").
+    const double sigma = std::pow(1.0 - alpha_a, std::max(1.5, 3.0 * alpha_a * alpha_a));
+    const double fraction = opt_.step_fraction - 0.09 * (1.0 - alpha_a);
+    const double amax = direction(1.0 - sigma, sigma, mu, true, 1.0 / fraction);
+    const double alpha = std::min(1.0, fraction * amax);
     if (!(alpha > 1e-12) || !dx_.allFinite()) {
       status = SolveStatus::NumericalError;
       break;
