@@ -681,15 +681,14 @@ inline void InteriorPointSolver::for_block_ranges(F&& f) {
   f(0, 0, nb);
 }
 
-// M += block w's Gram matrix (upper half of its k×k G), scattered by its variables.
+// M += block w's Gram matrix (upper half of its k×k G), scattered by its variables into the
+// upper triangle of M only (factor_assembled mirrors the sum once).
 inline void InteriorPointSolver::scatter_schur(const BlockWork& w, Eigen::MatrixXd& M) const {
   for (int j = 0; j < w.k; ++j) {
     const int vj = w.var[static_cast<size_t>(j)];
     for (int i = 0; i <= j; ++i) {
       const int vi = w.var[static_cast<size_t>(i)];
-      const double d = w.G(i, j);
-      M(vi, vj) += d;
-      if (vi != vj) M(vj, vi) += d;
+      M(std::min(vi, vj), std::max(vi, vj)) += w.G(i, j);
     }
   }
 }
@@ -729,19 +728,25 @@ inline bool InteriorPointSolver::scale_block(BlockWork& w) {
   if (n <= kLargeBlock) kernels::mul_nn(n, Ls, V, w.R.data());
   else w.R.noalias() = w.Ls * w.tmp2;
   for (int j = 0; j < n; ++j) w.R.col(j) *= w.isq(j);
-  // Q = L_s⁻ᵀ V Λ^{1/2}: back substitution with the upper triangular L_sᵀ.
-  for (int j = 0; j < n; ++j) {
-    const double sq = 1.0 / w.isq(j);
-    double* q = w.Q.data() + static_cast<long>(j) * n;
-    const double* v = V + static_cast<long>(j) * n;
-    for (int i = n - 1; i >= 0; --i) {
-      double acc = v[i] * sq;
-      const double* Li = Ls + static_cast<long>(i) * n;  // column i of L_s = row i of L_sᵀ
-      for (int k = i + 1; k < n; ++k) acc -= Li[k] * q[k];
-      q[i] = acc / Li[i];
+  // Q = L_s⁻ᵀ V Λ^{1/2}: back substitution with the upper triangular L_sᵀ, for all columns of
+  // Q at once (one row of Q per step: row i = column i of Qᵀ, contiguous), so that the n
+  // divisions of a row do not wait on each other.
+  double* sq = w.wv.data();  // sym_eig's eigenvalues are in λ now
+  for (int j = 0; j < n; ++j) sq[j] = 1.0 / w.isq(j);
+  double* Qt = w.Qt.data();
+  for (int i = n - 1; i >= 0; --i) {
+    double* qi = Qt + static_cast<long>(i) * n;  // row i of Q
+    const double* Li = Ls + static_cast<long>(i) * n;  // column i of L_s = row i of L_sᵀ
+    for (int j = 0; j < n; ++j) qi[j] = V[i + static_cast<long>(j) * n] * sq[j];
+    for (int k = i + 1; k < n; ++k) {
+      const double l = Li[k];
+      const double* qk = Qt + static_cast<long>(k) * n;
+      for (int j = 0; j < n; ++j) qi[j] -= l * qk[j];
     }
+    const double d = Li[i];
+    for (int j = 0; j < n; ++j) qi[j] /= d;
   }
-  w.Qt = w.Q.transpose();
+  w.Q = w.Qt.transpose();
   return true;
 }
 
@@ -785,6 +790,8 @@ inline bool InteriorPointSolver::scale_and_assemble() {
 // adds the threads' partials and factorises.
 inline bool InteriorPointSolver::factor_assembled() {
   for (size_t t = 1; t < used_; ++t) M_ += part_[t].M;
+  for (int j = 0; j < m_; ++j)  // scatter_schur filled the upper triangle
+    for (int i = j + 1; i < m_; ++i) M_(i, j) = M_(j, i);
   // Equalities: K = M + ρAᵀA keeps K positive definite when M is singular on ker A;
   // the reduced system is equivalent for any ρ > 0 (see solve_reduced).
   const double mscale = std::max(1.0, M_.diagonal().cwiseAbs().maxCoeff());
