@@ -483,6 +483,22 @@ TEST(LmiKernels, CholeskyAndProducts) {
     MatrixXd Nan = P;
     Nan(0, 0) = std::numeric_limits<double>::quiet_NaN();
     EXPECT_FALSE(kernels::cholesky(n, Nan.data(), L.data()));
+    // The step-length test (LDLᵀ pivots, no square roots) agrees with the Cholesky test, also
+    // just inside and just outside the cone (λ_min shifted to ±1e-6 of the norm).
+    const double lmin = Eigen::SelfAdjointEigenSolver<MatrixXd>(P).eigenvalues()(0);
+    for (const double shift : {1e-6, -1e-6}) {
+      MatrixXd B = P - (lmin - shift * P.norm()) * MatrixXd::Identity(n, n);
+      MatrixXd W = B;
+      EXPECT_EQ(kernels::positive_definite(n, B.data(), W.data()), shift > 0) << n << " " << shift;
+      W = B;
+      EXPECT_EQ(kernels::positive_definite(n, W.data(), W.data()), shift > 0) << n << " " << shift;
+    }
+    L = P;
+    EXPECT_TRUE(kernels::positive_definite(n, P.data(), L.data()));
+    L = Ind;
+    EXPECT_FALSE(kernels::positive_definite(n, Ind.data(), L.data()));
+    L = Nan;
+    EXPECT_FALSE(kernels::positive_definite(n, Nan.data(), L.data()));
     const double tol = 1e-13 * (1.0 + X.norm() * Y.norm());
     kernels::mul_nn(n, X.data(), Y.data(), C.data());
     EXPECT_LE((C - X * Y).norm(), tol);

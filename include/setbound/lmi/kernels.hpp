@@ -192,6 +192,25 @@ inline bool cholesky(const double* A, double* L) {
   return true;
 }
 
+/// Whether the symmetric A (lower triangle read) is positive definite: the pivots of its LDLᵀ
+/// factorisation (right-looking, no square roots: the chain from one pivot to the next is a
+/// division and two multiply-adds) are all > 0 and finite.
+template <int N>
+inline bool positive_definite(const double* A) {
+  double a[N * N];
+  for (int i = 0; i < N * N; ++i) a[i] = A[i];
+  for (int j = 0; j < N; ++j) {
+    const double d = a[j + j * N];
+    if (!(d > 0.0) || !std::isfinite(d)) return false;
+    const double inv = 1.0 / d;
+    for (int k = j + 1; k < N; ++k) {
+      const double l = a[k + j * N] * inv;
+      for (int i = k; i < N; ++i) a[i + k * N] -= a[i + j * N] * l;
+    }
+  }
+  return true;
+}
+
 template <int N>
 inline void mul_nn(const double* A, const double* B, double* C) {
   for (int j = 0; j < N; ++j) {
@@ -296,6 +315,15 @@ inline bool cholesky(int n, const double* A, double* L) {
   return with_size(n, [&](auto N) -> bool {
     if constexpr (decltype(N)::value == 0) return detail::cholesky_rt(n, A, L);
     else return fixed::cholesky<decltype(N)::value>(A, L);
+  });
+}
+
+/// Whether the symmetric A (n×n, lower triangle read) is positive definite (fixed::positive_definite);
+/// `work` holds n·n doubles for the sizes above kFixedMax (A itself may be passed).
+inline bool positive_definite(int n, const double* A, double* work) {
+  return with_size(n, [&](auto N) -> bool {
+    if constexpr (decltype(N)::value == 0) return detail::cholesky_rt(n, A, work);
+    else return fixed::positive_definite<decltype(N)::value>(A);
   });
 }
 

@@ -983,7 +983,7 @@ inline double InteriorPointSolver::max_step_scaled(BlockWork& w, const Eigen::Ma
     double* T = w.tmp2.data();
     for (int i = 0; i < n * n; ++i) T[i] = cap * M[i];
     for (int i = 0; i < n; ++i) T[i + static_cast<long>(i) * n] += 1.0;
-    if (kernels::cholesky(n, T, T)) return cap;
+    if (kernels::positive_definite(n, T, T)) return cap;
   }
   const double e = kernels::sym_lambda_min(n, M, w.wv.data(), w.ev.data());
   if (!std::isfinite(e)) return 0.0;  // no safe step: reported as a numerical error
