@@ -23,6 +23,9 @@
 #include <cmath>
 #include <limits>
 #include <type_traits>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace setbound::lmi::kernels {
 
@@ -790,6 +793,178 @@ inline bool one_sided_jacobi(int n, double* G, double* V, double* sv) {
     }
   }
   return false;
+}
+
+#if defined(__GNUC__)
+namespace detail {
+typedef double v4e __attribute__((vector_size(32)));
+
+// (The lane helpers take and return through references: by value, a 32-byte vector changes the
+// calling convention between the baseline and the AVX clone, which GCC warns about.)
+inline void lanes_sqrt(const v4e& x, v4e& y) {
+#if defined(__SSE2__)
+  const __m128d lo = _mm_sqrt_pd(_mm_set_pd(x[1], x[0])), hi = _mm_sqrt_pd(_mm_set_pd(x[3], x[2]));
+  y = v4e{_mm_cvtsd_f64(lo), _mm_cvtsd_f64(_mm_unpackhi_pd(lo, lo)), _mm_cvtsd_f64(hi), _mm_cvtsd_f64(_mm_unpackhi_pd(hi, hi))};
+#else
+  y = v4e{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
+#endif
+}
+
+/// 1/√x for x ∈ [1, 2] without the divider: a quadratic fit (relative error 5.8e-3) and three
+/// Newton steps (5e-5, 4e-9, rounding).
+inline void lanes_rsqrt_1_2(const v4e& x, v4e& y) {
+  y = (0.14262018513400665 * x - 0.7119622800751336) * x + 1.5635806899664277;
+  const v4e hx = 0.5 * x;
+  for (int k = 0; k < 3; ++k) y = y * (1.5 - hx * y * y);
+}
+
+/// Cyclic Jacobi on four symmetric N×N matrices at once, lane l of every entry belonging to
+/// matrix l: A (upper triangle, column-major, N·N entries) is diagonalised in place, V
+/// accumulates the rotations. Parallel (round-robin) ordering: the ⌊N/2⌋ rotations of a round
+/// touch disjoint index pairs, so their angles are independent. Rutishauser's update of the
+/// diagonal; a rotation is skipped when its off-diagonal entry is below ε·√(a_pp a_qq) in every
+/// lane (the relative criterion of Demmel & Veselić), and the sweeps stop when a whole sweep was
+/// skipped. false after 40 sweeps without that.
+template <int N>
+inline bool jacobi_lanes(v4e* A, v4e* V) {
+  constexpr int P = N + (N & 1);  // round-robin players (one dummy when N is odd)
+  constexpr double eps2 = std::numeric_limits<double>::epsilon() * std::numeric_limits<double>::epsilon();
+  for (int i = 0; i < N * N; ++i) V[i] = v4e{0.0, 0.0, 0.0, 0.0};
+  for (int i = 0; i < N; ++i) V[i + i * N] = v4e{1.0, 1.0, 1.0, 1.0};
+  for (int sweep = 0; sweep < 40; ++sweep) {
+    bool rotated = false;
+    for (int round = 0; round < P - 1; ++round) {
+      int pp[P / 2], qq[P / 2];
+      int np = 0;
+      for (int k = 0; k < P / 2; ++k) {
+        const int a = k == 0 ? P - 1 : (round + k) % (P - 1);
+        const int b = k == 0 ? round : (round + P - 1 - k) % (P - 1);
+        if (a >= N || b >= N) continue;
+        pp[np] = std::min(a, b);
+        qq[np] = std::max(a, b);
+        ++np;
+      }
+      v4e cs[P / 2], sn[P / 2], tn[P / 2];
+      bool active[P / 2];
+      for (int k = 0; k < np; ++k) {
+        const int p = pp[k], q = qq[k];
+        const v4e app = A[p + p * N], aqq = A[q + q * N], apq = A[p + q * N];
+        const v4e dd = app * aqq;
+        const auto big = apq * apq > eps2 * (dd >= 0.0 ? dd : -dd);
+        active[k] = big[0] || big[1] || big[2] || big[3];
+        if (!active[k]) continue;
+        // tan θ = sign(d)·o / (|d| + √(d² + o²)) with d = a_qq − a_pp, o = 2a_pq: |t| ≤ 1.
+        const v4e d = aqq - app, o = 2.0 * apq;
+        v4e r, c;
+        lanes_sqrt(d * d + o * o, r);
+        const v4e h = (d >= 0.0 ? d : -d) + r;
+        const v4e t = h > 0.0 ? (d >= 0.0 ? o : -o) / h : v4e{0.0, 0.0, 0.0, 0.0};
+        lanes_rsqrt_1_2(1.0 + t * t, c);
+        cs[k] = c;
+        sn[k] = c * t;
+        tn[k] = t;
+      }
+      for (int k = 0; k < np; ++k) {
+        if (!active[k]) continue;
+        rotated = true;
+        const int p = pp[k], q = qq[k];
+        const v4e c = cs[k], s = sn[k], t = tn[k];
+        for (int r = 0; r < N; ++r) {
+          if (r == p || r == q) continue;
+          v4e& x = A[r < p ? r + p * N : p + r * N];
+          v4e& y = A[r < q ? r + q * N : q + r * N];
+          const v4e xv = x, yv = y;
+          x = c * xv - s * yv;
+          y = s * xv + c * yv;
+        }
+        const v4e apq = A[p + q * N];
+        A[p + p * N] -= t * apq;
+        A[q + q * N] += t * apq;
+        A[p + q * N] = v4e{0.0, 0.0, 0.0, 0.0};
+        v4e* vp = V + p * N;
+        v4e* vq = V + q * N;
+        for (int r = 0; r < N; ++r) {
+          const v4e x = vp[r], y = vq[r];
+          vp[r] = c * x - s * y;
+          vq[r] = s * x + c * y;
+        }
+      }
+    }
+    if (!rotated) return true;
+  }
+  return false;
+}
+
+/// sym_eig_batch for a fixed N: packs the matrices with finite upper triangles into lanes (the
+/// other lanes repeat one of them: a NaN would be skipped by the rotation test, not caught),
+/// runs jacobi_lanes, unpacks the lanes whose results are finite.
+template <int N>
+SETBOUND_KERNEL_CLONES inline unsigned sym_eig_batch_fixed(int count, double* const* A, double* const* w) {
+  unsigned finite_in = 0u;
+  for (int l = 0; l < count; ++l) {
+    bool finite = true;
+    for (int j = 0; j < N; ++j)
+      for (int i = 0; i <= j; ++i) finite = finite && std::isfinite(A[l][i + j * N]);
+    if (finite) finite_in |= 1u << l;
+  }
+  if (finite_in == 0u) return 0u;
+  int src[4];
+  int first = 0;
+  while (!((finite_in >> first) & 1u)) ++first;
+  for (int l = 0; l < 4; ++l) src[l] = l < count && ((finite_in >> l) & 1u) ? l : first;
+  alignas(32) v4e a[N * N];
+  alignas(32) v4e v[N * N];
+  for (int j = 0; j < N; ++j)
+    for (int i = 0; i <= j; ++i)
+      for (int l = 0; l < 4; ++l) a[i + j * N][l] = A[src[l]][i + j * N];
+  if (!jacobi_lanes<N>(a, v)) return 0u;
+  unsigned ok = 0u;
+  for (int l = 0; l < count; ++l) {
+    if (!((finite_in >> l) & 1u)) continue;
+    bool finite = true;
+    for (int i = 0; i < N; ++i) finite = finite && std::isfinite(a[i + i * N][l]);
+    for (int i = 0; i < N * N; ++i) finite = finite && std::isfinite(v[i][l]);
+    if (!finite) continue;
+    ok |= 1u << l;
+    for (int i = 0; i < N; ++i) w[l][i] = a[i + i * N][l];
+    for (int i = 0; i < N * N; ++i) A[l][i] = v[i][l];
+  }
+  return ok;
+}
+}  // namespace detail
+#endif
+
+/// Largest block size sym_eig_batch() handles (larger: 0, the caller uses sym_eig()).
+inline constexpr int kEigBatchMax = 10;
+
+/// Whether sym_eig_batch() on count matrices of size n beats count calls of sym_eig(): per
+/// matrix (ns, 2-core EPYC VM, AVX2 clone), n = 7: QL 1270, batches of 2 / 3 / 4 1270 / 860 /
+/// 650; n = 5: 720 against 640 / 450 / 340; n = 10: 2490 against 3220 / 2240 / 1730.
+inline constexpr bool eig_batch_pays(int n, int count) {
+  return n >= 2 && n <= kEigBatchMax && (count >= 3 || (count == 2 && n <= 6));
+}
+
+/// Eigen-decompositions of count ≤ 4 symmetric n×n matrices A[0 … count−1] (column-major, the
+/// upper triangle is read) in one pass of a four-lane Jacobi iteration: the lanes of a SIMD
+/// register carry the four matrices through the same rotations, which keeps the divider and
+/// the FMA units busy where the QL iteration of one small matrix waits on its own latency
+/// (7×7: 0.65 µs against 1.7 µs per matrix with four matrices). Returns the bit mask of the
+/// matrices done: for those, w[l] holds the eigenvalues (no particular order) and A[l] the
+/// orthonormal eigenvectors, as sym_eig() gives them; the others (non-finite data, no
+/// convergence, n outside 2 … kEigBatchMax, or no vector extensions) are left untouched for
+/// sym_eig().
+inline unsigned sym_eig_batch(int n, int count, double* const* A, double* const* w) {
+#if defined(__GNUC__)
+  if (n < 2 || n > kEigBatchMax || count < 1 || count > 4) return 0u;
+  return with_size(n, [&](auto N) -> unsigned {
+    constexpr int Nv = decltype(N)::value;
+    if constexpr (Nv < 2 || Nv > kEigBatchMax) return 0u;
+    else return detail::sym_eig_batch_fixed<Nv>(count, A, w);
+  });
+#else
+  (void)n, (void)count, (void)A, (void)w;
+  return 0u;
+#endif
 }
 
 // --- dispatchers of the Schur-complement kernels (see svec above) ---

@@ -263,7 +263,8 @@ class InteriorPointSolver {
   void for_block_ranges(F&& f);
   void scatter_schur(const BlockWork& w, Eigen::MatrixXd& M) const;
   void scatter_sub(const BlockWork& w, Eigen::VectorXd& g) const;
-  bool scale_block(BlockWork& w);
+  bool scale_block_factor(BlockWork& w);
+  bool scale_block_finish(BlockWork& w, bool eig_ok);
   void allocate_partials();
   void assemble_block(int b);
   bool factor_schur();
@@ -698,17 +699,28 @@ inline void InteriorPointSolver::scatter_sub(const BlockWork& w, Eigen::VectorXd
   for (int j = 0; j < w.k; ++j) g(w.var[static_cast<size_t>(j)]) -= w.gl(j);
 }
 
-inline bool InteriorPointSolver::scale_block(BlockWork& w) {
+// NT scaling of block w, first part: the Cholesky factors L_s, L_z, G = L_zᵀ L_s (in tmp) and
+// H = GᵀG = L_sᵀ Z L_s (in tmp2), whose eigen-decomposition V Λ² Vᵀ (V over H in tmp2, Λ² in
+// wv) scale_block_finish() takes. false if S or Z is not positive definite.
+inline bool InteriorPointSolver::scale_block_factor(BlockWork& w) {
   const int n = w.n;
   double* Ls = w.Ls.data();
   double* Lz = w.Lz.data();
   if (!kernels::cholesky(n, w.S.data(), Ls) || !kernels::cholesky(n, w.Z.data(), Lz)) return false;
-  // G = L_zᵀ L_s (in tmp), H = GᵀG = L_sᵀ Z L_s (in tmp2) = V Λ² Vᵀ.
+  double* G = w.tmp.data();
+  kernels::mul_tn(n, Lz, Ls, G);
+  kernels::mul_tn(n, G, G, w.tmp2.data());
+  return true;
+}
+
+// Second part, after the eigen-decomposition of H (eig_ok: it succeeded): Λ, R = L_s V Λ^{-1/2}
+// and Q = L_s⁻ᵀ V Λ^{1/2}. false if the scaling cannot be formed.
+inline bool InteriorPointSolver::scale_block_finish(BlockWork& w, bool eig_ok) {
+  const int n = w.n;
+  double* Ls = w.Ls.data();
   double* G = w.tmp.data();
   double* V = w.tmp2.data();
-  kernels::mul_tn(n, Lz, Ls, G);
-  kernels::mul_tn(n, G, G, V);
-  bool ok = kernels::sym_eig(n, V, w.wv.data(), w.ev.data());
+  bool ok = eig_ok;
   if (ok) {
     const double lo = w.wv.minCoeff(), hi = w.wv.maxCoeff();
     ok = lo > 1e-10 * hi;
@@ -716,7 +728,7 @@ inline bool InteriorPointSolver::scale_block(BlockWork& w) {
   }
   if (!ok) {
     // Badly centred pair: the squared singular values lose the small ones; the one-sided
-    // Jacobi SVD of G itself (still in tmp: sym_eig only wrote V) keeps them accurate.
+    // Jacobi SVD of G itself (still in tmp: the eigensolvers only wrote V) keeps them accurate.
     if (!kernels::one_sided_jacobi(n, G, V, w.lambda.data())) return false;
   }
   for (int i = 0; i < n; ++i) {
@@ -731,7 +743,7 @@ inline bool InteriorPointSolver::scale_block(BlockWork& w) {
   // Q = L_s⁻ᵀ V Λ^{1/2}: back substitution with the upper triangular L_sᵀ, for all columns of
   // Q at once (one row of Q per step: row i = column i of Qᵀ, contiguous), so that the n
   // divisions of a row do not wait on each other.
-  double* sq = w.wv.data();  // sym_eig's eigenvalues are in λ now
+  double* sq = w.wv.data();  // the eigenvalues Λ² are in λ now
   for (int j = 0; j < n; ++j) sq[j] = 1.0 / w.isq(j);
   double* Qt = w.Qt.data();
   for (int i = n - 1; i >= 0; --i) {
@@ -766,15 +778,36 @@ inline bool InteriorPointSolver::scale_and_assemble() {
     }
     pt.ok = true;
     pt.f0sq = 0.0;
-    for (int b = begin; b < end; ++b) {
-      BlockWork& w = w_[static_cast<size_t>(b)];
-      pt.ok = scale_block(w);
+    // Runs of up to four consecutive blocks of the same size share one batched eigensolver
+    // call (kernels::sym_eig_batch) where that pays; the others take sym_eig one by one.
+    for (int b = begin; b < end && pt.ok;) {
+      const int n = w_[static_cast<size_t>(b)].n;
+      int e = b + 1;
+      while (e < end && e - b < 4 && w_[static_cast<size_t>(e)].n == n) ++e;
+      for (int i = b; i < e && pt.ok; ++i) pt.ok = scale_block_factor(w_[static_cast<size_t>(i)]);
       if (!pt.ok) break;
-      assemble_block(b);
-      scatter_schur(w, M);
-      kkt_block_rhs(w, true, 0.0, false);
-      scatter_sub(w, g);
-      pt.f0sq += w.f0sq;
+      unsigned batched = 0u;
+      if (kernels::eig_batch_pays(n, e - b)) {
+        double* H[4];
+        double* lam2[4];
+        for (int i = b; i < e; ++i) {
+          H[i - b] = w_[static_cast<size_t>(i)].tmp2.data();
+          lam2[i - b] = w_[static_cast<size_t>(i)].wv.data();
+        }
+        batched = kernels::sym_eig_batch(n, e - b, H, lam2);
+      }
+      for (int i = b; i < e; ++i) {
+        BlockWork& w = w_[static_cast<size_t>(i)];
+        const bool eig_ok = ((batched >> (i - b)) & 1u) != 0u || kernels::sym_eig(n, w.tmp2.data(), w.wv.data(), w.ev.data());
+        pt.ok = scale_block_finish(w, eig_ok);
+        if (!pt.ok) break;
+        assemble_block(i);
+        scatter_schur(w, M);
+        kkt_block_rhs(w, true, 0.0, false);
+        scatter_sub(w, g);
+        pt.f0sq += w.f0sq;
+      }
+      b = e;
     }
   });
   bool scaled = true;
