@@ -511,6 +511,32 @@ TEST(LmiKernels, OneSidedJacobiKeepsSmallSingularValuesAccurate) {
   }
 }
 
+TEST(LmiKernels, RowMajorGemvMatchesEigen) {
+  // gemv_rm_t (register tiles of 12/8/4 columns, rows padded to a multiple of 4 columns) and
+  // gemv_rm_n_add against Eigen, for every k that changes the tiling and for row offsets as
+  // the solver uses them (column 2 of the stored coefficients).
+  std::mt19937 rng(36);
+  std::normal_distribution<double> nd;
+  for (int k = 1; k <= 30; ++k) {
+    for (int s : {1, 6, 28}) {
+      const long lda = kernels::gram_padded(k) + 4;
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> A(s, lda);
+      for (long i = 0; i < A.size(); ++i) A.data()[i] = nd(rng);
+      VectorXd x(s), xk(k), y(k + 1), z(s);
+      for (int i = 0; i < s; ++i) x(i) = nd(rng), z(i) = nd(rng);
+      for (int i = 0; i < k; ++i) xk(i) = nd(rng);
+      y.setConstant(7.0);  // y(k) must stay untouched
+      kernels::gemv_rm_t(s, k, A.data() + 2, lda, x.data(), y.data());
+      const VectorXd ref = A.middleCols(2, k).transpose() * x;
+      EXPECT_LE((y.head(k) - ref).norm(), 1e-13 * (1.0 + ref.norm())) << k << " " << s;
+      EXPECT_EQ(y(k), 7.0) << k << " " << s;
+      const VectorXd zref = z - 0.5 * A.middleCols(2, k) * xk;
+      kernels::gemv_rm_n_add(s, k, -0.5, A.data() + 2, lda, xk.data(), z.data());
+      EXPECT_LE((z - zref).norm(), 1e-13 * (1.0 + zref.norm())) << k << " " << s;
+    }
+  }
+}
+
 TEST(LmiKernels, CholeskyAndProducts) {
   // n = 1…20: the fixed-size instantiations (n ≤ kernels::kFixedMax) and the run-time loops.
   static_assert(kernels::kFixedMax < 20, "the test must reach the run-time-size path");
