@@ -1029,7 +1029,7 @@ SETBOUND_KERNEL_CLONES inline void congruence_svec(int n, int count, int cp, con
 /// y_j = ⟨a_j, x⟩ for the k columns a_j of A (length s each, leading dimension s): Aᵀx with
 /// four columns at a time (Eigen's dynamic-size GEMV costs more in dispatch than in flops at
 /// the solver's sizes, s ≤ 136, k ≤ a few dozen).
-inline void gemv_t(int s, int k, const double* A, const double* x, double* y) {
+SETBOUND_KERNEL_CLONES inline void gemv_t(int s, int k, const double* A, const double* x, double* y) {
   int j = 0;
   for (; j + 4 <= k; j += 4) {
     const double* a0 = A + static_cast<long>(j) * s;
@@ -1174,12 +1174,28 @@ SETBOUND_KERNEL_CLONES inline void gemv_rm_t(int s, int k, const double* A, long
 #endif
 }
 
-/// y_t += alpha · Σ_j A(t, j) x_j for the row-major A (s×k, leading dimension lda). Four
-/// partial sums per row (a single one is a chain of dependent additions the compiler may not
-/// reorder: it took a third of the direction pass).
-inline void gemv_rm_n_add(int s, int k, double alpha, const double* A, long lda, const double* x, double* y) {
+/// y_t += alpha · Σ_j A(t, j) x_j for the row-major A (s×k, leading dimension lda): four rows
+/// at a time, each row's dot product in a four-lane register (so the additions are not one
+/// dependent chain), the four reduced together at the end.
+SETBOUND_KERNEL_CLONES inline void gemv_rm_n_add(int s, int k, double alpha, const double* A, long lda, const double* x, double* y) {
   const int k4 = k / 4 * 4;
-  for (int t = 0; t < s; ++t) {
+  int t = 0;
+#if defined(__GNUC__)
+  for (; t + 4 <= s; t += 4) {
+    const double* a = A + t * lda;
+    detail::v4d acc[4] = {};
+    for (int j = 0; j < k4; j += 4) {
+      const detail::v4d xv = *reinterpret_cast<const detail::v4d_u*>(x + j);
+      for (int r = 0; r < 4; ++r) acc[r] += *reinterpret_cast<const detail::v4d_u*>(a + r * lda + j) * xv;
+    }
+    for (int r = 0; r < 4; ++r) {
+      double sum = (acc[r][0] + acc[r][1]) + (acc[r][2] + acc[r][3]);
+      for (int j = k4; j < k; ++j) sum += a[r * lda + j] * x[j];
+      y[t + r] += alpha * sum;
+    }
+  }
+#endif
+  for (; t < s; ++t) {
     const double* a = A + t * lda;
     double a0 = 0.0, a1 = 0.0, a2 = 0.0, a3 = 0.0;
     for (int j = 0; j < k4; j += 4) {
@@ -1194,7 +1210,7 @@ inline void gemv_rm_n_add(int s, int k, double alpha, const double* A, long lda,
 }
 
 /// y += alpha · A x for A s×k (leading dimension s).
-inline void gemv_n_add(int s, int k, double alpha, const double* A, const double* x, double* y) {
+SETBOUND_KERNEL_CLONES inline void gemv_n_add(int s, int k, double alpha, const double* A, const double* x, double* y) {
   int j = 0;
   for (; j + 4 <= k; j += 4) {
     const double* a0 = A + static_cast<long>(j) * s;

@@ -217,6 +217,7 @@ class InteriorPointSolver {
     int n = 0, k = 0, sv = 0, kd = 0;  // size, coefficients, svec length, dense coefficients
     std::vector<int> col;   // coefficient index (into LmiBlock::coefficients) of Fs column 2 + j
     std::vector<int> var;   // its variable
+    int var0 = -1;          // var[j] = var0 + j for every j (a contiguous run), else −1
     Eigen::MatrixXd S, Z, dS, dZ, rz, R, Q, Qt, Ls, Lz, tmp, tmp2, Wds, Wdz, Wds_a, Wdz_a, U, best_Z;
     // V holds F0, rz and the dense coefficients in `col` order as matrices ("slots") 0, 1, 2…:
     // for n ≤ kernels::kInterleavedMax interleaved by row (row r·cp + slot = row r of the
@@ -566,6 +567,9 @@ inline void InteriorPointSolver::load_values() {
         kernels::svec_pack(n, co.dense.data(), w.As.col(t).data());
         ++t;
       }
+    w.var0 = w.k > 0 ? w.var[0] : -1;
+    for (int j = 1; j < w.k && w.var0 >= 0; ++j)
+      if (w.var[static_cast<size_t>(j)] != w.var0 + j) w.var0 = -1;
     w.kd = 0;
     for (int j = 0; j < w.k; ++j)
       if (blk.coefficients[static_cast<size_t>(w.col[static_cast<size_t>(j)])].kind == CoefficientKind::Dense) ++w.kd;
@@ -685,6 +689,10 @@ inline void InteriorPointSolver::for_block_ranges(F&& f) {
 // M += block w's Gram matrix (upper half of its k×k G), scattered by its variables into the
 // upper triangle of M only (factor_assembled mirrors the sum once).
 inline void InteriorPointSolver::scatter_schur(const BlockWork& w, Eigen::MatrixXd& M) const {
+  if (w.var0 >= 0) {  // a contiguous run of variables (all of them, in a dense problem): by columns
+    for (int j = 0; j < w.k; ++j) M.col(w.var0 + j).segment(w.var0, j + 1) += w.G.col(j).head(j + 1);
+    return;
+  }
   for (int j = 0; j < w.k; ++j) {
     const int vj = w.var[static_cast<size_t>(j)];
     for (int i = 0; i <= j; ++i) {
@@ -1047,12 +1055,16 @@ inline double InteriorPointSolver::direction(double eta, double sigma, double mu
         kernels::mul_nn(w.n, w.Wds_a.data(), w.Wdz_a.data(), w.tmp.data());
         w.tmp2 = 0.5 * (w.tmp + w.tmp.transpose());  // (Wds_a)∘(Wdz_a)
       }
-      for (int j = 0; j < w.n; ++j)
-        for (int i = 0; i < w.n; ++i) {
-          double r = (i == j) ? (-w.lambda(i) * w.lambda(i) + sigma * mu) : 0.0;
-          if (corrector) r -= w.tmp2(i, j);
-          w.U(i, j) = 2.0 * r / (w.lambda(i) + w.lambda(j));
-        }
+      if (corrector) {
+        for (int j = 0; j < w.n; ++j)
+          for (int i = 0; i < w.n; ++i) {
+            const double r = ((i == j) ? (-w.lambda(i) * w.lambda(i) + sigma * mu) : 0.0) - w.tmp2(i, j);
+            w.U(i, j) = 2.0 * r / (w.lambda(i) + w.lambda(j));
+          }
+      } else {  // ds_rhs is diagonal: no divisions off the diagonal
+        w.U.setZero();
+        for (int i = 0; i < w.n; ++i) w.U(i, i) = (-w.lambda(i) * w.lambda(i) + sigma * mu) / w.lambda(i);
+      }
       kkt_block_rhs(w, false, eta, true);
       scatter_sub(w, g);
       pt.hb -= w.f0.dot(w.bs);
