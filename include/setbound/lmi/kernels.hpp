@@ -833,6 +833,9 @@ inline bool jacobi_lanes(v4e* A, v4e* V) {
   for (int i = 0; i < N; ++i) V[i + i * N] = v4e{1.0, 1.0, 1.0, 1.0};
   for (int sweep = 0; sweep < 40; ++sweep) {
     bool rotated = false;
+    // Unrolled, the rounds' index pairs are constants and so are all the addresses below
+    // (7×7: 0.68 → 0.60 µs per matrix).
+    SETBOUND_UNROLL
     for (int round = 0; round < P - 1; ++round) {
       int pp[P / 2], qq[P / 2];
       int np = 0;
