@@ -1055,16 +1055,12 @@ inline double InteriorPointSolver::direction(double eta, double sigma, double mu
         kernels::mul_nn(w.n, w.Wds_a.data(), w.Wdz_a.data(), w.tmp.data());
         w.tmp2 = 0.5 * (w.tmp + w.tmp.transpose());  // (Wds_a)∘(Wdz_a)
       }
-      if (corrector) {
-        for (int j = 0; j < w.n; ++j)
-          for (int i = 0; i < w.n; ++i) {
-            const double r = ((i == j) ? (-w.lambda(i) * w.lambda(i) + sigma * mu) : 0.0) - w.tmp2(i, j);
-            w.U(i, j) = 2.0 * r / (w.lambda(i) + w.lambda(j));
-          }
-      } else {  // ds_rhs is diagonal: no divisions off the diagonal
-        w.U.setZero();
-        for (int i = 0; i < w.n; ++i) w.U(i, i) = (-w.lambda(i) * w.lambda(i) + sigma * mu) / w.lambda(i);
-      }
+      for (int j = 0; j < w.n; ++j)
+        for (int i = 0; i < w.n; ++i) {
+          double r = (i == j) ? (-w.lambda(i) * w.lambda(i) + sigma * mu) : 0.0;
+          if (corrector) r -= w.tmp2(i, j);
+          w.U(i, j) = 2.0 * r / (w.lambda(i) + w.lambda(j));
+        }
       kkt_block_rhs(w, false, eta, true);
       scatter_sub(w, g);
       pt.hb -= w.f0.dot(w.bs);
