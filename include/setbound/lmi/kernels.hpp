@@ -16,7 +16,7 @@
 //    tred2/tql2 scheme of Wilkinson & Reinsch, Handbook for Automatic Computation II), with or
 //    without eigenvectors; and the eigen-decompositions of up to four same-size matrices at
 //    once by a cyclic Jacobi iteration in the four SIMD lanes (sym_eig_batch; the NT scaling's
-//    runs of equal blocks, where one QL iteration per block waits on its own latency);
+//    runs of equal blocks, where one QL iteration per block waits on its own latency).
 // All matrices are n×n, column-major, leading dimension n. Work arrays are supplied by the
 // caller (sizes stated per function).
 #pragma once
