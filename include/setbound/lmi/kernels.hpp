@@ -799,24 +799,27 @@ inline bool one_sided_jacobi(int n, double* G, double* V, double* sv) {
 
 #if defined(__GNUC__)
 namespace detail {
-typedef double v4e __attribute__((vector_size(32)));
+/// Four doubles in one SIMD register (GCC vector extensions; two SSE2 registers in the baseline
+/// clone), for the batched eigensolver's lanes and the Gram / gemv register tiles.
+typedef double v4d __attribute__((vector_size(32)));
+typedef double v4d_u __attribute__((vector_size(32), aligned(8), may_alias));  // unaligned loads
 
 // (The lane helpers take and return through references: by value, a 32-byte vector changes the
 // calling convention between the baseline and the AVX clone, which GCC warns about.)
-inline void lanes_sqrt(const v4e& x, v4e& y) {
+inline void lanes_sqrt(const v4d& x, v4d& y) {
 #if defined(__SSE2__)
   const __m128d lo = _mm_sqrt_pd(_mm_set_pd(x[1], x[0])), hi = _mm_sqrt_pd(_mm_set_pd(x[3], x[2]));
-  y = v4e{_mm_cvtsd_f64(lo), _mm_cvtsd_f64(_mm_unpackhi_pd(lo, lo)), _mm_cvtsd_f64(hi), _mm_cvtsd_f64(_mm_unpackhi_pd(hi, hi))};
+  y = v4d{_mm_cvtsd_f64(lo), _mm_cvtsd_f64(_mm_unpackhi_pd(lo, lo)), _mm_cvtsd_f64(hi), _mm_cvtsd_f64(_mm_unpackhi_pd(hi, hi))};
 #else
-  y = v4e{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
+  y = v4d{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])};
 #endif
 }
 
 /// 1/√x for x ∈ [1, 2] without the divider: a quadratic fit (relative error 5.8e-3) and three
 /// Newton steps (5e-5, 4e-9, rounding).
-inline void lanes_rsqrt_1_2(const v4e& x, v4e& y) {
+inline void lanes_rsqrt_1_2(const v4d& x, v4d& y) {
   y = (0.14262018513400665 * x - 0.7119622800751336) * x + 1.5635806899664277;
-  const v4e hx = 0.5 * x;
+  const v4d hx = 0.5 * x;
   for (int k = 0; k < 3; ++k) y = y * (1.5 - hx * y * y);
 }
 
@@ -828,11 +831,11 @@ inline void lanes_rsqrt_1_2(const v4e& x, v4e& y) {
 /// lane (the relative criterion of Demmel & Veselić), and the sweeps stop when a whole sweep was
 /// skipped. false after 40 sweeps without that.
 template <int N>
-inline bool jacobi_lanes(v4e* A, v4e* V) {
+inline bool jacobi_lanes(v4d* A, v4d* V) {
   constexpr int P = N + (N & 1);  // round-robin players (one dummy when N is odd)
   constexpr double eps2 = std::numeric_limits<double>::epsilon() * std::numeric_limits<double>::epsilon();
-  for (int i = 0; i < N * N; ++i) V[i] = v4e{0.0, 0.0, 0.0, 0.0};
-  for (int i = 0; i < N; ++i) V[i + i * N] = v4e{1.0, 1.0, 1.0, 1.0};
+  for (int i = 0; i < N * N; ++i) V[i] = v4d{0.0, 0.0, 0.0, 0.0};
+  for (int i = 0; i < N; ++i) V[i + i * N] = v4d{1.0, 1.0, 1.0, 1.0};
   for (int sweep = 0; sweep < 40; ++sweep) {
     bool rotated = false;
     // Unrolled, the rounds' index pairs are constants and so are all the addresses below
@@ -849,21 +852,21 @@ inline bool jacobi_lanes(v4e* A, v4e* V) {
         qq[np] = std::max(a, b);
         ++np;
       }
-      v4e cs[P / 2], sn[P / 2], tn[P / 2];
+      v4d cs[P / 2], sn[P / 2], tn[P / 2];
       bool active[P / 2];
       for (int k = 0; k < np; ++k) {
         const int p = pp[k], q = qq[k];
-        const v4e app = A[p + p * N], aqq = A[q + q * N], apq = A[p + q * N];
-        const v4e dd = app * aqq;
+        const v4d app = A[p + p * N], aqq = A[q + q * N], apq = A[p + q * N];
+        const v4d dd = app * aqq;
         const auto big = apq * apq > eps2 * (dd >= 0.0 ? dd : -dd);
         active[k] = big[0] || big[1] || big[2] || big[3];
         if (!active[k]) continue;
         // tan θ = sign(d)·o / (|d| + √(d² + o²)) with d = a_qq − a_pp, o = 2a_pq: |t| ≤ 1.
-        const v4e d = aqq - app, o = 2.0 * apq;
-        v4e r, c;
+        const v4d d = aqq - app, o = 2.0 * apq;
+        v4d r, c;
         lanes_sqrt(d * d + o * o, r);
-        const v4e h = (d >= 0.0 ? d : -d) + r;
-        const v4e t = h > 0.0 ? (d >= 0.0 ? o : -o) / h : v4e{0.0, 0.0, 0.0, 0.0};
+        const v4d h = (d >= 0.0 ? d : -d) + r;
+        const v4d t = h > 0.0 ? (d >= 0.0 ? o : -o) / h : v4d{0.0, 0.0, 0.0, 0.0};
         lanes_rsqrt_1_2(1.0 + t * t, c);
         cs[k] = c;
         sn[k] = c * t;
@@ -873,23 +876,23 @@ inline bool jacobi_lanes(v4e* A, v4e* V) {
         if (!active[k]) continue;
         rotated = true;
         const int p = pp[k], q = qq[k];
-        const v4e c = cs[k], s = sn[k], t = tn[k];
+        const v4d c = cs[k], s = sn[k], t = tn[k];
         for (int r = 0; r < N; ++r) {
           if (r == p || r == q) continue;
-          v4e& x = A[r < p ? r + p * N : p + r * N];
-          v4e& y = A[r < q ? r + q * N : q + r * N];
-          const v4e xv = x, yv = y;
+          v4d& x = A[r < p ? r + p * N : p + r * N];
+          v4d& y = A[r < q ? r + q * N : q + r * N];
+          const v4d xv = x, yv = y;
           x = c * xv - s * yv;
           y = s * xv + c * yv;
         }
-        const v4e apq = A[p + q * N];
+        const v4d apq = A[p + q * N];
         A[p + p * N] -= t * apq;
         A[q + q * N] += t * apq;
-        A[p + q * N] = v4e{0.0, 0.0, 0.0, 0.0};
-        v4e* vp = V + p * N;
-        v4e* vq = V + q * N;
+        A[p + q * N] = v4d{0.0, 0.0, 0.0, 0.0};
+        v4d* vp = V + p * N;
+        v4d* vq = V + q * N;
         for (int r = 0; r < N; ++r) {
-          const v4e x = vp[r], y = vq[r];
+          const v4d x = vp[r], y = vq[r];
           vp[r] = c * x - s * y;
           vq[r] = s * x + c * y;
         }
@@ -917,8 +920,8 @@ SETBOUND_KERNEL_CLONES inline unsigned sym_eig_batch_fixed(int count, double* co
   int first = 0;
   while (!((finite_in >> first) & 1u)) ++first;
   for (int l = 0; l < 4; ++l) src[l] = l < count && ((finite_in >> l) & 1u) ? l : first;
-  alignas(32) v4e a[N * N];
-  alignas(32) v4e v[N * N];
+  alignas(32) v4d a[N * N];
+  alignas(32) v4d v[N * N];
   for (int j = 0; j < N; ++j)
     for (int i = 0; i <= j; ++i)
       for (int l = 0; l < 4; ++l) a[i + j * N][l] = A[src[l]][i + j * N];
@@ -953,15 +956,15 @@ inline constexpr bool eig_batch_pays(int n, int count) {
 /// upper triangle is read) in one pass of a four-lane Jacobi iteration: the lanes of a SIMD
 /// register carry the four matrices through the same rotations, which keeps the divider and
 /// the FMA units busy where the QL iteration of one small matrix waits on its own latency
-/// (7×7: 0.65 µs against 1.7 µs per matrix with four matrices). Returns the bit mask of the
+/// (7×7: 0.60 µs against 1.7 µs per matrix with four matrices). Returns the bit mask of the
 /// matrices done: for those, w[l] holds the eigenvalues (no particular order) and A[l] the
 /// orthonormal eigenvectors, as sym_eig() gives them; the others (non-finite data, no
 /// convergence, n outside 2 … kEigBatchMax, or no vector extensions) are left untouched for
 /// sym_eig().
 inline unsigned sym_eig_batch(int n, int count, double* const* A, double* const* w) {
 #if defined(__GNUC__)
-  if (n < 2 || n > kEigBatchMax || count < 1 || count > 4) return 0u;
-  return with_size(n, [&](auto N) -> unsigned {
+  if (count < 1 || count > 4) return 0u;
+  return with_size(n, [&](auto N) -> unsigned {  // N = 0 above kFixedMax: not handled either
     constexpr int Nv = decltype(N)::value;
     if constexpr (Nv < 2 || Nv > kEigBatchMax) return 0u;
     else return detail::sym_eig_batch_fixed<Nv>(count, A, w);
@@ -1064,9 +1067,6 @@ SETBOUND_KERNEL_CLONES inline void gemv_t(int s, int k, const double* A, const d
 
 #if defined(__GNUC__)
 namespace detail {
-typedef double v4d __attribute__((vector_size(32)));
-typedef double v4d_u __attribute__((vector_size(32), aligned(8), may_alias));  // unaligned loads
-
 /// Rows i0 … i0+3 × columns c0 … c0+4·NV−1 of FᵀF from the row-major F (s rows, leading
 /// dimension ldf): 4·NV accumulators of four lanes stay in registers over the s rows (rank-one
 /// updates: four broadcasts and NV loads per 4·NV fused multiply-adds). Entries with row or
