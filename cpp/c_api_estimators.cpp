@@ -107,6 +107,11 @@ int sb_zonotopic_create(const sb_linear_system* system, int gain, const double* 
     const int nx = static_cast<int>(sys.nx());
     Zonotope x0(vector_arg(p0, nx, "p0"),
                 m0 > 0 ? Eigen::MatrixXd(matrix_arg(H0, nx, m0, "H0")) : Eigen::MatrixXd::Zero(nx, 0));
+    // The estimator allocates n_x x max_generators work matrices up front: a count far beyond any
+    // use is refused with its name, not as "out of memory".
+    if (max_generators > SB_ZONO_MAX_GENERATORS)
+      throw InvalidArgumentError("max_generators: at most " + std::to_string(SB_ZONO_MAX_GENERATORS) + ", got " +
+                                 std::to_string(max_generators));
     ZonotopicOptions opt;
     opt.max_generators = max_generators;
     opt.use_first_measurement = use_first_measurement != 0;

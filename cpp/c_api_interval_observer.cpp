@@ -196,6 +196,9 @@ int sb_interval_nonlinear_create(int nx, int nu, int ny, int nv, const double* A
       h->gamma = g.gamma;
     }
     NonlinearObserverOptions opt;
+    if (window > SB_INTERVAL_MAX_WINDOW)  // the work per step grows with the window
+      throw InvalidArgumentError("window: at most " + std::to_string(SB_INTERVAL_MAX_WINDOW) + ", got " +
+                                 std::to_string(window));
     if (window > 0) opt.window = window;
     h->obs.emplace(plant, gain, box_arg(x0_lo, x0_hi, nx, "x0"), vector_arg(xhat0, nx, "xhat0"),
                    box_arg(v_lo, v_hi, nv, "v"), NonlinearityBox{}, opt);

@@ -69,6 +69,12 @@ extern "C" int sb_lmi_problem_create(int num_vars, sb_lmi_problem** out) {
     capi::require_pointer(out, "out");
     *out = nullptr;
     capi::require_dimension(num_vars, "num_vars");
+    // A solve forms the dense num_vars x num_vars Schur complement (32 GiB at 65536): refuse a
+    // larger count here with its own message instead of "out of memory" at some later step.
+    if (num_vars > SB_LMI_MAX_VARS)
+      throw DimensionError("num_vars: at most " + std::to_string(SB_LMI_MAX_VARS) +
+                           " variables (the solver's dense Schur complement has num_vars^2 entries), got " +
+                           std::to_string(num_vars));
     auto p = std::make_unique<sb_lmi_problem>();
     p->problem.reset(num_vars);
     *out = p.release();

@@ -250,6 +250,10 @@ int sb_hinf_design_create(int nvert, int nx, int nu, int ny, int nd, int nv, int
     d->nvert = nvert, d->nx = nx, d->nu = nu, d->ny = ny, d->nd = nd, d->nv = nv, d->nrho = nrho;
     EllipsoidalSMOptions opt;
     opt.lambda_route = route_arg(lambda_route, is_lpv);
+    // every pass solves the design LMIs again (about a second each): a huge count would run for years
+    if (passes > SB_HINF_MAX_PASSES)
+      throw InvalidArgumentError("passes: at most " + std::to_string(SB_HINF_MAX_PASSES) + ", got " +
+                                 std::to_string(passes));
     opt.passes = passes <= 0 ? 2 : passes;
     if (W) opt.w_covariance = ConstRowMap(W, m, m);
     const Eigen::VectorXd wb = vector_arg(wbar, m, "wbar");

@@ -214,6 +214,9 @@ typedef struct sb_lmi_result {
   double dual_residual;
 } sb_lmi_result;
 
+/* num_vars in 1 .. SB_LMI_MAX_VARS (a solve forms the dense num_vars x num_vars Schur
+ * complement: 32 GiB at the bound); a larger count is SB_ERR_DIMENSION. */
+#define SB_LMI_MAX_VARS 65536
 int sb_lmi_problem_create(int num_vars, sb_lmi_problem** out);
 /* Accepts NULL. */
 int sb_lmi_problem_free(sb_lmi_problem* problem);
@@ -288,7 +291,9 @@ typedef struct sb_zonotopic sb_zonotopic;
 #define SB_ZONO_GAIN_VOLUME_MIN 3
 /* x0 = p0 + H0 [-1,1]^m0 (H0 nx x m0, row-major). strip_order: NULL or a permutation of
  * 0..ny-1. use_first_measurement = 0 returns X0 unchanged at step 0 ([Le2013]). lambdas: NULL
- * unless gain = SB_ZONO_GAIN_FIXED. */
+ * unless gain = SB_ZONO_GAIN_FIXED. max_generators in nx .. SB_ZONO_MAX_GENERATORS (work
+ * matrices of nx x max_generators are allocated up front). */
+#define SB_ZONO_MAX_GENERATORS 100000
 int sb_zonotopic_create(const sb_linear_system* system, int gain, const double* lambdas,
                         int max_generators, int use_first_measurement, const int* strip_order,
                         int m0, const double* p0, const double* H0, sb_zonotopic** out);
@@ -487,7 +492,9 @@ int sb_polytopic_weights(int nvert, int nrho, const double* theta, const double*
 
 /* Algorithm 2 (nrho = 0, nvert = 1) or Algorithm 3 (theta nvert x nrho given). W (m x m) is the
  * covariance of w for (2.44), NULL = uniform on [-wbar, wbar]. lambda_route: SB_LAMBDA_*.
- * passes: 2 in the thesis (<= 0 means 2). */
+ * passes: 2 in the thesis (<= 0 means 2), at most SB_HINF_MAX_PASSES (each pass solves the
+ * LMIs again). */
+#define SB_HINF_MAX_PASSES 100
 int sb_hinf_design_create(int nvert, int nx, int nu, int ny, int nd, int nv, int nrho, const double* A,
                           const double* B, const double* C, const double* F, const double* Z,
                           const double* theta, const double* wbar, const double* W, int lambda_route,
@@ -634,8 +641,10 @@ int sb_interval_luenberger_step(sb_interval_luenberger* observer, const double* 
 
 /* Nonlinear interval observer (§6.6): x+ = A x + h(p, x, k) + B u, y = C x + Z v; L NULL = the
  * H-infinity gain of LMI (4.46) (F = I). window = how many past h boxes are convolved exactly
- * (<= 0: default 256). step takes the inclusion box [h]_k = [h_lo, h_hi] (nx) of h(p, x_k, k)
+ * (<= 0: default 256; at most SB_INTERVAL_MAX_WINDOW, the work per step grows with it; the
+ * window used is min(window, the number of stored powers of A_o)). step takes the inclusion box [h]_k = [h_lo, h_hi] (nx) of h(p, x_k, k)
  * valid for every x_k in the current box. */
+#define SB_INTERVAL_MAX_WINDOW 100000
 typedef struct sb_interval_nonlinear sb_interval_nonlinear;
 int sb_interval_nonlinear_create(int nx, int nu, int ny, int nv, const double* A, const double* B,
                                  const double* C, const double* Z, const double* L, const double* x0_lo,

@@ -24,7 +24,8 @@ import numpy as np
 
 from .errors import InvalidArgumentError
 
-__all__ = ["as_int", "as_float", "as_bool", "as_choice", "INT_MAX", "fmt_range"]
+__all__ = ["as_int", "as_float", "as_bool", "as_choice", "as_str", "INT_MAX", "fmt_range", "memory_budget",
+           "check_memory"]
 
 #: The largest value of a C ``int`` (every count crosses the C ABI as an ``int``).
 INT_MAX = 2**31 - 1
@@ -66,11 +67,13 @@ def as_int(value: Any, name: str, *, lo: int | None = None, hi: int | None = INT
 
 
 def as_float(value: Any, name: str, *, lo: float | None = None, hi: float | None = None,
-             lo_open: bool = False, hi_open: bool = False, finite: bool = True) -> float:
+             lo_open: bool = False, hi_open: bool = False, finite: bool = True, nan: bool = False) -> float:
     """``value`` as a Python ``float`` in the range given (``lo_open``/``hi_open`` exclude an end).
 
     Accepted: real numbers (``int``, ``float``, numpy scalars), not ``bool``, strings or
-    ``None``. NaN is always refused; ±Inf unless ``finite=False``.
+    ``None``. NaN is refused unless ``nan=True`` (and ±Inf unless ``finite=False``):
+    ``nan=True, finite=False`` only checks the type, for a value whose content the C library
+    checks itself (its ``NotFiniteError`` names the value as it does for C users).
     """
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise InvalidArgumentError(f"{name}: expected a number in {fmt_range(lo, hi, lo_open=lo_open, hi_open=hi_open)}"
@@ -79,6 +82,8 @@ def as_float(value: Any, name: str, *, lo: float | None = None, hi: float | None
         v = float(value)
     except OverflowError:  # an int beyond the float range
         raise InvalidArgumentError(f"{name}: {_describe(value)} is too large for a floating-point number") from None
+    if math.isnan(v) and nan:
+        return v
     if math.isnan(v) or (finite and math.isinf(v)):
         raise InvalidArgumentError(f"{name}: expected a finite number, got {v}")
     bad = ((lo is not None and (v < lo or (lo_open and v == lo)))
@@ -104,3 +109,32 @@ def as_choice(value: Any, name: str, choices: Iterable[Any]):
         if (type(value) is type(c) or (_is_int(value) and _is_int(c))) and value == c:
             return c
     raise InvalidArgumentError(f"{name}: expected one of {', '.join(repr(c) for c in choices)}, got {_describe(value)}")
+
+
+def as_str(value: Any, name: str) -> str:
+    """``value`` if it is a ``str`` (a label or a name; ``None``, numbers and bytes are refused)."""
+    if not isinstance(value, str):
+        raise InvalidArgumentError(f"{name}: expected a string, got {_describe(value)} ({type(value).__name__})")
+    return value
+
+
+def memory_budget() -> int:
+    """Bytes one call may allocate for a size the user chose: half the machine's physical memory
+    (``os.sysconf``; 4 GiB where the platform does not tell). Half, so that the request fails
+    here with a message instead of pushing the machine into swap or the OOM killer."""
+    import os
+
+    try:
+        total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (ValueError, OSError, AttributeError):
+        total = 8 * 2**30
+    return max(int(total) // 2, 2**20)
+
+
+def check_memory(name: str, value: int, nbytes: float) -> None:
+    """Refuses ``name`` = ``value`` when the ``nbytes`` it needs exceed :func:`memory_budget`,
+    with the estimate in the message (before anything is allocated)."""
+    budget = memory_budget()
+    if nbytes > budget:
+        raise InvalidArgumentError(f"{name}: {value} needs about {nbytes / 2**30:.3g} GiB, more than half of this "
+                                   f"machine's memory ({budget / 2**30:.3g} GiB); use a smaller value")

@@ -27,6 +27,7 @@ import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
 from ._state import MadeByCall, StateMixin, reconstructible, remember_call
+from ._validate import as_bool, as_choice, as_float
 from .errors import DimensionError, InvalidArgumentError
 from .sets import Ellipsoid
 from .system import as_system, DescriptorSystem, LinearSystem, run_inputs, step_inputs
@@ -61,9 +62,8 @@ class DegenerateDesignWarning(UserWarning):
 
 
 def _choice(value: str, table: dict, name: str) -> int:
-    if value not in table:
-        raise InvalidArgumentError(f"{name}: expected one of {', '.join(map(repr, table))}, got {value!r}")
-    return table[value]
+    # as_choice compares by type and value, so an unhashable value (a list) is a clean error too
+    return table[as_choice(value, name, table)]
 
 
 @dataclass(frozen=True)
@@ -107,12 +107,7 @@ def design_offline(system, normalization: str = "logdet", beta: float | None = N
         warnings.warn("normalization='paper_trace' (tr P <= 1, papers.md §1.1) is degenerate: the LMI is "
                       "homogeneous, so an upper bound on P drives P towards 0; use 'logdet' or 'ball'",
                       DegenerateDesignWarning, stacklevel=2)
-    if beta is None:
-        b = math.nan
-    else:
-        b = float(beta)
-        if not (0.0 < b < 1.0):
-            raise InvalidArgumentError(f"beta: must be in (0, 1), got {beta!r}")
+    b = math.nan if beta is None else as_float(beta, "beta", lo=0.0, hi=1.0, lo_open=True, hi_open=True)
     handle = ffi.new("sb_ell_design**")
     if isinstance(system, DescriptorSystem):
         check(lib.sb_ell_design_descriptor(system._handle, norm, b, handle))
@@ -233,8 +228,10 @@ class OnlineEstimator(_EllipsoidalEstimator):
 
     def __init__(self, design: EllDesign, x0: Ellipsoid, scaling: bool = False,
                  reuse_tolerance: float = 1e-9):
+        scaling = as_bool(scaling, "scaling")
+        reuse_tolerance = as_float(reuse_tolerance, "reuse_tolerance", lo=0.0)
         self._method = lib.SB_ELL_ONLINE_SCALED if scaling else lib.SB_ELL_ONLINE_VERTEX
-        self.scaling = bool(scaling)
+        self.scaling = scaling
         self._create(design, x0)
         self.reuse_tolerance = reuse_tolerance
 
@@ -243,13 +240,13 @@ class OnlineEstimator(_EllipsoidalEstimator):
         """The LMI is solved again only when ρ_k moved by more than this relative amount since
         the last solve; otherwise the last certified (β, L, σ) is reused, which is at most
         |Δρ| above the optimum (the LMI does not depend on ρ_k; the optimal value is concave
-        in ρ with supergradient β ∈ (0, 1)). 0 solves at every step. Not used with an
-        interval A."""
+        in ρ with supergradient β ∈ (0, 1)). 0 solves at every step. A finite number >= 0
+        (every value is sound; a large one only reuses more). Not used with an interval A."""
         return self._reuse_tolerance
 
     @reuse_tolerance.setter
     def reuse_tolerance(self, tol: float) -> None:
-        tol = float(tol)
+        tol = as_float(tol, "reuse_tolerance", lo=0.0)
         check(lib.sb_ellipsoidal_set_reuse_tolerance(self._handle, tol))
         self._reuse_tolerance = tol
 
@@ -318,8 +315,7 @@ class KalmanFilter(StateMixin):
         mean0 = as_f64(mean0, "mean0", shape=(n,))
         cov0 = as_f64(cov0, "cov0", shape=(n, n))
         W = None if omega_cov is None else as_f64(omega_cov, "omega_cov", shape=(system.nw, system.nw))
-        if not (np.isfinite(nsigma) and nsigma > 0):
-            raise InvalidArgumentError(f"nsigma: must be a positive number, got {nsigma!r}")
+        nsigma = as_float(nsigma, "nsigma", lo=0.0, lo_open=True)
         handle = ffi.new("sb_kalman**")
         check(lib.sb_kalman_create(system._handle, dptr(mean0), dptr(cov0), dptr(W) if W is not None else ffi.NULL,
                                    handle))

@@ -23,6 +23,7 @@ import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
 from ._state import MadeByCall, StateMixin, reconstructible, remember_call
+from ._validate import as_choice, as_float, as_int
 from .errors import DimensionError, InvalidArgumentError
 from .interval import Box
 from .plant import Plant
@@ -40,9 +41,13 @@ _ROUTES = {None: -1, "default": -1, "logdet": 0, "direct": 1, "input_or_logdet":
 
 
 def _route(r) -> int:
-    if r not in _ROUTES:
-        raise InvalidArgumentError(f"lambda_route: expected one of {sorted(k for k in _ROUTES if k)}, got {r!r}")
-    return _ROUTES[r]
+    # by type and value (as_choice), so that an unhashable value (a list) is a clean error as well
+    return _ROUTES[as_choice(r, "lambda_route", list(_ROUTES))]
+
+
+#: Upper bound of ``passes`` of the ellipsoidal SM design (the thesis uses 2; every pass solves
+#: the LMIs again, about a second each, so ``passes=2**30`` would run for decades).
+MAX_PASSES = lib.SB_HINF_MAX_PASSES  # 100, the C library refuses more too
 
 
 class LpvPlant:
@@ -173,7 +178,8 @@ def ellipsoidal_error_rpi(P, Q, g, wbar) -> ErrorRpi:
     Q = as_f64(Q, "Q", shape=(n, n))
     wbar = as_f64(wbar, "wbar", ndim=1)
     lam, cb, e = ffi.new("double*"), ffi.new("double*"), np.empty(n)
-    check(lib.sb_ellipsoidal_error_rpi(n, dptr(P), dptr(Q), float(g), wbar.size, dptr(wbar), lam, cb, dptr(e)))
+    g = as_float(g, "g")
+    check(lib.sb_ellipsoidal_error_rpi(n, dptr(P), dptr(Q), g, wbar.size, dptr(wbar), lam, cb, dptr(e)))
     return ErrorRpi(lam[0], cb[0], e)
 
 
@@ -182,16 +188,15 @@ def refine_dissipation_matrix(plant, P, L, g, route: str = "logdet"):
     λ_min(Q_ref, P)); ``route="direct"`` [proposed]: the largest λ with Q = λP → (λP, λ)."""
     N, p0, As, Fs = _vertex_data(plant)
     n, ny = p0.nx, p0.ny
-    r = {"logdet": 0, "direct": 1}.get(route)
-    if r is None:
-        raise InvalidArgumentError(f"route: expected 'logdet' or 'direct', got {route!r}")
+    r = {"logdet": 0, "direct": 1}[as_choice(route, "route", ("logdet", "direct"))]
+    g = as_float(g, "g")
     P = as_f64(P, "P", shape=(n, n))
     L = np.ascontiguousarray(np.asarray(L, dtype=np.float64).reshape(N, n, ny)) if np.size(L) == N * n * ny else \
         as_f64(L, "L", shape=(n, ny))
     A, F = _stack(As, n, n), _stack(Fs, n, p0.nd)
     Q, lam = np.empty((n, n)), ffi.new("double*")
     check(lib.sb_refine_dissipation_matrix(N, n, ny, p0.nd, p0.nv, dptr(A), dptr(p0.C), dptr(F), dptr(p0.Z),
-                                           dptr(P), dptr(L), float(g), r, dptr(Q), lam))
+                                           dptr(P), dptr(L), g, r, dptr(Q), lam))
     return Q, lam[0]
 
 
@@ -216,7 +221,7 @@ def chebyshev_error_ellipsoid(V, t):
     V = as_f64(V, "V", ndim=2)
     n = V.shape[0]
     S, lvl, pr = np.empty((n, n)), ffi.new("double*"), ffi.new("double*")
-    check(lib.sb_chebyshev_error_ellipsoid(n, dptr(V), float(t), dptr(S), lvl, pr))
+    check(lib.sb_chebyshev_error_ellipsoid(n, dptr(V), as_float(t, "t"), dptr(S), lvl, pr))
     return S, lvl[0], pr[0]
 
 
@@ -275,6 +280,9 @@ class EllipsoidalSMDesign(MadeByCall):
 
 
 def _design(plant, wbar, W, lambda_route, passes, lpv: bool) -> EllipsoidalSMDesign:
+    # checked first: the C ABI reads passes <= 0 as "2" and would run any large count
+    passes = as_int(passes, "passes", lo=1, hi=MAX_PASSES)
+    route = _route(lambda_route)
     N, p0, As, Fs = _vertex_data(plant)
     n, nu, ny, nd, nv = p0.nx, p0.nu, p0.ny, p0.nd, p0.nv
     m = nd + nv
@@ -289,7 +297,7 @@ def _design(plant, wbar, W, lambda_route, passes, lpv: bool) -> EllipsoidalSMDes
     h = ffi.new("sb_hinf_design**")
     check(lib.sb_hinf_design_create(N, n, nu, ny, nd, nv, nrho, dptr(A), dptr(np.ascontiguousarray(B)), dptr(p0.C),
                                     dptr(F), dptr(p0.Z), dptr(theta) if theta is not None else ffi.NULL, dptr(wbar),
-                                    dptr(Wa) if Wa is not None else ffi.NULL, _route(lambda_route), int(passes), h))
+                                    dptr(Wa) if Wa is not None else ffi.NULL, route, passes, h))
     handle = ffi.gc(h[0], lib.sb_hinf_design_free)
     npass = ffi.new("int*")
     check(lib.sb_hinf_design_dims(handle, ffi.NULL, ffi.NULL, ffi.NULL, ffi.NULL, ffi.NULL, ffi.NULL, ffi.NULL, npass))
@@ -309,7 +317,8 @@ def _design(plant, wbar, W, lambda_route, passes, lpv: bool) -> EllipsoidalSMDes
 def design_ellipsoidal_sm_observer(plant: Plant, wbar, *, W=None, lambda_route=None, passes: int = 2):
     """Algorithm 2 (two passes). ``wbar``: half-widths of the centred box of w = (d, v).
     ``W``: covariance of w for (2.44) (default uniform on [−w̄, w̄]). ``lambda_route``:
-    "logdet" (default, as printed), "direct", "input_or_logdet" or "largest"."""
+    "logdet" (default, as printed), "direct", "input_or_logdet" or "largest". ``passes``: an
+    integer in [1, ``MAX_PASSES``] (100; the thesis uses 2, each pass solves the LMIs again)."""
     if not isinstance(plant, Plant):
         raise InvalidArgumentError("plant: expected a setbound.Plant (use design_ellipsoidal_sm_observer_lpv for LPV)")
     return _design(plant, wbar, W, lambda_route, passes, False)
@@ -317,7 +326,7 @@ def design_ellipsoidal_sm_observer(plant: Plant, wbar, *, W=None, lambda_route=N
 
 def design_ellipsoidal_sm_observer_lpv(plant: LpvPlant, wbar, *, W=None, lambda_route=None, passes: int = 2):
     """Algorithm 3: vertex LMIs with a common P; λ defaults to the larger of λ_min(Q_input, P)
-    and λ_min(Q_refined, P) (thesis.md §5.8)."""
+    and λ_min(Q_refined, P) (thesis.md §5.8). ``passes``: as :func:`design_ellipsoidal_sm_observer`."""
     if not isinstance(plant, LpvPlant):
         raise InvalidArgumentError("plant: expected a setbound.hinf.LpvPlant")
     return _design(plant, wbar, W, lambda_route, passes, True)
@@ -326,7 +335,7 @@ def design_ellipsoidal_sm_observer_lpv(plant: LpvPlant, wbar, *, W=None, lambda_
 def mu0_from_ball(design: EllipsoidalSMDesign, radius: float) -> float:
     """μ0 = max(1, λ_max(P)·radius²/c̄) for ‖x0 − x̂0‖ ≤ radius (2.65–2.67)."""
     out = ffi.new("double*")
-    check(lib.sb_hinf_design_mu0_ball(design._handle, float(radius), out))
+    check(lib.sb_hinf_design_mu0_ball(design._handle, as_float(radius, "radius", lo=0.0), out))
     return out[0]
 
 
@@ -349,9 +358,11 @@ def mu0_from_box(design: EllipsoidalSMDesign, lo, hi) -> float:
 
 
 def box_corners(lo, hi) -> np.ndarray:
-    """The 2^n corners of the box [lo, hi], one per row."""
+    """The 2^n corners of the box [lo, hi], one per row (n <= 24: 16 million corners)."""
     lo, hi = np.asarray(lo, float), np.asarray(hi, float)
     n = lo.size
+    if n > 24:
+        raise DimensionError(f"lo: a box of dimension {n} has 2^{n} corners; at most 24 dimensions")
     return np.array([[hi[i] if (j >> i) & 1 else lo[i] for i in range(n)] for j in range(1 << n)])
 
 
@@ -372,7 +383,7 @@ class _Observer(StateMixin):
         self.n_rho = p.n_rho if self._lpv else 0
         x0 = as_f64(xhat0, "xhat0", shape=(self.nx,))
         h = ffi.new("sb_hinf_observer**")
-        check(lib.sb_hinf_observer_create(design._handle, dptr(x0), float(mu0), h))
+        check(lib.sb_hinf_observer_create(design._handle, dptr(x0), as_float(mu0, "mu0"), h))
         self._h = ffi.gc(h[0], lib.sb_hinf_observer_free)
         self._c, self._lo, self._hi, self._mu = np.empty(self.nx), np.empty(self.nx), np.empty(self.nx), ffi.new("double*")
         check(lib.sb_hinf_observer_current(self._h, dptr(self._c), dptr(self._lo), dptr(self._hi), self._mu, ffi.NULL))

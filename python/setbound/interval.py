@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
+from ._validate import INT_MAX, as_int, as_str, check_memory
 from .errors import DimensionError, InvalidArgumentError, NotFiniteError
 
 __all__ = [
@@ -137,6 +138,7 @@ class Interval:
     __array_ufunc__ = None  # let numpy scalars defer to our reflected operators
 
     def __init__(self, lo, hi=None, *, name: str = "interval"):
+        name = as_str(name, "name")  # a label for the messages
         try:
             lo = float(lo)
             hi = lo if hi is None else float(hi)
@@ -245,9 +247,7 @@ class Interval:
     def __abs__(self): return self._un("abs")
 
     def __pow__(self, n):
-        if not isinstance(n, (int, np.integer)):
-            raise InvalidArgumentError(f"n: only integer powers are supported, got {n!r}")
-        return power(self, int(n))
+        return power(self, n)  # integer powers only (checked there: not floats, not bools)
 
     def reciprocal(self) -> "Interval":
         """1/[x], with the extended cases of thesis eq. 1.28 (1/[0, 0] is empty)."""
@@ -339,8 +339,7 @@ def reciprocal(x) -> Interval:
 def power(x, n: int) -> Interval:
     """Integer power {t^n : t ∈ [x]}; negative n is the reciprocal of the positive power."""
     iv = _require_interval(x, "x")
-    if not isinstance(n, (int, np.integer)) or not -2**31 <= int(n) < 2**31:
-        raise InvalidArgumentError(f"n: expected a 32-bit integer exponent, got {n!r}")
+    n = as_int(n, "n", lo=-INT_MAX - 1, hi=INT_MAX)  # a C int exponent (the work does not grow with it)
     lo, hi = np.empty(1), np.empty(1)
     a, b = np.array([iv.lo]), np.array([iv.hi])
     check(lib.sb_interval_pow(1, dptr(a), dptr(b), int(n), _out(lo), _out(hi)))
@@ -355,6 +354,7 @@ class Box:
     __array_ufunc__ = None  # make ``M @ box`` and ``2.0 * box`` reach our reflected operators
 
     def __init__(self, lo, hi, *, name: str = "box"):
+        name = as_str(name, "name")  # a label for the messages
         lo = as_f64(lo, f"{name} (lo)", ndim=1).copy()
         hi = as_f64(hi, f"{name} (hi)", ndim=1).copy()
         if lo.shape != hi.shape:
@@ -379,6 +379,7 @@ class Box:
     @classmethod
     def from_center_radius(cls, center, radius, *, name: str = "box") -> "Box":
         """center ± radius, corners rounded outward by the C library."""
+        name = as_str(name, "name")  # a label for the messages
         c = as_f64(center, f"{name} (center)", ndim=1)
         r = as_f64(radius, f"{name} (radius)", shape=(c.size,))
         if np.isnan(c).any() or np.isnan(r).any() or not np.isfinite(c).all():
@@ -391,7 +392,10 @@ class Box:
 
     @classmethod
     def empty(cls, n: int) -> "Box":
-        """The empty box of dimension ``n``."""
+        """The empty box of dimension ``n`` (an integer >= 0; refused when its 16 bytes per
+        component exceed half the machine's memory)."""
+        n = as_int(n, "n", lo=0)
+        check_memory("n", n, 16.0 * n)
         return cls._raw(np.full(n, _INF), np.full(n, -_INF))
 
     lo = property(lambda self: self._lo, doc="Lower ends (read-only array).")
@@ -543,6 +547,7 @@ class IntervalMatrix:
     __array_ufunc__ = None
 
     def __init__(self, lo, hi, *, name: str = "M"):
+        name = as_str(name, "name")  # a label for the messages
         lo = as_f64(lo, f"{name} (lo)", ndim=2).copy()
         hi = as_f64(hi, f"{name} (hi)", ndim=2).copy()
         if lo.shape != hi.shape:
@@ -557,6 +562,7 @@ class IntervalMatrix:
     @classmethod
     def from_mid_rad(cls, mid, rad, *, name: str = "M") -> "IntervalMatrix":
         """mid ± rad with the corners rounded outward by the C library."""
+        name = as_str(name, "name")  # a label for the messages
         m = as_f64(mid, f"{name} (mid)", ndim=2)
         r = as_f64(rad, f"{name} (rad)", shape=m.shape)
         if not np.isfinite(m).all() or np.isnan(r).any():

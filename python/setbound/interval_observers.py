@@ -27,6 +27,7 @@ import numpy as np
 from ._native import as_f64, check, dptr, ffi, lib
 from ._state import MadeByCall, StateMixin, reconstructible, remember_call
 from ._state import _reduce as _state_reduce
+from ._validate import INT_MAX, as_float, as_int, check_memory
 from .errors import DimensionError, InvalidArgumentError
 from .interval import Box
 from .plant import Plant
@@ -43,10 +44,17 @@ __all__ = [
 ]
 
 _VARIANTS = {"tight": 0, "wrapped": 1, "naive": 2}
+#: Upper bound of ``window`` of :class:`NonlinearIntervalObserver`.
+MAX_WINDOW = lib.SB_INTERVAL_MAX_WINDOW  # 100000, the C library refuses more too
+#: Python memory of one Box of the result of interval_error_recursion besides its 2 n doubles.
+_BOX_BYTES = 400
 
 
 def _variant(v: str, allow_naive: bool = True) -> int:
-    key = str(v).lower()
+    if not isinstance(v, str):  # str(v) would turn any object into a (wrong) name
+        allowed = "'tight', 'wrapped'" + (", 'naive'" if allow_naive else "")
+        raise InvalidArgumentError(f"variant: expected one of {allowed}, got {v!r} ({type(v).__name__})")
+    key = v.lower()
     if key not in _VARIANTS or (key == "naive" and not allow_naive):
         allowed = "'tight', 'wrapped'" + (", 'naive'" if allow_naive else "")
         raise InvalidArgumentError(f"variant: expected one of {allowed}, got {v!r}")
@@ -86,7 +94,11 @@ def _plant_args(p: Plant):
 def interval_error_recursion(Ao, E, e0, w, steps: int, variant: str = "tight") -> list[Box]:
     """The boxes ``[e_0] … [e_steps]`` of ``e⁺ = A_o e + E w`` for every ``e_0 ∈ e0`` and
     ``w_k ∈ w`` (§6.2). ``variant``: ``"tight"`` (default, the exact hull), ``"wrapped"``
-    (the thesis's numbers) or ``"naive"`` (4.15)."""
+    (the thesis's numbers) or ``"naive"`` (4.15). ``steps``: an integer >= 0, bounded by the
+    memory of the result (about 16·n + 400 bytes per step, refused above half the machine's
+    memory before anything is computed)."""
+    steps = as_int(steps, "steps", lo=0, hi=INT_MAX - 1)  # steps + 1 boxes cross the C ABI
+    variant_code = _variant(variant)
     Ao = as_f64(Ao, "Ao", ndim=2)
     n = Ao.shape[0]
     E = as_f64(E, "E", ndim=2)
@@ -94,13 +106,11 @@ def interval_error_recursion(Ao, E, e0, w, steps: int, variant: str = "tight") -
         raise DimensionError(f"E: expected {n} rows, got {E.shape[0]}")
     m = E.shape[1]
     e0, w = _box(e0, n, "e0"), _box(w, m, "w")
-    steps = int(steps)
-    if steps < 0:
-        raise InvalidArgumentError(f"steps: must be >= 0, got {steps}")
+    check_memory("steps", steps, (steps + 1) * (16.0 * n + _BOX_BYTES))
     lo, hi = np.empty((steps + 1, n)), np.empty((steps + 1, n))
     (elo, ehi), (wlo, whi) = _lohi(e0), _lohi(w)
     check(lib.sb_interval_error_recursion(n, m, dptr(Ao), dptr(E), dptr(elo), dptr(ehi), dptr(wlo), dptr(whi),
-                                          steps, _variant(variant), dptr(lo), dptr(hi)))
+                                          steps, variant_code, dptr(lo), dptr(hi)))
     return [Box(lo[k], hi[k]) for k in range(steps + 1)]
 
 
@@ -242,11 +252,15 @@ class NonlinearIntervalObserver(_OnlineObserver):
     ``[h]``) or a callable ``h(x_box, k) -> Box`` returning an inclusion of ``h(p, x_k, k)``
     for every ``x_k ∈ x_box`` and every admissible parameter. The error box stays the exact
     tight hull when ``[h]_k`` varies: the last ``window`` radii are convolved with the powers
-    of ``A_o``; older ones are bounded by a certified geometric tail."""
+    of ``A_o``; older ones are bounded by a certified geometric tail. ``window``: an integer
+    in [1, ``MAX_WINDOW``] (100000; the work per step grows with it); the window used is
+    ``min(window, K)``, K the number of stored powers of ``A_o`` (reported as ``.window``)."""
 
     _prefix = "sb_interval_nonlinear"
 
     def __init__(self, plant: Plant, x0, xhat0, v=None, h: HBox | None = None, *, L=None, window: int = 256):
+        # the C ABI reads window <= 0 as the default: refused here instead
+        window = as_int(window, "window", lo=1, hi=MAX_WINDOW)
         p = self.plant = _plant(plant)
         if p.nd != p.nx or not np.array_equal(p.F, np.eye(p.nx)):
             raise InvalidArgumentError("plant.F: the nonlinear observer needs F = I (h enters the state directly, "
@@ -267,7 +281,7 @@ class NonlinearIntervalObserver(_OnlineObserver):
         (x0lo, x0hi), (vlo, vhi) = _lohi(x0), _lohi(v)
         hh = ffi.new("sb_interval_nonlinear**")
         check(lib.sb_interval_nonlinear_create(p.nx, p.nu, p.ny, p.nv, dptr(A), dptr(B), dptr(C), dptr(Z), Lp,
-                                               dptr(x0lo), dptr(x0hi), dptr(xh), dptr(vlo), dptr(vhi), int(window),
+                                               dptr(x0lo), dptr(x0hi), dptr(xh), dptr(vlo), dptr(vhi), window,
                                                hh))
         self._handle = ffi.gc(hh[0], lib.sb_interval_nonlinear_free)
         Lo, Po = np.empty((p.nx, p.ny)), np.full((p.nx, p.nx), np.nan)
@@ -351,8 +365,8 @@ class InvariantObserverDesign(MadeByCall):
                                                     dptr(self.phi0_b)))
 
     def box_at(self, k: int) -> Box:
-        """The error box [s_k] (constant for k ≥ k*)."""
-        return self.sequence[min(int(k), self.k_star)]
+        """The error box [s_k] (constant for k ≥ k*); ``k`` an integer >= 0."""
+        return self.sequence[min(as_int(k, "k", lo=0, hi=None), self.k_star)]
 
     def __repr__(self) -> str:
         return (f"InvariantObserverDesign(gamma={self.gamma:.6g}, beta={self.beta:.6g}, k_star={self.k_star}, "
@@ -365,9 +379,16 @@ def offline_error_sequence(plant: Plant, x0, xhat0, d=None, v=None, *, L=None, P
     """§6.3 offline design. ``L=None``: the H∞ gain of LMI (4.13); otherwise ``L``, ``P`` and
     ``gamma`` must satisfy (4.13) (checked). ``inflation=None``: the smallest λ ≥ 1 with
     ``[e_0] ⊆ λΦ_0``. ``epsilon`` is a radius. ``variant``: interval part, ``"tight"`` or
-    ``"wrapped"`` (the thesis's Table 4.1 rows 1–2)."""
+    ``"wrapped"`` (the thesis's Table 4.1 rows 1–2). Scalars: ``mu`` a finite number > 1,
+    ``inflation`` ``None`` or a finite number >= 1, ``epsilon`` a finite number > 0,
+    ``gamma`` a finite number > 0 (with a user ``L``)."""
     call = ((plant, x0, xhat0, d, v), dict(L=L, P=P, gamma=gamma, mu=mu, inflation=inflation, epsilon=epsilon,
                                             variant=variant))
+    mu = as_float(mu, "mu", lo=1.0, lo_open=True)
+    inflation = 0.0 if inflation is None else as_float(inflation, "inflation", lo=1.0)  # C: 0 = the smallest
+    epsilon = as_float(epsilon, "epsilon", lo=0.0, lo_open=True)
+    gamma = None if gamma is None else as_float(gamma, "gamma", lo=0.0, lo_open=True)
+    variant_code = _variant(variant, False)
     p = _plant(plant)
     x0 = _box(x0, p.nx, "x0")
     d = _box(d if d is not None else (np.zeros(0), np.zeros(0)), p.nd, "d")
@@ -380,14 +401,13 @@ def offline_error_sequence(plant: Plant, x0, xhat0, d=None, v=None, *, L=None, P
             raise InvalidArgumentError("P: a user gain L needs the matching P and gamma of LMI (4.13)")
         L = as_f64(L, "L", shape=(p.nx, p.ny))
         P = as_f64(P, "P", shape=(p.nx, p.nx))
-        Lp, Pp, g = dptr(L), dptr(P), float(gamma)
+        Lp, Pp, g = dptr(L), dptr(P), gamma
     arrs, ptrs = _plant_args(p)
     (x0lo, x0hi), (dlo, dhi), (vlo, vhi) = _lohi(x0), _lohi(d), _lohi(v)
     h = ffi.new("sb_interval_invariant_design**")
     check(lib.sb_interval_invariant_design_create(p.nx, p.nu, p.ny, p.nd, p.nv, *ptrs, Lp, Pp, g, dptr(x0lo),
                                                   dptr(x0hi), dptr(xh), dptr(dlo), dptr(dhi), dptr(vlo), dptr(vhi),
-                                                  float(mu), 0.0 if inflation is None else float(inflation),
-                                                  float(epsilon), _variant(variant, False), h))
+                                                  mu, inflation, epsilon, variant_code, h))
     return remember_call(InvariantObserverDesign(ffi.gc(h[0], lib.sb_interval_invariant_design_free), p, x0, xh),
                          offline_error_sequence, *call[0], **call[1])
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
+from ._validate import as_bool, as_choice, as_float, as_int
 from .errors import DimensionError, InvalidArgumentError
 from .interval import Box
 
@@ -30,6 +31,19 @@ __all__ = [
 ]
 
 _STOP_RULES = {"radius": 0, "shrinking_index": 1, "vertex_norm": 2}
+#: Upper bound of ``max_vertices`` of :func:`polyhedral_rpi_between_ellipsoids`.
+MAX_VERTICES = 1_000_000
+#: Upper bound of ``max_iterations`` of :func:`mrpi_outer_shrinking`.
+MAX_ITERATIONS = 100_000
+
+
+def _dims(dims) -> tuple[int, int]:
+    """A pair of coordinate indices (ints, not floats or bools)."""
+    try:
+        i, j = dims
+    except (TypeError, ValueError):
+        raise InvalidArgumentError(f"dims: expected a pair of coordinate indices, got {dims!r}") from None
+    return as_int(i, "dims[0]", lo=0), as_int(j, "dims[1]", lo=0)
 
 
 def _square(x, name: str, n: int | None = None) -> np.ndarray:
@@ -102,14 +116,16 @@ class Polytope:
     num_facets = property(lambda self: self._H.shape[0], doc="Number of facets (rows of H).")
 
     def contains(self, points, tol: float = 1e-9):
-        """``H x <= b + tol`` for one point (→ bool) or each row of a 2-D array (→ bool array)."""
+        """``H x <= b + tol`` for one point (→ bool) or each row of a 2-D array (→ bool array);
+        ``tol`` a finite number >= 0."""
+        tol = as_float(tol, "tol", lo=0.0)
         p = as_f64(points, "points")
         single = p.ndim == 1
         p2 = np.ascontiguousarray(p.reshape(1, -1) if single else p)
         if p2.ndim != 2 or p2.shape[1] != self._n:
             raise DimensionError(f"points: expected {self._n} columns, got shape {p.shape}")
         inside = np.zeros(p2.shape[0], dtype=np.intc)
-        check(lib.sb_polytope_contains(self._handle, p2.shape[0], dptr(p2), float(tol),
+        check(lib.sb_polytope_contains(self._handle, p2.shape[0], dptr(p2), tol,
                                        ffi.cast("int*", inside.ctypes.data)))
         return bool(inside[0]) if single else inside.astype(bool)
 
@@ -143,9 +159,9 @@ class Polytope:
         return self.minkowski_sum(other)
 
     def scaled(self, a: float) -> "Polytope":
-        """The polytope a·P."""
+        """The polytope a·P (``a`` a finite number)."""
         out = ffi.new("sb_polytope**")
-        check(lib.sb_polytope_scale(self._handle, float(a), out))
+        check(lib.sb_polytope_scale(self._handle, as_float(a, "a"), out))
         return _wrap(out[0])
 
     def bounding_box(self) -> Box:
@@ -163,7 +179,7 @@ class Polytope:
     def plot_data(self, dims=(0, 1)) -> np.ndarray:
         """Closed polygon (rows, first = last) of the projection onto the coordinates ``dims``:
         the 2-D convex hull of the projected vertices, counter-clockwise."""
-        i, j = dims
+        i, j = _dims(dims)
         if not (0 <= i < self._n and 0 <= j < self._n and i != j):
             raise InvalidArgumentError(f"dims: two distinct coordinates in [0, {self._n}) required, got {dims}")
         pts = sorted(set(map(tuple, self._V[:, [i, j]])))
@@ -192,8 +208,7 @@ class Polytope:
 def ellipsoid_bounding_box(P, c, rho: float) -> Box:
     """(1.40): the tightest box ``c ± sqrt(diag(rho P⁻¹))`` around ``{(x−c)ᵀP(x−c) <= rho}``
     (rho > 0; outward rounded)."""
-    if not float(rho) > 0:
-        raise InvalidArgumentError(f"rho: the level must be > 0, got {rho}")
+    rho = as_float(rho, "rho", lo=0.0, lo_open=True)
     Pa = _square(P, "P")
     n = Pa.shape[0]
     ca = as_f64(c, "c", shape=(n,))
@@ -206,15 +221,20 @@ def expanded_ellipsoid_levels(P, gamma: float, wbar_sq: float, mu: float) -> tup
     """(1.57)–(1.58): ``(c_in, c_out)`` of Ψ̄⁺(μ) and Ψ̄(μ); ``wbar_sq = w̄ᵀw̄``."""
     Pa = _square(P, "P")
     ci, co = ffi.new("double*"), ffi.new("double*")
-    check(lib.sb_expanded_ellipsoid_levels(Pa.shape[0], dptr(Pa), float(gamma), float(wbar_sq), float(mu), ci, co))
+    check(lib.sb_expanded_ellipsoid_levels(Pa.shape[0], dptr(Pa), as_float(gamma, "gamma"), as_float(wbar_sq, "wbar_sq"),
+                                           as_float(mu, "mu"), ci, co))
     return ci[0], co[0]
 
 
 def polyhedral_rpi_between_ellipsoids(P, c_in: float, c_out: float, *, max_vertices: int | None = None) -> Polytope:
-    """§3.5: a polytope Φ with ``{xᵀPx <= c_in} ⊆ Φ ⊆ {xᵀPx <= c_out}`` (certified)."""
+    """§3.5: a polytope Φ with ``{xᵀPx <= c_in} ⊆ Φ ⊆ {xᵀPx <= c_out}`` (certified).
+    ``max_vertices``: ``None`` (the library's 10000) or an integer in [1, ``MAX_VERTICES``]
+    (1000000: the vertex enumeration's time and memory grow with it)."""
+    c_in, c_out = as_float(c_in, "c_in"), as_float(c_out, "c_out")
+    maxv = 0 if max_vertices is None else as_int(max_vertices, "max_vertices", lo=1, hi=MAX_VERTICES)  # C: 0 = default
     Pa = _square(P, "P")
     out = ffi.new("sb_polytope**")
-    check(lib.sb_polyhedral_rpi(Pa.shape[0], dptr(Pa), float(c_in), float(c_out), int(max_vertices or 0), out))
+    check(lib.sb_polyhedral_rpi(Pa.shape[0], dptr(Pa), c_in, c_out, maxv, out))
     return _wrap(out[0])
 
 
@@ -295,9 +315,17 @@ def mrpi_outer_shrinking(A, E, wbar=None, *, eps: float, mu: float = 2.0, stop: 
 
     ``eps`` is a radius; ``stop`` is ``"radius"`` (β^k·sqrt(c_out/λ_min(P)) <= eps, rigorous),
     ``"shrinking_index"`` (thesis Ex 1.5) or ``"vertex_norm"`` (max ‖A^k v‖ <= eps).
+
+    Scalars: ``eps`` and ``mu`` finite numbers (the library checks their ranges), ``c_out`` a
+    finite number, ``boxes_only`` a bool, ``max_iterations`` ``None`` (the library's 500) or an
+    integer in [1, ``MAX_ITERATIONS``] (100000; every iteration is a Minkowski sum).
     """
-    if stop not in _STOP_RULES:
-        raise InvalidArgumentError(f"stop: expected one of {sorted(_STOP_RULES)}, got {stop!r}")
+    stop = as_choice(stop, "stop", _STOP_RULES)
+    eps = as_float(eps, "eps")
+    mu = as_float(mu, "mu")
+    boxes_only = as_bool(boxes_only, "boxes_only")
+    maxit = 0 if max_iterations is None else as_int(max_iterations, "max_iterations", lo=1, hi=MAX_ITERATIONS)
+    c_out = None if c_out is None else as_float(c_out, "c_out")
     Aa = _square(A, "A")
     n = Aa.shape[0]
     Ea = as_f64(E, "E", ndim=2)
@@ -305,14 +333,13 @@ def mrpi_outer_shrinking(A, E, wbar=None, *, eps: float, mu: float = 2.0, stop: 
         raise DimensionError(f"E: expected {n} rows (the size of A), got shape {Ea.shape}")
     m = Ea.shape[1]
     out = ffi.new("sb_mrpi**")
-    maxit = int(max_iterations or 0)
     if phi0 is None:
         if wbar is None:
             raise InvalidArgumentError("wbar: required when phi0 is not given (Algorithm 1 from the data)")
         w = as_f64(wbar, "wbar", shape=(m,))
-        check(lib.sb_mrpi_algorithm1(n, m, dptr(Aa), dptr(Ea), dptr(w), float(mu), float(eps), _STOP_RULES[stop],
-                                     maxit, int(bool(boxes_only)), out))
-        return _collect(out[0], n, float(mu))
+        check(lib.sb_mrpi_algorithm1(n, m, dptr(Aa), dptr(Ea), dptr(w), mu, eps, _STOP_RULES[stop],
+                                     maxit, int(boxes_only), out))
+        return _collect(out[0], n, mu)
     if not isinstance(phi0, Polytope):
         raise InvalidArgumentError(f"phi0: expected a Polytope, got {type(phi0).__name__}")
     if P is None or c_out is None:
@@ -328,6 +355,5 @@ def mrpi_outer_shrinking(A, E, wbar=None, *, eps: float, mu: float = 2.0, stop: 
         dhi = as_f64(delta.hi, "delta (hi)", shape=(m,))
     dlo, dhi = np.ascontiguousarray(dlo), np.ascontiguousarray(dhi)
     check(lib.sb_mrpi_shrinking(n, m, dptr(Aa), dptr(Ea), dptr(dlo), dptr(dhi), phi0._handle, dptr(Pa),
-                                float(c_out), float(eps), _STOP_RULES[stop], float(mu), maxit,
-                                int(bool(boxes_only)), out))
+                                c_out, eps, _STOP_RULES[stop], mu, maxit, int(boxes_only), out))
     return _collect(out[0], n, None)

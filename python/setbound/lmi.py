@@ -22,6 +22,7 @@ from typing import Sequence
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
+from ._validate import _is_int, as_bool, as_float, as_int
 from .errors import DimensionError, InvalidArgumentError
 
 STATUS_NAMES = {
@@ -68,12 +69,31 @@ def _block_arrays(F0, Fs, m: int, name: str):
     return F0a, Fsa, n
 
 
+#: Largest ``num_vars`` of a :class:`Problem` (the dense Schur complement: 32 GiB at 65536).
+MAX_VARS = lib.SB_LMI_MAX_VARS  # the C library refuses more too
+#: Upper bound of ``max_iter`` (an interior-point solve converges in a few dozen iterations).
+MAX_ITER = 100_000
+#: Upper bound of ``tol`` (relative gap) and of the gevp bisection tolerance.
+MAX_TOL = 0.1
+#: Upper bound of ``feas``: the certificates are accepted at residual <= feas × objective.
+MAX_FEAS = 0.01
+#: Lower bound of the gevp bisection tolerance (a few rounding steps of λ).
+MIN_GEVP_TOL = 1e-12
+#: Upper bound of ``threads`` (the library's own limit).
+MAX_THREADS = 256
+
+
 class Problem:
     """A reusable LMI problem: set up once, then update values and re-solve."""
 
     def __init__(self, num_vars: int):
-        if not isinstance(num_vars, (int, np.integer)) or num_vars <= 0:
-            raise DimensionError(f"num_vars: expected a positive integer, got {num_vars!r}")
+        """``num_vars``: the number of scalar decision variables, an integer in
+        [1, ``MAX_VARS``] (65536: the dense Schur complement of a solve has num_vars² entries,
+        32 GiB at the bound, so a larger problem cannot be solved by this solver anyway)."""
+        if _is_int(num_vars) and num_vars <= 0:
+            # a count of zero is a dimension, as the C library reports it
+            raise DimensionError(f"num_vars: expected an integer in [1, {MAX_VARS}], got {num_vars}")
+        num_vars = as_int(num_vars, "num_vars", lo=1, hi=MAX_VARS)
         h = ffi.new("sb_lmi_problem**")
         check(lib.sb_lmi_problem_create(int(num_vars), h))
         self._h = ffi.gc(h[0], lib.sb_lmi_problem_free)
@@ -101,6 +121,7 @@ class Problem:
 
     def update_block(self, index: int, F0, Fs) -> None:
         """Replace the values of a block (no re-analysis of the structure)."""
+        index = as_int(index, "index", lo=None)
         if not 0 <= index < len(self._sizes):
             raise InvalidArgumentError(f"index: block {index} out of range [0, {len(self._sizes)})")
         n = self._sizes[index]
@@ -126,33 +147,45 @@ class Problem:
         self._neq = A.shape[0]
 
     def set_options(self, *, tol=None, max_iter=None, feas=None, time_limit=None, threads=None) -> None:
-        """``tol``: relative gap (default 1e-7; feasibility defaults to tol/10). ``threads``:
-        threads over the blocks inside each solve (default 1; see :func:`threads_available`);
-        worth it from a few dozen blocks, and the results agree with the serial solve to
-        rounding."""
+        """Solver options; ``None`` is the library default (a value given earlier is reset to it,
+        except ``threads``, which keeps its last value).
+
+        * ``tol``: relative duality gap in (0, 0.1] (default 1e-7; ``feas`` then defaults to tol/10).
+        * ``max_iter``: iterations, an integer in [1, 100000] (default 100; an interior-point
+          solve converges in a few dozen, the bound keeps a typo from running for hours).
+        * ``feas``: relative residual of the solution and of the infeasibility/unboundedness
+          certificates, in (0, 0.01] (default 1e-8). The certificates are accepted when their
+          residual is below ``feas`` times their objective, so a larger value would certify
+          any iterate (``feas=1e300`` reported "unbounded" for a bounded problem).
+        * ``time_limit``: seconds, a finite number > 0 (default 30).
+        * ``threads``: threads over the blocks inside each solve, an integer in [1, 256]
+          (default 1; see :func:`threads_available`); worth it from a few dozen blocks, and
+          the results agree with the serial solve to rounding.
+
+        Values that are not numbers, ``bool``, NaN, ±Inf or out of range raise
+        InvalidArgumentError naming the option (before anything changes); ``0`` or negative
+        values are errors, not "default" (pass ``None``)."""
+        tol = None if tol is None else as_float(tol, "tol", lo=0.0, hi=MAX_TOL, lo_open=True)
+        max_iter = None if max_iter is None else as_int(max_iter, "max_iter", lo=1, hi=MAX_ITER)
+        feas = None if feas is None else as_float(feas, "feas", lo=0.0, hi=MAX_FEAS, lo_open=True)
+        time_limit = None if time_limit is None else as_float(time_limit, "time_limit", lo=0.0, lo_open=True)
+        threads = None if threads is None else as_int(threads, "threads", lo=1, hi=MAX_THREADS)
         if threads is not None:
-            if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)):
-                raise InvalidArgumentError(f"threads: expected an integer, got {threads!r}")
-            check(lib.sb_lmi_set_threads(self._h, int(threads)))
+            check(lib.sb_lmi_set_threads(self._h, threads))
             if tol is None and max_iter is None and feas is None and time_limit is None:
                 return  # only the threads: the other options stay as they are
         if tol is not None and feas is None:
-            feas = float(tol) * 0.1
-        check(
-            lib.sb_lmi_set_options(
-                self._h,
-                int(max_iter) if max_iter is not None else 0,
-                float(tol) if tol is not None else 0.0,
-                float(feas) if feas is not None else 0.0,
-                float(time_limit) if time_limit is not None else 0.0,
-            )
-        )
+            feas = tol * 0.1
+        # 0 is the C ABI's "default" (a Python None): the values above are all > 0
+        check(lib.sb_lmi_set_options(self._h, max_iter or 0, tol or 0.0, feas or 0.0, time_limit or 0.0))
 
     # --- solving -----------------------------------------------------------------------
     def solve(self, *, feasibility: bool = False, duals: bool = True) -> LmiResult:
         """Solve (maxdet if a log-det term is set). ``feasibility=True`` stops at the first
         certified strictly feasible point. ``duals=False`` skips copying the dual matrices
-        (fastest path for repeated solves)."""
+        (fastest path for repeated solves). Both are bools (not 0/1)."""
+        feasibility = as_bool(feasibility, "feasibility")
+        duals = as_bool(duals, "duals")
         cls = lib.SB_LMI_CLASS_FEASIBILITY if feasibility else lib.SB_LMI_CLASS_AUTO
         check(lib.sb_lmi_solve_class(self._h, cls, self._res, self._xp))
         return self._result(duals)
@@ -200,7 +233,16 @@ class Problem:
     def gevp(self, A, B, *, lambda_lo=0.0, lambda_hi=1.0, tol=1e-6) -> tuple[float, LmiResult]:
         """Minimise λ s.t. λB(x) − A(x) ⪰ 0, B(x) ≻ 0 and this problem's blocks; ``A`` and
         ``B`` are pairs ``(M0, Ms)``. Returns ``(λ, result)``; ``result.x`` is a certified
-        point at λ and ``result.dual_objective`` a certified-infeasible lower value."""
+        point at λ and ``result.dual_objective`` a certified-infeasible lower value.
+
+        ``lambda_lo`` < ``lambda_hi``: finite numbers bracketing λ. ``tol``: relative bisection
+        tolerance in [1e-12, 0.1] (the bisection stops at ``tol·max(1, |λ|)``; below about
+        1e-15 that width is under one rounding step of λ and the bisection would never stop)."""
+        lambda_lo = as_float(lambda_lo, "lambda_lo")
+        lambda_hi = as_float(lambda_hi, "lambda_hi")
+        if not lambda_lo < lambda_hi:
+            raise InvalidArgumentError(f"lambda_lo: must be < lambda_hi, got {lambda_lo:g} >= {lambda_hi:g}")
+        tol = as_float(tol, "tol", lo=MIN_GEVP_TOL, hi=MAX_TOL)
         A0, As, n = _block_arrays(A[0], A[1], self.num_vars, "A")
         B0 = as_f64(B[0], "B0", shape=(n, n))
         Bs = as_f64(B[1], "Bs", shape=(self.num_vars, n, n))
@@ -226,7 +268,11 @@ def solve(
 ) -> LmiResult:
     """Minimise ``c @ x`` (− log det G(x) with ``logdet=(G0, Gs)``) subject to
     ``F0 + Σ x_i Fs[i] ⪰ 0`` for every ``(F0, Fs)`` in ``blocks`` and ``Aeq x = beq`` for
-    ``eq=(Aeq, beq)``."""
+    ``eq=(Aeq, beq)``. ``tol``, ``max_iter``, ``threads``: as :meth:`Problem.set_options`
+    (checked before the problem is built)."""
+    tol = None if tol is None else as_float(tol, "tol", lo=0.0, hi=MAX_TOL, lo_open=True)
+    max_iter = None if max_iter is None else as_int(max_iter, "max_iter", lo=1, hi=MAX_ITER)
+    threads = None if threads is None else as_int(threads, "threads", lo=1, hi=MAX_THREADS)
     ca = as_f64(c, "c", ndim=1)
     if ca.shape[0] == 0:
         raise DimensionError("c: the problem needs at least one variable, got shape (0,)")

@@ -33,8 +33,40 @@ try:  # the object API only: no pyplot, so importing never needs a display
 except ImportError as _exc:  # pragma: no cover - matplotlib is a dependency of the package
     raise ImportError("setbound.plotting needs matplotlib (pip install matplotlib)") from _exc
 
+from ._validate import as_bool, as_float, as_int, as_str, check_memory
+from .errors import InvalidArgumentError
 from .interval import Box
 from .sets import Ellipsoid, Zonotope
+
+#: Largest figure side in inches and largest ``dpi`` (a figure is drawn as a w·dpi × h·dpi raster).
+MAX_FIGSIZE = 200.0
+MAX_DPI = 2400
+#: Largest number of points of :func:`ellipse_points`.
+MAX_POINTS = 1_000_000
+
+
+def _figsize(figsize):
+    """``None`` or a pair (w, h) of finite numbers in (0, MAX_FIGSIZE] inches."""
+    if figsize is None:
+        return None
+    try:
+        w, h = figsize
+    except (TypeError, ValueError):
+        raise InvalidArgumentError(f"figsize: expected a pair (width, height) in inches, got {figsize!r}") from None
+    return (as_float(w, "figsize[0]", lo=0.0, hi=MAX_FIGSIZE, lo_open=True),
+            as_float(h, "figsize[1]", lo=0.0, hi=MAX_FIGSIZE, lo_open=True))
+
+
+def _title(title):
+    return None if title is None else as_str(title, "title")
+
+
+def _index_pair(dims, name: str = "dims") -> tuple[int, int]:
+    try:
+        a, b = dims
+    except (TypeError, ValueError):
+        raise InvalidArgumentError(f"{name}: expected a pair of state indices, got {dims!r}") from None
+    return as_int(a, f"{name}[0]", lo=0), as_int(b, f"{name}[1]", lo=0)
 
 __all__ = ["plot_bounds", "plot_widths", "plot_volume", "plot_projections", "save_png", "zonotope_polygon",
            "ellipse_points", "measurement_strips", "DEFAULT_DPI"]
@@ -127,7 +159,9 @@ def _quiet_minor_labels(ax) -> None:
 def _components(components, n: int) -> list[int]:
     if components is None:
         return list(range(n))
-    comps = [int(i) for i in components]
+    if isinstance(components, (str, bytes)) or not hasattr(components, "__iter__"):
+        raise InvalidArgumentError(f"components: expected a list of state indices, got {components!r}")
+    comps = [as_int(i, f"components[{k}]", lo=None) for k, i in enumerate(components)]
     for i in comps:
         if not 0 <= i < n:
             raise ValueError(f"components: index {i} out of range for n_x = {n}")
@@ -139,6 +173,7 @@ def plot_bounds(trajectories, names=None, *, x_true=None, t=None, components=Non
     """One panel per state component: the bounds ``[lower, upper]`` of every trajectory (a filled
     tube for the first, lines for the others) and the true state when given (``x_true``,
     N × n_x). Non-guaranteed results (Kalman) are drawn dotted and marked ``(not guaranteed)``."""
+    title, figsize = _title(title), _figsize(figsize)
     items = _items(trajectories, names)
     N, n = items[0][1].center.shape
     comps = _components(components, n)
@@ -179,6 +214,8 @@ def plot_widths(trajectories, names=None, *, reference=None, t=None, components=
     name of one of the trajectories) each width is divided by the reference's width at the same
     step (a value below 1 is tighter than the reference); the reference itself is then a line at 1.
     ``log`` defaults to a log scale for absolute widths."""
+    title, figsize = _title(title), _figsize(figsize)
+    log = None if log is None else as_bool(log, "log")
     items = _items(trajectories, names)
     N, n = items[0][1].center.shape
     comps = _components(components, n)
@@ -224,6 +261,8 @@ def plot_widths(trajectories, names=None, *, reference=None, t=None, components=
 def plot_volume(trajectories, names=None, *, t=None, log=True, title=None, figsize=(6.0, 3.6)):
     """The volume of each trajectory's sets over time (trajectories without sets, such as the
     Kalman filter's, are skipped; NaN volumes leave gaps)."""
+    title, figsize = _title(title), _figsize(figsize)
+    log = as_bool(log, "log")
     items = _items(trajectories, names)
     N = items[0][1].center.shape[0]
     tt, tlabel = _time(t, N)
@@ -276,9 +315,12 @@ def zonotope_polygon(center, generators) -> np.ndarray:
 
 def ellipse_points(P, center, rho, dims=(0, 1), n: int = 200) -> np.ndarray:
     """Boundary points (n × 2) of the projection onto ``dims`` of ``E(P, c, ρ) = {x : (x−c)ᵀP(x−c) ≤ ρ}``:
-    the ellipse with shape matrix ``ρ (P⁻¹)[dims, dims]``."""
+    the ellipse with shape matrix ``ρ (P⁻¹)[dims, dims]``. ``rho`` a finite number >= 0, ``n`` an
+    integer in [2, ``MAX_POINTS``], ``dims`` a pair of indices."""
+    rho = as_float(rho, "rho", lo=0.0)
+    n = as_int(n, "n", lo=2, hi=MAX_POINTS)
+    dims = list(_index_pair(dims))
     P = np.asarray(P, dtype=float)
-    dims = list(dims)
     Q = rho * np.linalg.inv(P)[np.ix_(dims, dims)]
     Q = 0.5 * (Q + Q.T)
     w, V = np.linalg.eigh(Q)
@@ -323,12 +365,15 @@ def plot_projections(trajectories, names=None, *, steps, dims=(0, 1), x_true=Non
     drawn (for n_x > 2, their section by the plane through the true state ``x_k`` when
     ``x_true`` is given, else through the first set's centre); with ``x_true`` the true state
     ``x_k`` is marked."""
+    title, figsize = _title(title), _figsize(figsize)
+    dims = _index_pair(dims)
+    if isinstance(steps, (str, bytes)) or not hasattr(steps, "__iter__"):
+        raise InvalidArgumentError(f"steps: expected a list of step indices, got {steps!r}")
+    steps = [as_int(k, f"steps[{j}]", lo=None) for j, k in enumerate(steps)]
     items = _items(trajectories, names)
     N, n = items[0][1].center.shape
-    dims = tuple(int(d) for d in dims)
-    if len(dims) != 2 or len(set(dims)) != 2 or not all(0 <= d < n for d in dims):
+    if len(set(dims)) != 2 or not all(0 <= d < n for d in dims):
         raise ValueError(f"dims: expected two distinct state indices below {n}, got {dims}")
-    steps = [int(k) for k in steps]
     for k in steps:
         if not 0 <= k < N:
             raise ValueError(f"steps: step {k} out of range 0..{N - 1}")
@@ -413,7 +458,11 @@ def _clip(poly: np.ndarray, a: float, b: float, c: float) -> np.ndarray:
 # ---------------------------------------------------------------- output
 def save_png(fig, path, dpi: int = DEFAULT_DPI) -> Path:
     """Writes ``fig`` as a PNG of ``figsize × dpi`` pixels (parent directories are created);
-    returns the path."""
+    returns the path. ``dpi``: an integer in [1, ``MAX_DPI``]; the raster (4 bytes a pixel) must
+    fit in half the machine's memory."""
+    dpi = as_int(dpi, "dpi", lo=1, hi=MAX_DPI)
+    w, h = fig.get_size_inches()
+    check_memory("dpi", dpi, 4.0 * w * h * dpi * dpi)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=dpi, format="png")

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
+from ._validate import INT_MAX, as_bool, as_choice, as_float, as_int
 from .errors import DimensionError, InvalidArgumentError
 
 __all__ = ["Ellipsoid", "Zonotope", "Strip", "interval_linear_map"]
@@ -34,10 +35,9 @@ def _readonly(a: np.ndarray) -> np.ndarray:
 
 
 def _scalar(x, name: str) -> float:
-    try:
-        return float(x)
-    except (TypeError, ValueError):
-        raise InvalidArgumentError(f"{name}: expected a real number, got {x!r}") from None
+    """A real number (not a string, bool or None); NaN and ±Inf pass to the library, which
+    reports them (NotFiniteError) as it does to C callers."""
+    return as_float(x, name, finite=False, nan=True)
 
 
 def _batch(x, n: int, name: str):
@@ -86,7 +86,7 @@ class Strip:
         X, single = _batch(points, self.n, "points")
         out = _int_array(X.shape[0])
         check(lib.sb_strip_contains(self.n, dptr(self._c), self._y, self._phi, X.shape[0], dptr(X),
-                                    _scalar(rel_tol, "rel_tol"), out))
+                                    as_float(rel_tol, "rel_tol", lo=0.0), out))
         res = np.array([bool(out[i]) for i in range(X.shape[0])])
         return bool(res[0]) if single else res
 
@@ -140,7 +140,7 @@ class Ellipsoid:
         """Membership of a point (bool) or of each row of a (k, n) batch (bool array)."""
         X, single = _batch(points, self.n, "points")
         out = _int_array(X.shape[0])
-        check(lib.sb_ellipsoid_contains(*self._args(), X.shape[0], dptr(X), _scalar(rel_tol, "rel_tol"), out))
+        check(lib.sb_ellipsoid_contains(*self._args(), X.shape[0], dptr(X), as_float(rel_tol, "rel_tol", lo=0.0), out))
         res = np.array([bool(out[i]) for i in range(X.shape[0])])
         return bool(res[0]) if single else res
 
@@ -249,7 +249,9 @@ class Zonotope:
         return float(v[0])
 
     def pradius(self, P, return_vertex: bool = False):
-        """Exact P-radius ``max_{s in {-1,1}^m} sᵀHᵀPHs`` (m <= 24); optionally the maximising s."""
+        """Exact P-radius ``max_{s in {-1,1}^m} sᵀHᵀPHs`` (m <= 24); optionally the maximising s
+        (``return_vertex`` a bool)."""
+        return_vertex = as_bool(return_vertex, "return_vertex")
         P = as_f64(P, "P", shape=(self.n, self.n))
         r = ffi.new("double*")
         s = np.empty(self.m)
@@ -268,7 +270,7 @@ class Zonotope:
         (bool) or each row of a (k, n) batch (bool array)."""
         X, single = _batch(points, self.n, "points")
         out = _int_array(X.shape[0])
-        check(lib.sb_zonotope_contains(*self._args(), X.shape[0], dptr(X), _scalar(rel_tol, "rel_tol"), out))
+        check(lib.sb_zonotope_contains(*self._args(), X.shape[0], dptr(X), as_float(rel_tol, "rel_tol", lo=0.0), out))
         res = np.array([bool(out[i]) for i in range(X.shape[0])])
         return bool(res[0]) if single else res
 
@@ -281,12 +283,11 @@ class Zonotope:
         eigenbasis of its Gram matrix (CORA's ``reduce(Z,'pca',order)``). Zero columns are
         dropped; the result always contains the zonotope (rounding included).
         """
-        if method not in REDUCTION_METHODS:
-            raise InvalidArgumentError(
-                f"method: expected one of {sorted(REDUCTION_METHODS)}, got {method!r}")
-        if isinstance(limit, bool) or not isinstance(limit, (int, np.integer)):
-            raise InvalidArgumentError(f"limit: expected an integer, got {limit!r}")
-        limit = max(min(int(limit), 2**31 - 1), -(2**31))  # C int; any limit >= m is the same
+        method = as_choice(method, "method", REDUCTION_METHODS)
+        limit = as_int(limit, "limit", lo=None, hi=None)
+        # clamped to a C int: any limit >= m gives the same result (nothing is sized by the
+        # limit, only by min(limit, m)), and a limit < n is reported by the library
+        limit = max(min(limit, INT_MAX), -INT_MAX - 1)
         cap = max(0, min(self.m, limit))  # limit < n is reported by the library
         H_out = np.empty((self.n, max(cap, 1)))
         m_out = ffi.new("int*", cap)

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._validate import as_bool, as_choice, as_int, check_memory
 from .errors import DimensionError, InvalidArgumentError
 from .sets import Ellipsoid, Zonotope
 from .system import DescriptorSystem, LinearSystem, as_system
@@ -38,8 +39,25 @@ class Simulation:
     u: np.ndarray  # (N, n_u) inputs
 
 
+#: Upper bound of the horizon ``N`` of :func:`simulate` (the loop runs in Python, a few µs per
+#: step: 10^8 steps are minutes); the memory of the result is checked as well.
+MAX_STEPS = 10**8
+
+
+def _rng(rng) -> np.random.Generator:
+    try:
+        return np.random.default_rng(rng)
+    except (TypeError, ValueError) as e:
+        raise InvalidArgumentError(f"rng: expected None, a seed (an integer >= 0) or a numpy Generator, got {rng!r} "
+                                   f"({e})") from None
+
+
 def disturbances(kind: str, N: int, n: int, rng: np.random.Generator) -> np.ndarray:
-    """N × n disturbances of the given kind (see the module docstring)."""
+    """N × n disturbances of the given kind (see the module docstring); ``N``, ``n`` integers
+    >= 0 whose N·n·8 bytes must fit in half the machine's memory."""
+    kind = as_choice(kind, "kind", _KINDS)
+    N, n = as_int(N, "N", lo=0, hi=MAX_STEPS), as_int(n, "n", lo=0)
+    check_memory("N", N, 8.0 * N * n)
     if kind == "uniform":
         return rng.uniform(-1.0, 1.0, size=(N, n))
     if kind == "vertex":
@@ -48,12 +66,13 @@ def disturbances(kind: str, N: int, n: int, rng: np.random.Generator) -> np.ndar
         return rng.standard_normal(size=(N, n))
     if kind == "zero":
         return np.zeros((N, n))
-    raise InvalidArgumentError(f"disturbance: expected one of {', '.join(map(repr, _KINDS))}, got {kind!r}")
+    raise AssertionError(kind)  # unreachable: as_choice above
 
 
 def sample_in(x0, rng: np.random.Generator, *, boundary: bool = False) -> np.ndarray:
     """A point of the set ``x0`` (Ellipsoid or Zonotope; an array is returned as it is):
-    uniform inside, or on the boundary with ``boundary=True``."""
+    uniform inside, or on the boundary with ``boundary=True`` (a bool)."""
+    boundary = as_bool(boundary, "boundary")
     if isinstance(x0, Ellipsoid):
         n = x0.n
         d = rng.standard_normal(n)
@@ -84,13 +103,20 @@ def _inputs(u, N: int, nu: int) -> np.ndarray:
 def simulate(system, x0, N: int, *, disturbance: str = "uniform", rng=None, u=None,
              A_choice: str = "vertex", boundary_start: bool | None = None) -> Simulation:
     """Simulates ``N`` steps of ``system`` from a true initial state drawn from ``x0`` (a set or a
-    point); see the module docstring. ``boundary_start`` defaults to True for vertex noise."""
+    point); see the module docstring. ``boundary_start`` (a bool) defaults to True for vertex
+    noise. ``N``: an integer in [1, ``MAX_STEPS``] (10^8), refused before anything is drawn
+    when the arrays of the result (8 bytes per number) exceed half the machine's memory."""
+    N = as_int(N, "N", lo=1, hi=MAX_STEPS)
+    disturbance = as_choice(disturbance, "disturbance", _KINDS)
+    A_choice = as_choice(A_choice, "A_choice", ("vertex", "uniform", "mid"))
     system = as_system(system)
-    rng = np.random.default_rng(rng)
-    if not (isinstance(N, (int, np.integer)) and N >= 1):
-        raise InvalidArgumentError(f"N: must be a positive integer, got {N!r}")
+    rng = _rng(rng)
     if boundary_start is None:
         boundary_start = disturbance == "vertex"
+    boundary_start = as_bool(boundary_start, "boundary_start")
+    if isinstance(system, (LinearSystem, DescriptorSystem)):
+        per_step = system.nx + system.ny + system.nw + system.nu
+        check_memory("N", N, 8.0 * N * (2 * per_step + 1))  # the result and the draws
     if isinstance(system, DescriptorSystem):
         return _simulate_descriptor(system, x0, int(N), disturbance, rng, u, boundary_start)
     if not isinstance(system, LinearSystem):

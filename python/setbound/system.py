@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
+from ._validate import as_float, as_int
 from .errors import DimensionError, InvalidArgumentError
 from ._state import reconstructible
 from .interval import IntervalMatrix
@@ -213,7 +214,9 @@ def from_statespace(ss, *, E=None, F=None, disturbance_inputs=None, output_noise
     ny = C.shape[0]
     D = np.array(ss.D, dtype=float).reshape(ny, B.shape[1])
     nu_all = B.shape[1]
-    idx = [] if disturbance_inputs is None else [int(i) for i in np.atleast_1d(disturbance_inputs)]
+    idx = [] if disturbance_inputs is None else [
+        as_int(i, f"disturbance_inputs[{k}]", lo=None, hi=None)
+        for k, i in enumerate(np.atleast_1d(np.asarray(disturbance_inputs, dtype=object)))]
     for i in idx:
         if not 0 <= i < nu_all:
             raise InvalidArgumentError(f"disturbance_inputs: input index {i} out of range 0..{nu_all - 1}")
@@ -230,7 +233,7 @@ def from_statespace(ss, *, E=None, F=None, disturbance_inputs=None, output_noise
         Ecols.append(Ex if Ex is not None else np.zeros((nx, m)))
         Fcols.append(Fx if Fx is not None else np.zeros((ny, m)))
     if output_noise is not None:
-        phi = np.broadcast_to(np.asarray(output_noise, dtype=float), (ny,)) if np.ndim(output_noise) == 0 \
+        phi = np.full(ny, as_float(output_noise, "output_noise", lo=0.0)) if np.ndim(output_noise) == 0 \
             else as_f64(output_noise, "output_noise", shape=(ny,))
         if not np.all(np.isfinite(phi)) or np.any(phi < 0):
             raise InvalidArgumentError("output_noise: must be finite and >= 0")

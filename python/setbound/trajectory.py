@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from ._validate import as_float
 from .errors import SetboundError
 
 
@@ -63,7 +64,9 @@ class Trajectory:
         return self._volume
 
     def contains(self, x: np.ndarray, tol: float = 0.0) -> np.ndarray:
-        """Per step: is the true state row x[k] inside the interval hull of row k?"""
+        """Per step: is the true state row x[k] inside the interval hull of row k (widened by
+        ``tol``, a finite number >= 0)?"""
+        tol = as_float(tol, "tol", lo=0.0)
         x = np.asarray(x, dtype=float)
         return np.all((self.lower - tol <= x) & (x <= self.upper + tol), axis=1)
 

@@ -18,6 +18,7 @@ import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
 from ._state import StateMixin, reconstructible, remember_call
+from ._validate import as_bool, as_choice, as_float, as_int, check_memory
 from .errors import DimensionError, InvalidArgumentError
 from .sets import Zonotope
 from .system import as_system, LinearSystem, run_inputs, step_inputs
@@ -40,12 +41,20 @@ REDUCTIONS = {"combastel": lib.SB_ZONO_REDUCE_COMBASTEL, "girard": lib.SB_ZONO_R
               "pca": lib.SB_ZONO_REDUCE_PCA}
 
 
+#: Upper bound of ``max_generators`` (see :class:`_ZonotopicEstimator`).
+MAX_GENERATORS = lib.SB_ZONO_MAX_GENERATORS  # 100000, the C library refuses more too
+
+
 class _ZonotopicEstimator(StateMixin):
     """Common options: ``max_generators`` (the reduction limit; the pending rounding box of
     relative size ~1e-15 is not counted, so before the first reduction a set may carry up to
     n_x more axis-aligned generators), ``use_first_measurement``, ``strip_order`` and
     ``reduction``: ``"combastel"`` (default, papers.md §0.1), ``"girard"`` (CORA's default) or
-    ``"pca"`` (CORA's ``reduce(Z,'pca',order)``, used by its observer examples)."""
+    ``"pca"`` (CORA's ``reduce(Z,'pca',order)``, used by its observer examples).
+
+    ``max_generators`` is an integer in [n_x, ``MAX_GENERATORS``] (100000: the reduction sorts
+    and the correction touches every generator at every step, and the sets are n_x × m arrays;
+    CORA's observers use orders up to about 100); ``use_first_measurement`` a bool."""
 
     _gain: int
     _lambdas = None
@@ -55,8 +64,12 @@ class _ZonotopicEstimator(StateMixin):
                  use_first_measurement: bool = True, strip_order=None, reduction: str = "combastel"):
         system = as_system(system)
         _check_system_and_x0(system, x0)
-        if reduction not in REDUCTIONS:
-            raise InvalidArgumentError(f"reduction: expected one of {sorted(REDUCTIONS)}, got {reduction!r}")
+        max_generators = as_int(max_generators, "max_generators", lo=1, hi=MAX_GENERATORS)
+        # two n_x × (max_generators + ...) generator matrices and the reduction's workspace
+        check_memory("max_generators", max_generators,
+                     4 * 8.0 * system.nx * (max_generators + system.nx + system.ny + system.nw))
+        use_first_measurement = as_bool(use_first_measurement, "use_first_measurement")
+        reduction = as_choice(reduction, "reduction", REDUCTIONS)
         self.system = system
         order_ptr = ffi.NULL
         if strip_order is not None:
@@ -67,7 +80,7 @@ class _ZonotopicEstimator(StateMixin):
             order_ptr = self._order
         handle = ffi.new("sb_zonotopic**")
         lam = ffi.NULL if self._lambdas is None else dptr(self._lambdas)
-        check(lib.sb_zonotopic_create(system._handle, self._gain, lam, int(max_generators),
+        check(lib.sb_zonotopic_create(system._handle, self._gain, lam, max_generators,
                                       1 if use_first_measurement else 0, order_ptr, x0.m,
                                       dptr(x0.center), dptr(x0.generators), handle))
         self._handle = ffi.gc(handle[0], lib.sb_zonotopic_free)
@@ -141,7 +154,9 @@ class ExactHull:
 def exact_hull(system: LinearSystem, y, u=None, *, x0: Zonotope, use_first_measurement: bool = True) -> ExactHull:
     """The exact reference (known ``A`` only): for each step, 2 n_x linear programs over the
     initial set and every disturbance give the interval hull of the states consistent with
-    ``y_0 … y_k``. Slow by nature; every guaranteed estimator's hull contains it."""
+    ``y_0 … y_k``. Slow by nature; every guaranteed estimator's hull contains it.
+    ``use_first_measurement``: a bool."""
+    use_first_measurement = as_bool(use_first_measurement, "use_first_measurement")
     system = as_system(system)
     _check_system_and_x0(system, x0)
     y = as_f64(y, "y", shape=(None, system.ny))
@@ -178,12 +193,22 @@ def design_pradius(system: LinearSystem, approach: int = 1, order=None, *,
     ``approach=2`` designs strip ``j`` with the earlier gains fixed (§3.3). ``order`` is a
     permutation of the outputs, ``None`` (natural order) or ``"best"`` (approach 2: try every
     order, keep the one with the largest final ``tau``). ``beta`` is chosen in ``beta_range``
-    by a scalar search maximising ``tau``. Raises InfeasibleError when no gain contracts."""
+    by a scalar search maximising ``tau``: a pair ``(lo, hi)`` of numbers with 0 < lo < hi < 1.
+    ``approach`` is the integer 1 or 2 (not ``True``). Raises InfeasibleError when no gain
+    contracts."""
     system = as_system(system)
     if not isinstance(system, LinearSystem):
         raise InvalidArgumentError(f"system: expected a setbound.LinearSystem, got {type(system).__name__}")
-    if approach not in (1, 2):
-        raise InvalidArgumentError(f"approach: must be 1 or 2, got {approach!r}")
+    approach = as_choice(approach, "approach", (1, 2))
+    try:
+        lo, hi = beta_range
+    except (TypeError, ValueError):
+        raise InvalidArgumentError(f"beta_range: expected a pair (lo, hi) with 0 < lo < hi < 1, got {beta_range!r}") \
+            from None
+    lo = as_float(lo, "beta_range[0]", lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    hi = as_float(hi, "beta_range[1]", lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    if not lo < hi:
+        raise InvalidArgumentError(f"beta_range: expected lo < hi, got ({lo:g}, {hi:g})")
     ny, nx = system.ny, system.nx
     try_all = isinstance(order, str)
     if try_all and order != "best":
@@ -194,7 +219,6 @@ def design_pradius(system: LinearSystem, approach: int = 1, order=None, *,
         if o.shape != (ny,) or not np.issubdtype(o.dtype, np.integer):
             raise InvalidArgumentError(f"order: expected {ny} integers (a permutation of the outputs)")
         order_ptr = ffi.new("int[]", [int(i) for i in o])
-    lo, hi = (float(b) for b in beta_range)
     lambdas, P = np.empty((ny, nx)), np.empty((ny, nx, nx))
     beta, tau, used = np.empty(ny), np.empty(ny), ffi.new("int[]", ny)
     psi = ffi.new("double*")

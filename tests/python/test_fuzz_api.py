@@ -710,3 +710,428 @@ def test_mrpi(seed, n, m, mu, eps, stop):
         tol = 1e-9 * (1 + np.abs(x))
         assert np.all(x >= r.boxes[k].lo - tol) and np.all(x <= r.boxes[k].hi + tol), k
     count("mrpi-contained")
+
+
+# ---- scalar options (issue 26 point 3) ----------------------------------------------------------------
+# Every keyword of every public function and method, and every required scalar argument, is listed
+# in OPTIONS with its kind; test_every_keyword_is_in_the_options_table fails when a public function
+# gains a keyword that is not listed, so that no new option escapes the fuzz below. Kinds:
+#   int, int? (None allowed), int* (no upper bound: nothing is sized by it), float, float?,
+#   float~ (NaN/±Inf passed to the library, which names them), bool, bool?, choice, choice?, str,
+#   str?, pair (two numbers/indices), list (of indices), floats? (a number or one per component),
+#   seed (an rng seed), data (an array, a set,
+#   a callable: fuzzed by the tests above, not here).
+
+import dataclasses
+import functools
+import importlib
+import inspect
+import math
+import time
+
+from setbound import interval as sbinterval, invariant, plotting, simulation, system as sbsystem, trajectory
+
+OPTIONS: dict[str, dict[str, str]] = {
+    # ellipsoidal
+    "setbound.ellipsoidal.design_offline": {"normalization": "choice", "beta": "float?"},
+    "setbound.ellipsoidal.OnlineEstimator.__init__": {"scaling": "bool", "reuse_tolerance": "float"},
+    "setbound.ellipsoidal.ImprovedEstimator.__init__": {"option": "choice", "feedback": "choice",
+                                                        "predictor": "choice"},
+    "setbound.ellipsoidal.KalmanFilter.__init__": {"omega_cov": "data", "nsigma": "float"},
+    "setbound.ellipsoidal.KalmanFilter.step": {"u": "data"},
+    "setbound.ellipsoidal.KalmanFilter.run": {"u": "data"},
+    "setbound.ellipsoidal._EllipsoidalEstimator.step": {"u": "data"},
+    "setbound.ellipsoidal._EllipsoidalEstimator.run": {"u": "data"},
+    # zonotopic
+    "setbound.zonotopic.exact_hull": {"u": "data", "x0": "data", "use_first_measurement": "bool"},
+    "setbound.zonotopic.design_pradius": {"approach": "choice", "order": "data", "beta_range": "pair"},
+    "setbound.zonotopic._ZonotopicEstimator.__init__": {"max_generators": "int", "use_first_measurement": "bool",
+                                                        "strip_order": "data", "reduction": "choice"},
+    "setbound.zonotopic.PRadiusEstimator.__init__": {"max_generators": "int", "use_first_measurement": "bool",
+                                                     "reduction": "choice"},
+    "setbound.zonotopic._ZonotopicEstimator.step": {"u": "data"},
+    "setbound.zonotopic._ZonotopicEstimator.run": {"u": "data"},
+    # hinf
+    "setbound.hinf.LpvPlant.__init__": {"B": "data", "F": "data", "Z": "data"},
+    "setbound.hinf.hinf_observer_gain": {"Q": "data"},
+    "setbound.hinf.ellipsoidal_error_rpi": {"g": "float"},
+    "setbound.hinf.refine_dissipation_matrix": {"route": "choice", "g": "float"},
+    "setbound.hinf.chebyshev_error_ellipsoid": {"t": "float"},
+    "setbound.hinf.design_ellipsoidal_sm_observer": {"W": "data", "lambda_route": "choice?", "passes": "int"},
+    "setbound.hinf.design_ellipsoidal_sm_observer_lpv": {"W": "data", "lambda_route": "choice?", "passes": "int"},
+    "setbound.hinf.mu0_from_ball": {"radius": "float"},
+    "setbound.hinf._Observer.__init__": {"mu0": "float"},
+    "setbound.hinf.EllipsoidalSMObserver.step": {"u": "data"},
+    "setbound.hinf.EllipsoidalSMObserver.run": {"u": "data"},
+    "setbound.hinf.LPVEllipsoidalSMObserver.step": {"u": "data", "rho": "data"},
+    "setbound.hinf.LPVEllipsoidalSMObserver.run": {"u": "data", "rho": "data"},
+    # interval
+    "setbound.interval.Interval.__init__": {"hi": "data", "name": "str"},
+    "setbound.interval.Box.__init__": {"name": "str"},
+    "setbound.interval.Box.from_center_radius": {"name": "str"},
+    "setbound.interval.Box.empty": {"n": "int"},
+    "setbound.interval.IntervalMatrix.__init__": {"name": "str"},
+    "setbound.interval.IntervalMatrix.from_mid_rad": {"name": "str"},
+    "setbound.interval.power": {"n": "int"},
+    # interval observers
+    "setbound.interval_observers.interval_error_recursion": {"steps": "int", "variant": "choice"},
+    "setbound.interval_observers.interval_error_limit": {"variant": "choice"},
+    "setbound.interval_observers.IntervalLuenbergerObserver.__init__": {"d": "data", "v": "data", "L": "data",
+                                                                        "variant": "choice"},
+    "setbound.interval_observers.NonlinearIntervalObserver.__init__": {"v": "data", "h": "data", "L": "data",
+                                                                       "window": "int"},
+    "setbound.interval_observers.NonlinearIntervalObserver.step": {"u": "data", "h": "data"},
+    "setbound.interval_observers.IntervalLuenbergerObserver.step": {"u": "data"},
+    "setbound.interval_observers.IntervalInvariantObserver.step": {"u": "data"},
+    "setbound.interval_observers._OnlineObserver.run": {"u": "data"},
+    "setbound.interval_observers.InvariantObserverDesign.box_at": {"k": "int*"},
+    "setbound.interval_observers.offline_error_sequence": {
+        "d": "data", "v": "data", "L": "data", "P": "data", "gamma": "float?", "mu": "float", "inflation": "float?",
+        "epsilon": "float", "variant": "choice"},
+    # invariant
+    "setbound.invariant.Polytope.contains": {"tol": "float"},
+    "setbound.invariant.Polytope.contains_polytope": {"tol": "float"},
+    "setbound.invariant.Polytope.scaled": {"a": "float"},
+    "setbound.invariant.Polytope.plot_data": {"dims": "pair"},
+    "setbound.invariant.ellipsoid_bounding_box": {"rho": "float"},
+    "setbound.invariant.expanded_ellipsoid_levels": {"gamma": "float", "wbar_sq": "float", "mu": "float"},
+    "setbound.invariant.polyhedral_rpi_between_ellipsoids": {"c_in": "float", "c_out": "float",
+                                                            "max_vertices": "int?"},
+    "setbound.invariant.mrpi_outer_shrinking": {
+        "wbar": "data", "eps": "float", "mu": "float", "stop": "choice", "phi0": "data", "P": "data",
+        "c_out": "float?", "delta": "data", "boxes_only": "bool", "max_iterations": "int?"},
+    # lmi
+    "setbound.lmi.Problem.__init__": {"num_vars": "int"},
+    "setbound.lmi.Problem.set_options": {"tol": "float?", "max_iter": "int?", "feas": "float?",
+                                         "time_limit": "float?", "threads": "int?"},
+    "setbound.lmi.Problem.solve": {"feasibility": "bool", "duals": "bool"},
+    "setbound.lmi.Problem.update_block": {"index": "int*"},
+    "setbound.lmi.Problem.gevp": {"lambda_lo": "float", "lambda_hi": "float", "tol": "float"},
+    "setbound.lmi.solve": {"logdet": "data", "eq": "data", "tol": "float?", "max_iter": "int?", "threads": "int?"},
+    # sets
+    "setbound.sets.Strip.__init__": {"y": "float~", "phi": "float~"},
+    "setbound.sets.Strip.contains": {"rel_tol": "float"},
+    "setbound.sets.Ellipsoid.__init__": {"rho": "float~"},
+    "setbound.sets.Ellipsoid.contains": {"rel_tol": "float"},
+    "setbound.sets.Ellipsoid.affine_map": {"b": "data"},
+    "setbound.sets.Zonotope.__init__": {"generators": "data"},
+    "setbound.sets.Zonotope.pradius": {"return_vertex": "bool"},
+    "setbound.sets.Zonotope.contains": {"rel_tol": "float"},
+    "setbound.sets.Zonotope.reduce": {"limit": "int*", "method": "choice"},
+    # systems, plants, simulation, trajectories
+    "setbound.system.LinearSystem.__init__": {"B": "data", "D": "data", "E": "data", "F": "data"},
+    "setbound.system.DescriptorSystem.__init__": {"B": "data", "D": "data", "F": "data"},
+    "setbound.system.from_statespace": {"E": "data", "F": "data", "disturbance_inputs": "list",
+                                        "output_noise": "floats?"},
+    "setbound.plant.Plant.__init__": {"B": "data", "F": "data", "Z": "data"},
+    "setbound.simulation.disturbances": {"kind": "choice", "N": "int", "n": "int"},
+    "setbound.simulation.sample_in": {"boundary": "bool"},
+    "setbound.simulation.simulate": {"N": "int", "disturbance": "choice", "rng": "seed?", "u": "data",
+                                     "A_choice": "choice", "boundary_start": "bool?"},
+    "setbound.trajectory.Trajectory.contains": {"tol": "float"},
+    "setbound.trajectory.Trajectory.to_dataframe": {"t": "data"},
+    # plotting
+    "setbound.plotting.plot_bounds": {"names": "data", "x_true": "data", "t": "data", "components": "list?",
+                                      "title": "str?", "figsize": "pair?"},
+    "setbound.plotting.plot_widths": {"names": "data", "reference": "data", "t": "data", "components": "list?",
+                                      "log": "bool?", "title": "str?", "figsize": "pair?"},
+    "setbound.plotting.plot_volume": {"names": "data", "t": "data", "log": "bool", "title": "str?",
+                                      "figsize": "pair?"},
+    "setbound.plotting.plot_projections": {"names": "data", "steps": "list", "dims": "pair", "x_true": "data",
+                                           "system": "data", "y": "data", "u": "data", "title": "str?",
+                                           "figsize": "pair?"},
+    "setbound.plotting.ellipse_points": {"rho": "float", "dims": "pair", "n": "int"},
+    "setbound.plotting.measurement_strips": {"u": "data"},
+    "setbound.plotting.save_png": {"dpi": "int"},
+}
+
+#: The modules whose public functions the table must cover (the API modules; the job-file modules
+#: config, campaign, cli, demo and thesis_jobs validate their own values).
+API_MODULES = ("ellipsoidal", "zonotopic", "hinf", "interval", "interval_observers", "invariant", "inclusion", "lmi",
+               "sets", "system", "simulation", "plant", "trajectory", "plotting", "benchmarks")
+
+
+def _public_callables():
+    """(key, function) of every public function and method defined in the API modules."""
+    seen = {}
+    for short in API_MODULES:
+        mod = importlib.import_module(f"setbound.{short}")
+        names = getattr(mod, "__all__", None) or [n for n in vars(mod) if not n.startswith("_")]
+        for name in names:
+            obj = getattr(mod, name, None)
+            if inspect.isfunction(obj) and obj.__module__ == mod.__name__:
+                seen[f"{obj.__module__}.{obj.__qualname__}"] = obj
+            elif inspect.isclass(obj) and obj.__module__ == mod.__name__:
+                for attr, member in inspect.getmembers(obj):
+                    if attr.startswith("_") and attr != "__init__":
+                        continue
+                    fn = member.__func__ if isinstance(member, (classmethod, staticmethod)) else member
+                    fn = getattr(fn, "__func__", fn)
+                    if not inspect.isfunction(fn) or not fn.__module__.startswith("setbound."):
+                        continue
+                    if fn.__module__.split(".")[1] not in API_MODULES:
+                        continue  # e.g. the state methods of setbound._state
+                    if attr == "__init__" and dataclasses.is_dataclass(obj):
+                        continue  # a record's generated constructor, not an API entry with options
+                    seen[f"{fn.__module__}.{fn.__qualname__}"] = fn
+    return seen
+
+
+def test_every_keyword_is_in_the_options_table():
+    """A keyword (a parameter with a default, or keyword-only) of a public function that is
+    missing from OPTIONS fails here: classify it there, and the fuzz then draws hostile values
+    for it."""
+    missing, stale = [], []
+    callables = _public_callables()
+    for key, fn in callables.items():
+        table = OPTIONS.get(key, {})
+        for p in inspect.signature(fn).parameters.values():
+            if p.name in ("self", "cls") or p.kind in (p.VAR_POSITIONAL, p.VAR_KEYWORD):
+                continue
+            if (p.default is not p.empty or p.kind is p.KEYWORD_ONLY) and p.name not in table:
+                missing.append(f"{key}({p.name}=...)")
+    for key, opts in OPTIONS.items():
+        fn = callables.get(key)
+        if fn is None:
+            stale.append(key)
+            continue
+        params = inspect.signature(fn).parameters
+        stale += [f"{key}({o})" for o in opts if o not in params]
+    assert not missing, "keywords missing from OPTIONS: " + ", ".join(missing)
+    assert not stale, "OPTIONS lists what no public function has: " + ", ".join(stale)
+    count("options-table")
+
+
+# -- the small valid problems every option is tried on (built once) --
+
+@functools.cache
+def _ctx():
+    rng = np.random.default_rng(11)
+    S = LinearSystem([[0.5, 0.1], [0.0, 0.6]], [[1.0, 0.0]], E=0.1 * np.eye(2), F=[[0.1, 0.0]])
+    d = ellipsoidal.design_offline(S, beta=0.8)
+    p = Plant([[0.2, 0.2], [0, 0.5]], [[1, 0]], B=[[1], [1]], F=[[0], [0.1]], Z=[[0.1]])
+    nlp = Plant([[0.5, 0.1], [0.0, 0.4]], [[1.0, 0.0]], F=np.eye(2), Z=[[0.1]])
+    lpv = hinf.LpvPlant([[[1, r], [0, 1]] for r in (0.05, 0.1)], [[1, 0]], [[0.05], [0.1]],
+                        B=[[[0], [r]] for r in (0.05, 0.1)], F=[[[0], [r]] for r in (0.05, 0.1)], Z=[[0.01]])
+    hd = hinf.design_ellipsoidal_sm_observer(p, [1.0, 1.0])
+    hl = hinf.design_ellipsoidal_sm_observer_lpv(lpv, [1.0, 1.0])
+    x0b = Box([-1, -1], [1, 1])
+    inv = iobs.offline_error_sequence(p, x0b, np.zeros(2), Box([-0.1], [0.1]), Box([-0.1], [0.1]), epsilon=0.05)
+    pr = zonotopic.design_pradius(S)
+    poly = sb.Polytope(rng.standard_normal((6, 2)))
+    Z = Zonotope(np.zeros(2), np.eye(2) + 0.1)
+    E = Ellipsoid(np.eye(2), np.zeros(2), 1.0)
+    X0 = Zonotope(np.zeros(2), np.eye(2))
+    traj = zonotopic.SegmentMinEstimator(S, X0).run(np.zeros((3, 1)))
+    ell_traj = ellipsoidal.OnlineEstimator(d, E).run(np.zeros((3, 1)))
+    return dict(S=S, d=d, p=p, nlp=nlp, lpv=lpv, hd=hd, hl=hl, x0b=x0b, inv=inv, pr=pr, poly=poly, Z=Z, E=E,
+                X0=X0, traj=traj, ell_traj=ell_traj)
+
+
+class _FakeSS:  # a discrete-time state-space model (python-control's attributes)
+    A, B, C, D, dt = np.array([[0.5]]), np.array([[1.0, 0.5]]), np.array([[1.0]]), np.array([[0.0, 0.0]]), 0.1
+
+
+def _lmi_problem():
+    q = lmi.Problem(1)
+    q.add_block(np.eye(2), np.eye(2)[None])
+    q.set_objective([1.0])
+    return q
+
+
+def _figure(**kw):
+    from matplotlib.figure import Figure
+
+    return plotting.save_png(Figure(figsize=(1, 1)), _TMP / "f.png", **kw)
+
+
+import tempfile  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+_TMP = Path(tempfile.mkdtemp(prefix="setbound-options-"))
+
+#: key -> a call of the function on a small valid problem, with the fuzzed keyword(s) in **kw.
+CALLS = {
+    "setbound.ellipsoidal.design_offline": lambda c, **kw: ellipsoidal.design_offline(c["S"], **kw),
+    "setbound.ellipsoidal.OnlineEstimator.__init__": lambda c, **kw: ellipsoidal.OnlineEstimator(c["d"], c["E"], **kw),
+    "setbound.ellipsoidal.ImprovedEstimator.__init__":
+        lambda c, **kw: ellipsoidal.ImprovedEstimator(c["d"], c["E"], **kw),
+    "setbound.ellipsoidal.KalmanFilter.__init__":
+        lambda c, **kw: ellipsoidal.KalmanFilter(c["S"], np.zeros(2), np.eye(2), **kw),
+    "setbound.zonotopic.exact_hull": lambda c, **kw: zonotopic.exact_hull(c["S"], np.zeros((2, 1)), x0=c["X0"], **kw),
+    "setbound.zonotopic.design_pradius": lambda c, **kw: zonotopic.design_pradius(c["S"], **kw),
+    "setbound.zonotopic._ZonotopicEstimator.__init__":
+        lambda c, **kw: zonotopic.SegmentMinEstimator(c["S"], c["X0"], **kw),
+    "setbound.zonotopic.PRadiusEstimator.__init__": lambda c, **kw: zonotopic.PRadiusEstimator(c["pr"], c["X0"], **kw),
+    "setbound.hinf.ellipsoidal_error_rpi":
+        lambda c, **kw: hinf.ellipsoidal_error_rpi(c["hd"].P, c["hd"].Q_refined, wbar=[1.0, 1.0], **kw),
+    "setbound.hinf.refine_dissipation_matrix":
+        lambda c, **kw: hinf.refine_dissipation_matrix(c["p"], c["hd"].P, c["hd"].L, **{"g": c["hd"].g, **kw}),
+    "setbound.hinf.chebyshev_error_ellipsoid": lambda c, **kw: hinf.chebyshev_error_ellipsoid(c["hd"].V, **kw),
+    "setbound.hinf.design_ellipsoidal_sm_observer":
+        lambda c, **kw: hinf.design_ellipsoidal_sm_observer(c["p"], [1.0, 1.0], **kw),
+    "setbound.hinf.design_ellipsoidal_sm_observer_lpv":
+        lambda c, **kw: hinf.design_ellipsoidal_sm_observer_lpv(c["lpv"], [1.0, 1.0], **kw),
+    "setbound.hinf.mu0_from_ball": lambda c, **kw: hinf.mu0_from_ball(c["hd"], **kw),
+    "setbound.hinf._Observer.__init__": lambda c, **kw: hinf.EllipsoidalSMObserver(c["hd"], np.zeros(2), **kw),
+    "setbound.interval.Interval.__init__": lambda c, **kw: Interval(0.0, 1.0, **kw),
+    "setbound.interval.Box.__init__": lambda c, **kw: Box([0.0], [1.0], **kw),
+    "setbound.interval.Box.from_center_radius": lambda c, **kw: Box.from_center_radius([0.0], [1.0], **kw),
+    "setbound.interval.Box.empty": lambda c, **kw: Box.empty(**kw),
+    "setbound.interval.IntervalMatrix.__init__": lambda c, **kw: IntervalMatrix([[0.0]], [[1.0]], **kw),
+    "setbound.interval.IntervalMatrix.from_mid_rad": lambda c, **kw: IntervalMatrix.from_mid_rad([[0.0]], [[1.0]], **kw),
+    "setbound.interval.power": lambda c, **kw: sbinterval.power(Interval(0.5, 2.0), **kw),
+    "setbound.interval_observers.interval_error_recursion":
+        lambda c, **kw: iobs.interval_error_recursion([[0.5]], [[1.0]], Box([-1], [1]), Box([-1], [1]),
+                                                      **{"steps": 3, **kw}),
+    "setbound.interval_observers.interval_error_limit":
+        lambda c, **kw: iobs.interval_error_limit([[0.5]], [[1.0]], Box([-1], [1]), **kw),
+    "setbound.interval_observers.IntervalLuenbergerObserver.__init__":
+        lambda c, **kw: iobs.IntervalLuenbergerObserver(c["p"], c["x0b"], np.zeros(2), Box([-0.1], [0.1]),
+                                                        Box([-0.1], [0.1]), **kw),
+    "setbound.interval_observers.NonlinearIntervalObserver.__init__":
+        lambda c, **kw: iobs.NonlinearIntervalObserver(c["nlp"], c["x0b"], np.zeros(2), Box([-1], [1]),
+                                                       Box([-0.1, -0.1], [0.1, 0.1]), **kw),
+    "setbound.interval_observers.InvariantObserverDesign.box_at": lambda c, **kw: c["inv"].box_at(**kw),
+    "setbound.interval_observers.offline_error_sequence":
+        lambda c, **kw: iobs.offline_error_sequence(c["p"], c["x0b"], np.zeros(2), Box([-0.1], [0.1]),
+                                                    Box([-0.1], [0.1]), **kw),
+    "setbound.invariant.Polytope.contains": lambda c, **kw: c["poly"].contains(np.zeros(2), **kw),
+    "setbound.invariant.Polytope.contains_polytope": lambda c, **kw: c["poly"].contains_polytope(c["poly"], **kw),
+    "setbound.invariant.Polytope.scaled": lambda c, **kw: c["poly"].scaled(**kw),
+    "setbound.invariant.Polytope.plot_data": lambda c, **kw: c["poly"].plot_data(**kw),
+    "setbound.invariant.ellipsoid_bounding_box": lambda c, **kw: invariant.ellipsoid_bounding_box(np.eye(2), [0, 0], **kw),
+    "setbound.invariant.expanded_ellipsoid_levels":
+        lambda c, **kw: invariant.expanded_ellipsoid_levels(np.eye(2), **{"gamma": 1.0, "wbar_sq": 1.0, "mu": 2.0, **kw}),
+    "setbound.invariant.polyhedral_rpi_between_ellipsoids":
+        lambda c, **kw: invariant.polyhedral_rpi_between_ellipsoids(np.eye(2), **{"c_in": 1.0, "c_out": 2.0, **kw}),
+    "setbound.invariant.mrpi_outer_shrinking":
+        lambda c, **kw: invariant.mrpi_outer_shrinking([[0.5]], [[1.0]], [1.0], **{"eps": 0.1, "boxes_only": True,
+                                                                                 **kw}),
+    "setbound.lmi.Problem.__init__": lambda c, **kw: lmi.Problem(**kw),
+    "setbound.lmi.Problem.set_options": lambda c, **kw: _lmi_problem().set_options(**kw),
+    "setbound.lmi.Problem.solve": lambda c, **kw: _lmi_problem().solve(**kw),
+    "setbound.lmi.Problem.update_block":
+        lambda c, **kw: _lmi_problem().update_block(F0=np.eye(2), Fs=np.eye(2)[None], **kw),
+    "setbound.lmi.Problem.gevp":
+        lambda c, **kw: _lmi_problem().gevp((np.eye(2), np.zeros((1, 2, 2))), (np.eye(2), np.zeros((1, 2, 2))), **kw),
+    "setbound.lmi.solve": lambda c, **kw: lmi.solve([1.0], [(np.eye(2), np.eye(2)[None])], **kw),
+    "setbound.sets.Strip.__init__": lambda c, **kw: Strip([1.0, 0.0], **{"y": 0.0, "phi": 1.0, **kw}),
+    "setbound.sets.Strip.contains": lambda c, **kw: Strip([1.0, 0.0], 0.0, 1.0).contains(np.zeros(2), **kw),
+    "setbound.sets.Ellipsoid.__init__": lambda c, **kw: Ellipsoid(np.eye(2), np.zeros(2), **kw),
+    "setbound.sets.Ellipsoid.contains": lambda c, **kw: c["E"].contains(np.zeros(2), **kw),
+    "setbound.sets.Zonotope.pradius": lambda c, **kw: c["Z"].pradius(np.eye(2), **kw),
+    "setbound.sets.Zonotope.contains": lambda c, **kw: c["Z"].contains(np.zeros(2), **kw),
+    "setbound.sets.Zonotope.reduce": lambda c, **kw: c["Z"].reduce(**{"limit": 2, **kw}),
+    "setbound.system.from_statespace":
+        lambda c, **kw: sbsystem.from_statespace(_FakeSS(), **{"disturbance_inputs": [1], **kw}),
+    "setbound.simulation.disturbances":
+        lambda c, **kw: simulation.disturbances(rng=np.random.default_rng(0), **{"kind": "uniform", "N": 3, "n": 2, **kw}),
+    "setbound.simulation.sample_in": lambda c, **kw: simulation.sample_in(c["E"], np.random.default_rng(0), **kw),
+    "setbound.simulation.simulate": lambda c, **kw: simulation.simulate(c["S"], c["E"], **{"N": 4, **kw}),
+    "setbound.trajectory.Trajectory.contains": lambda c, **kw: c["traj"].contains(np.zeros((3, 2)), **kw),
+    "setbound.plotting.plot_bounds": lambda c, **kw: plotting.plot_bounds(c["traj"], **kw),
+    "setbound.plotting.plot_widths": lambda c, **kw: plotting.plot_widths(c["traj"], **kw),
+    "setbound.plotting.plot_volume": lambda c, **kw: plotting.plot_volume(c["traj"], **kw),
+    "setbound.plotting.plot_projections":
+        lambda c, **kw: plotting.plot_projections(c["ell_traj"], **{"steps": [1], **kw}),
+    "setbound.plotting.ellipse_points": lambda c, **kw: plotting.ellipse_points(np.eye(2), np.zeros(2), **{"rho": 1.0,
+                                                                                                        **kw}),
+    "setbound.plotting.save_png": lambda c, **kw: _figure(**kw),
+}
+
+#: Hostile values drawn for every scalar option (the last ones are valid for most kinds).
+HOSTILE = (2**31, 2**63, 2**1024, -(2**31) - 1, -1, 0, 3.7, "5", True, False, None, math.nan, math.inf, -math.inf,
+           1e300, -0.0, 5e-324, np.int64(3), np.float64(0.5), np.bool_(True), [1], (1.0, 2.0), b"x", object())
+
+_SCALAR_KINDS = ("int", "int?", "int*", "float", "float?", "float~", "bool", "bool?", "choice", "choice?", "str", "str?",
+                 "pair", "pair?", "list", "list?", "seed?", "floats?")
+FUZZ_OPTIONS = [(k, o, kind) for k, opts in OPTIONS.items() for o, kind in opts.items()
+                if kind in _SCALAR_KINDS and k in CALLS]
+
+
+def _is_int(v):
+    return isinstance(v, (int, np.integer)) and not isinstance(v, (bool, np.bool_))
+
+
+def _must_refuse(kind: str, v) -> bool:
+    """Whether ``v`` is invalid for an option of ``kind`` whatever its range (wrong type, NaN, a C
+    int overflow); in-range checks depend on the option and are left to the call."""
+    if v is None:
+        return not kind.endswith("?")
+    base = kind.rstrip("?*~")
+    if base == "int":
+        return not _is_int(v) or (kind != "int*" and not -(2**31) <= int(v) < 2**31)
+    if base == "float":
+        real = isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, (bool, np.bool_))
+        if not real:
+            return True
+        if kind == "float~":
+            return False
+        return _is_int(v) and abs(int(v)) > 2**1000 or math.isnan(float(v)) or math.isinf(float(v))
+    if base == "bool":
+        return not isinstance(v, (bool, np.bool_))
+    if base == "str":
+        return not isinstance(v, str)
+    if base == "choice":  # strings and integers may be among the choices (checked by the call)
+        return not (isinstance(v, str) or _is_int(v))
+    if base == "pair":
+        return not isinstance(v, (list, tuple)) or len(v) != 2
+    if base == "list":  # a list of indices (disturbance_inputs also takes one index)
+        return not (isinstance(v, (list, tuple)) or _is_int(v))
+    if base == "floats":  # a number or one per component
+        return not isinstance(v, (list, tuple)) and _must_refuse("float", v)
+    return False
+
+
+def _try_option(key: str, option: str, kind: str, value) -> None:
+    call = CALLS[key]
+    t0 = time.perf_counter()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            call(_ctx(), **{option: value})
+        err = None
+    except Exception as exc:  # noqa: BLE001 - the property is on the exception itself
+        err = exc
+    elapsed = time.perf_counter() - t0
+    # no hang: a valid-looking huge value is refused before the work starts
+    assert elapsed < 10.0, f"{key}({option}={value!r}) took {elapsed:.1f} s"
+    if err is None:
+        assert not _must_refuse(kind, value), f"{key}({option}={value!r}) accepted a value of the wrong kind"
+        return
+    assert not isinstance(err, (OverflowError, MemoryError, errors.InternalError)), \
+        f"{key}({option}={value!r}): {type(err).__name__}: {err}"
+    check_error(err)
+    if _must_refuse(kind, value):
+        assert isinstance(err, (errors.InvalidArgumentError, errors.DimensionError, errors.NotFiniteError)), \
+            f"{key}({option}={value!r}): {type(err).__name__}: {err}"
+        assert option in str(err), f"{key}({option}={value!r}): the message does not name the option: {err}"
+
+
+@pytest.mark.parametrize("key,option,kind", FUZZ_OPTIONS, ids=[f"{k.split('.', 1)[1]}:{o}" for k, o, _ in FUZZ_OPTIONS])
+def test_option_hostile_values(key, option, kind):
+    """Every hostile value on every scalar option: a result or a named input error."""
+    for value in HOSTILE:
+        count("options")
+        _try_option(key, option, kind, value)
+
+
+_values = st.one_of(
+    st.integers(-(2**70), 2**70), st.integers(-8, 8), st.floats(allow_nan=True, allow_infinity=True),
+    st.booleans(), st.none(), st.text(max_size=4), st.sampled_from(HOSTILE),
+    st.lists(st.integers(-3, 3), max_size=3), st.tuples(st.floats(-10, 10), st.floats(-10, 10)))
+
+
+@fuzz(400)
+@given(case=st.sampled_from(FUZZ_OPTIONS), value=_values)
+def test_option_random_values(case, value):
+    count("options-random")
+    _try_option(*case, value)
+
+
+def test_every_fuzzed_function_has_a_call():
+    """Every table entry with a scalar option has a CALLS entry (else its options are not fuzzed)."""
+    uncovered = [k for k, opts in OPTIONS.items() if any(kd in _SCALAR_KINDS for kd in opts.values()) and k not in CALLS]
+    assert not uncovered, "no CALLS entry for: " + ", ".join(uncovered)
+    count("options-table")

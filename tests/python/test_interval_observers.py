@@ -398,11 +398,11 @@ def test_bad_input_messages():
     with pytest.raises(setbound.InvalidArgumentError, match=r"u:"):
         obs.step([0.0])
     assert obs.steps == 0 and np.array_equal(obs.current().hi, before.hi)
-    with pytest.raises(setbound.InvalidArgumentError, match=r"epsilon: must be > 0"):
+    with pytest.raises(setbound.InvalidArgumentError, match=r"^epsilon: expected a number in \(0, inf\), got 0"):
         offline_error_sequence(p, x0, np.zeros(2), sym(1, 1), sym(1, 1), epsilon=0.0)
     with pytest.raises(setbound.InvalidArgumentError, match=r"epsilon"):
         offline_error_sequence(p, x0, np.zeros(2), sym(1, 1), sym(1, 1), epsilon=-1.0)
-    with pytest.raises(setbound.InvalidArgumentError, match=r"mu: must be > 1"):
+    with pytest.raises(setbound.InvalidArgumentError, match=r"^mu: expected a number in \(1, inf\), got 1"):
         offline_error_sequence(p, x0, np.zeros(2), sym(1, 1), sym(1, 1), mu=1.0)
     with pytest.raises(setbound.InvalidArgumentError, match=r"inflation: .* too small"):
         offline_error_sequence(p, x0, np.zeros(2), sym(1, 1), sym(1, 1), inflation=1.0)

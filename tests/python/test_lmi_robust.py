@@ -270,17 +270,21 @@ def test_time_limit():
 
 
 def test_bad_options_are_refused_with_a_message():
-    """NaN/Inf options are refused with a message naming the option; values <= 0 keep the
-    defaults (documented in setbound.h)."""
-    from setbound import NotFiniteError
+    """NaN/Inf/non-positive options are refused by Python with a message naming the option
+    (issue 26 point 3: 0 or a negative value no longer silently means "default"); the C ABI
+    still reads values <= 0 as the defaults (documented in setbound.h) and refuses NaN."""
+    from setbound import InvalidArgumentError
+    from setbound._native import ffi, lib
 
     count("lmi-robust")
     p = lmi.Problem(1)
-    for kw, name in (({"tol": float("nan")}, "gap_rel"), ({"feas": float("nan")}, "feas"),
-                     ({"time_limit": float("inf")}, "time_limit")):
-        with pytest.raises(NotFiniteError, match=f"sb_lmi_set_options: {name}:"):
+    for kw, name in (({"tol": float("nan")}, "tol"), ({"feas": float("nan")}, "feas"),
+                     ({"time_limit": float("inf")}, "time_limit"), ({"max_iter": -5}, "max_iter")):
+        with pytest.raises(InvalidArgumentError, match=f"^{name}:"):
             p.set_options(**kw)
-    p.set_options(max_iter=-5)  # keeps the default of 100
+    assert lib.sb_lmi_set_options(p._h, 0, float("nan"), 0.0, 0.0) == lib.SB_ERR_NOT_FINITE
+    assert ffi.string(lib.sb_last_error()).decode().startswith("sb_lmi_set_options: gap_rel:")
+    assert lib.sb_lmi_set_options(p._h, -5, 0.0, 0.0, 0.0) == lib.SB_OK  # C: <= 0 keeps the defaults
     p.add_block(np.array([[-1.0]]), np.ones((1, 1, 1)))  # x >= 1
     p.set_objective([1.0])
     r = p.solve()
