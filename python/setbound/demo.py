@@ -24,7 +24,9 @@ from pathlib import Path
 
 import numpy as np
 
+from . import jobs
 from .interval import Box
+from .report import format_table, leaked, summary_rows, write_plots, write_results
 from .sets import Strip, Zonotope
 
 #: The package resource holding the demo job.
@@ -102,47 +104,43 @@ def demo_job(steps: int | None = None):
     """The demo job (a :class:`setbound.config.Job`), with ``steps`` overriding the horizon and the
     registered :data:`THESIS_OBSERVERS` appended. Returns ``(job, skipped)``: the thesis
     observers not registered yet."""
-    from . import config
-
     doc = tomllib.loads(resources.files("setbound").joinpath("data", DEMO_JOB).read_text(encoding="utf-8"))
     if steps is not None:
         if not (isinstance(steps, int) and steps >= 1):
-            raise config.ConfigError(f"--steps: must be a positive integer, got {steps!r}")
+            raise jobs.ConfigError(f"--steps: must be a positive integer, got {steps!r}")
         doc["simulation"]["horizon"] = steps
         doc.get("plots", {}).pop("steps", None)
     skipped = []
     for method in THESIS_OBSERVERS:
-        if method in config.ESTIMATORS:
+        if method in jobs.ESTIMATORS:
             doc["estimator"].append({"method": method})
         else:
             skipped.append(method)
-    return config.from_dict(doc, source=f"setbound/data/{DEMO_JOB}"), skipped
+    return jobs.from_dict(doc, source=f"setbound/data/{DEMO_JOB}"), skipped
 
 
 def run_demo(out: Path = Path("out/demo"), steps: int | None = None, plots: bool = True) -> int:
     """Runs the main job, prints the table, writes results and plots to ``out``; returns the
     exit code (1 if the true state left a guaranteed set)."""
-    from . import cli, config
-
     job, skipped = demo_job(steps)
     print(f"setbound demo — {len(job.estimators)} estimators on the 3-state example of papers.md §1.4")
-    results = config.run(job, keep_going=True)
-    rows = cli.summary_rows(job, results)
+    results = jobs.run(job, keep_going=True)
+    rows = summary_rows(job, results)
     print(f"{job.title} ({len(job.y)} steps)")
-    print(cli.format_table(rows))
+    print(format_table(rows))
     if skipped:
         print(f"thesis observers not registered yet (skipped): {', '.join(skipped)}")
     for method, why in THESIS_NOT_APPLICABLE.items():
         print(f"not applicable: {method} — {why}")
     out = Path(out)
-    cli.write_results(out, job, results, rows, extra={"skipped": skipped})
+    write_results(out, job, results, rows, extra={"skipped": skipped})
     if plots:
-        for p in cli.write_plots(out, job, results):
+        for p in write_plots(out, job, results):
             print(f"  {p}")
     print(f"results written to {out}")
-    leaked = [r["name"] for r in rows if r["contains_truth"] is False]
-    if leaked:
-        print(f"ERROR: the true state left the guaranteed set of: {', '.join(leaked)}", file=sys.stderr)
+    lost = leaked(rows)
+    if lost:
+        print(f"ERROR: the true state left the guaranteed set of: {', '.join(lost)}", file=sys.stderr)
         return 1
     return 0
 
