@@ -15,15 +15,38 @@ from .jobs.registry import ESTIMATORS
 
 __all__ = ["summary_rows", "format_table", "write_results", "write_plots", "user_message", "leaked"]
 
-# "sb_zono_design: x: ..." -> "x: ...": the C function a message passed through is the library's
-# business; the user reads the argument and the reason
-_C_PREFIX = re.compile(r"\bsb_[a-z0-9_]+(\(\))?: ")
+# "sb_zono_pradius_design: design_pradius: no beta ..." -> "no beta ...": the C function a message
+# passed through, and the C++/Python function that raised it, are the library's business; the
+# user reads the argument and the reason. Argument names ("max_generators: ...") stay.
+_PREFIX = re.compile(r"^(?P<type>[A-Z][A-Za-z]*Error: )?(?P<names>(?:[A-Za-z_][A-Za-z0-9_.]*(?:\(\))?: )+)")
+_API_MODULES = ("ellipsoidal", "zonotopic", "hinf", "lmi", "interval_observers", "invariant", "inclusion", "interval",
+                "sets", "system", "plant", "simulation", "trajectory")
+_FUNCTIONS: set = set()
+
+
+def _function_names() -> set:
+    """Names of the functions and classes of setbound's API modules (the prefixes to drop)."""
+    if not _FUNCTIONS:
+        import importlib
+
+        for m in _API_MODULES:
+            mod = importlib.import_module(f"setbound.{m}")
+            _FUNCTIONS.update(n for n, v in vars(mod).items()
+                              if callable(v) and getattr(v, "__module__", "").startswith("setbound"))
+    return _FUNCTIONS
 
 
 def user_message(exc_or_text) -> str:
-    """An error for the user: without the names of the C functions it passed through."""
+    """An error for the user: without the names of the C, C++ and Python functions it passed
+    through (``sb_*``, ``design_pradius``); an argument or key name in front is kept."""
     text = exc_or_text if isinstance(exc_or_text, str) else str(exc_or_text)
-    return _C_PREFIX.sub("", text)
+    m = _PREFIX.match(text)
+    if not m:
+        return text
+    names = [n[:-2] for n in re.findall(r"[A-Za-z_][A-Za-z0-9_.]*(?:\(\))?: ", m.group("names"))]
+    internal = _function_names()
+    kept = [n for n in names if not (n.startswith("sb_") or n.rstrip("()") in internal)]
+    return (m.group("type") or "") + "".join(f"{n}: " for n in kept) + text[m.end():]
 
 
 def summary_rows(job, results) -> list[dict]:

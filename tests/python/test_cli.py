@@ -165,8 +165,10 @@ def test_demo_short_horizon(tmp_path, capsys):
             assert (out / f"{e['name']}.npz").is_file()
             if e["guaranteed"]:
                 assert e["contains_truth"] is True
-        else:
-            assert e["error"] and "FAILED" in text
+        else:  # a design without solution on this system: "not applicable" with the reason
+            assert e["error"] and f"not applicable: {e['name']} — its design has no solution" in text
+    assert summary["not_applicable"]["pradius"].startswith("its design has no solution for the demo system: no beta")
+    assert "FAILED" not in text and "sb_" not in text and "design_pradius" not in text
     for name in PLOTS | {"widths_relative.png", "projections.png"}:
         _png_ok(out / name)
 
@@ -419,3 +421,12 @@ def test_version(capsys):
     assert exc.value.code == 0
     out = capsys.readouterr().out
     assert re.match(r"setbound \S+ \(C library \S+", out), out
+
+
+def test_user_messages_drop_internal_function_names():
+    from setbound.report import user_message
+
+    assert user_message("InfeasibleError: design_pradius: no beta") == "InfeasibleError: no beta"
+    assert user_message("sb_zonotopic_create: max_generators: expected") == "max_generators: expected"
+    assert user_message("system.A: expected shape (n, 2)") == "system.A: expected shape (n, 2)"
+    assert user_message("estimator[0].beta: expected") == "estimator[0].beta: expected"
