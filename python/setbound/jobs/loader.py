@@ -169,7 +169,13 @@ def _inputs(spec, t, nu, key, *, sample: bool = False):
     return matrix(spec, key, shape=(t.shape[0], nu))
 
 
-def _estimators(lst, system_kind: str):
+# Options whose shape follows from the system: checked at load time (not only when the estimator is
+# built, where a wrong shape would be an estimator failure, exit 1, instead of a job-file error).
+_OPTION_SHAPES = {"xhat0": lambda s: (s.nx,), "cov0": lambda s: (s.nx, s.nx), "L": lambda s: (s.nx, s.ny),
+                  "omega_cov": lambda s: (getattr(s, "nw", None), getattr(s, "nw", None))}
+
+
+def _estimators(lst, system_kind: str, system=None):
     if not isinstance(lst, list) or not lst:
         raise ConfigError("estimator: at least one [[estimator]] table is required")
     out, names = [], set()
@@ -193,6 +199,11 @@ def _estimators(lst, system_kind: str):
         for k, v in tab.items():
             if k in kind.options:
                 given[k] = check_option(kind.checks[k], v, f"{where}.{k}") if k in kind.checks else v
+        if system is not None:
+            for k, v in given.items():
+                if k in _OPTION_SHAPES and v is not None:
+                    shape = _OPTION_SHAPES[k](system)
+                    matrix(v, f"{where}.{k}", ndim=len(shape), shape=shape)
         opts = {**kind.options, **given}
         name = tab.get("name", method)
         if not isinstance(name, str) or not name or len(name) > 100 or any(ch in name for ch in "/\\:*?\"<>|\0") \
@@ -331,7 +342,7 @@ def from_dict(doc: dict, *, base=Path("."), source: str = "", simulate: bool = T
               constant_input=constant_input)
     if ("simulation" in doc) == ("data" in doc):
         raise ConfigError("job: exactly one of [simulation] and [data] is required")
-    estimators = _estimators(doc.get("estimator"), system_kind)
+    estimators = _estimators(doc.get("estimator"), system_kind, system)
     if "simulation" in doc:
         _simulation(job, doc["simulation"], estimators, nu, simulate)
     else:
