@@ -28,7 +28,13 @@ ERROR_LINE = re.compile(r"^setbound: error: [^\s:][^:]*: \S.*$")
 
 
 # ------------------------------------------------------------ a minimal TOML writer (inline tables)
+class Raw(str):
+    """TOML text written as it is (an integer too long for Python's int-to-str conversion)."""
+
+
 def _toml_value(v) -> str:
+    if isinstance(v, Raw):
+        return str.__str__(v)
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, int):
@@ -61,7 +67,8 @@ HOSTILE_EXPRESSIONS = ["1/0", "0**-1", "10**10**10", "2**1024", "9" * 400, "(-1)
                        "-" * 100_000 + "1", "+".join(["1"] * 100_000), "1/(t-2)", "exp(1000*t)", "t.real",
                        "__import__('os')", "(" * 300 + "1" + ")" * 300, "", "sin(", "t**t**t**t", "1e999",
                        "abs(t, t)", "x1 + y", "0/0"]
-HOSTILE_SCALARS = ["abc", "0.1", "200", "", True, False, -1, 0, 2**63 - 1, -(2**63), 1e308, -1e308, math.inf,
+HOSTILE_SCALARS = ["abc", "0.1", "200", "", True, False, -1, 0, 2**63 - 1, -(2**63), 10**400, Raw("9" * 5000),
+                   Raw("-" + "1" * 4400), 1e308, -1e308, math.inf,
                    -math.inf, math.nan, 0.5, [1], [], {"start": [1]}, [[1, 2], [3]], ["0.1", True]]
 CSV_BODIES = ["y0;y1\n3.39;0.00\n", "y0,y1,x0,x1\n1,2,3,4\n1,2\n", "y0,y1,y2\n1,2,3\n", "foo,y0\n1,2\n",
               "y0,y1\nabc,1\n", "y0,y1\nnan,1\n", "", "y0,y1\n", "y1,y0,y0\n1,2,3\n", "y0,y2\n1,2\n",
@@ -99,6 +106,8 @@ def _delete(doc, path):
 
 
 def _copy(x):
+    if isinstance(x, Raw):
+        return x
     if isinstance(x, dict):
         return {k: _copy(v) for k, v in x.items()}
     if isinstance(x, list):

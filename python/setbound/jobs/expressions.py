@@ -90,8 +90,8 @@ def compile_expression(expr: str, key: str, names=("t",)) -> Callable[[dict], An
             except OverflowError:
                 v = math.inf
             if not math.isfinite(v):
-                raise ConfigError(f"{key}: the number {describe(node.value)} in {_short(expr)} is beyond the "
-                                  f"floating-point range (±1.8e308)")
+                raise ConfigError(f"{key}: a number in {_short(expr)} is beyond the floating-point range (±1.8e308): "
+                                  f"{describe(node.value)}")
             continue
         if isinstance(node, ast.Name):
             if node.id in allowed or node.id in _CONSTS:

@@ -319,6 +319,8 @@ def load(path, *, simulate: bool = True) -> Job:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{path}: not valid TOML ({exc})") from None
+    except ValueError as exc:  # e.g. an integer of more than 4300 digits (Python's conversion limit)
+        raise ConfigError(f"{path}: not valid TOML ({describe(str(exc), 100)})") from None
     except RecursionError:  # tomllib parses nested arrays recursively
         raise ConfigError(f"{path}: {_deep_line(text)}: arrays or tables nested too deeply (at most "
                           f"{MAX_DEPTH} levels)") from None

@@ -33,8 +33,10 @@ def describe(value: Any, limit: int = 40) -> str:
         return f"a list of {len(value)} item{'s' if len(value) != 1 else ''}"
     if isinstance(value, dict):
         return f"a table ({len(value)} key{'s' if len(value) != 1 else ''})"
-    if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10 ** 30:
-        return f"an integer of {len(str(abs(value)))} digits"
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 100:
+        if value.bit_length() < 14000:  # below Python's 4300-digit limit of int -> str
+            return f"an integer of {len(str(abs(value)))} digits"
+        return f"an integer of about {int(value.bit_length() * 0.30103) + 1} digits"  # str() would raise
     try:
         r = repr(value)
     except (RecursionError, ValueError):
@@ -42,9 +44,11 @@ def describe(value: Any, limit: int = 40) -> str:
     return r if len(r) <= limit else r[:limit - 3] + "..."
 
 
-def _wrap(fn, *args, **kwargs):
+def _wrap(fn, value, key, *args, **kwargs):
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 100:
+        raise ConfigError(f"{key}: {describe(value)} is far outside the allowed range")
     try:
-        return fn(*args, **kwargs)
+        return fn(value, key, *args, **kwargs)
     except InvalidArgumentError as exc:
         raise ConfigError(str(exc)) from None
 

@@ -316,7 +316,8 @@ def _thesis_system(tab):
         raise ConfigError(f"system: {exc}") from None
     dlo, dhi, vlo, vhi = _boxes(tab, plant.nd, plant.nv)
     try:
-        s = ThesisSystem(plant, dlo, dhi, vlo, vhi)
+        with np.errstate(over="ignore", invalid="ignore"):  # huge boxes: the system refuses non-finite matrices
+            s = ThesisSystem(plant, dlo, dhi, vlo, vhi)
     except SetboundError as exc:
         raise ConfigError(f"system: {exc}") from None
     return BuiltSystem(s, True) if s.offset else s
