@@ -77,7 +77,14 @@ def load_compare(files, estimators: str | None = None):
     estimators of every file (renamed ``<file stem>:<name>`` when names clash), filtered by
     ``estimators`` (comma-separated names or methods). Raises ConfigError when the files describe
     different systems or the filter selects nothing."""
-    loaded = [jobs.load(f) for f in files]
+    loaded = []
+    for f in files:
+        try:
+            loaded.append(jobs.load(f))
+        except jobs.ConfigError as exc:  # several files: say which one
+            if len(files) == 1 or str(exc).startswith(str(f)):
+                raise
+            raise jobs.ConfigError(f"{f}: {exc}") from None
     job = loaded[0]
     specs, seen = [], set()
     for f, j in zip(files, loaded):

@@ -438,3 +438,12 @@ def test_user_messages_drop_internal_function_names():
     assert user_message("sb_zonotopic_create: max_generators: expected") == "max_generators: expected"
     assert user_message("system.A: expected shape (n, 2)") == "system.A: expected shape (n, 2)"
     assert user_message("estimator[0].beta: expected") == "estimator[0].beta: expected"
+
+
+def test_compare_names_the_file_with_the_error(tmp_path, capsys):
+    good, bad = tmp_path / "good.toml", tmp_path / "bad.toml"
+    good.write_text(HARD)
+    bad.write_text(HARD.replace("horizon = 20", 'horizon = "x"'))
+    assert cli.main(["-q", "compare", str(good), str(bad), "--out", str(tmp_path / "o"), "--no-plots"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"setbound: error: {bad}: simulation.horizon: expected an integer") and "Traceback" not in err
