@@ -5,7 +5,9 @@ The built-in default job — EX-BC14, the 3-state example of [BenChabane2014] §
 wheel — is run under every estimator that applies to it: the ellipsoidal offline, online,
 scaled and improved estimators, the zonotopic segment-minimisation, volume-minimisation and
 P-radius estimators, and the Kalman filter as the (not guaranteed) contrast. An estimator
-whose design is infeasible is listed in the table with the reason; the demo does not stop.
+whose design has no solution on this system (infeasible, not detectable) is listed as "not
+applicable" with the reason, as are the thesis observers for other kinds of systems; another
+failure is a FAILED row of the table; the demo does not stop.
 The summary table is printed and the results, ``summary.json`` and the plots are written to
 ``out/demo/``. The exit code is 1 if the true state ever leaves a guaranteed set.
 
@@ -24,7 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
+from . import jobs
 from .interval import Box
+from .report import format_table, leaked, summary_rows, write_plots, write_results
 from .sets import Strip, Zonotope
 
 #: The package resource holding the demo job.
@@ -102,47 +106,64 @@ def demo_job(steps: int | None = None):
     """The demo job (a :class:`setbound.config.Job`), with ``steps`` overriding the horizon and the
     registered :data:`THESIS_OBSERVERS` appended. Returns ``(job, skipped)``: the thesis
     observers not registered yet."""
-    from . import config
-
     doc = tomllib.loads(resources.files("setbound").joinpath("data", DEMO_JOB).read_text(encoding="utf-8"))
     if steps is not None:
         if not (isinstance(steps, int) and steps >= 1):
-            raise config.ConfigError(f"--steps: must be a positive integer, got {steps!r}")
+            raise jobs.ConfigError(f"--steps: must be a positive integer, got {steps!r}")
         doc["simulation"]["horizon"] = steps
         doc.get("plots", {}).pop("steps", None)
     skipped = []
     for method in THESIS_OBSERVERS:
-        if method in config.ESTIMATORS:
+        if method in jobs.ESTIMATORS:
             doc["estimator"].append({"method": method})
         else:
             skipped.append(method)
-    return config.from_dict(doc, source=f"setbound/data/{DEMO_JOB}"), skipped
+    return jobs.from_dict(doc, source=f"setbound/data/{DEMO_JOB}"), skipped
+
+
+#: Library errors meaning "this method's design has no solution for this system".
+_INAPPLICABLE = ("InfeasibleError: ", "NotDetectableError: ")
+
+
+def _inapplicable(error: str | None) -> bool:
+    return bool(error) and error.startswith(_INAPPLICABLE)
+
+
+def _why_not(error: str) -> str:
+    kind, _, reason = error.partition(": ")
+    what = "its design has no solution for the demo system" if kind == "InfeasibleError" else \
+        "the demo system is not detectable the way it needs"
+    return f"{what}: {reason}"
 
 
 def run_demo(out: Path = Path("out/demo"), steps: int | None = None, plots: bool = True) -> int:
     """Runs the main job, prints the table, writes results and plots to ``out``; returns the
     exit code (1 if the true state left a guaranteed set)."""
-    from . import cli, config
-
     job, skipped = demo_job(steps)
     print(f"setbound demo — {len(job.estimators)} estimators on the 3-state example of papers.md §1.4")
-    results = config.run(job, keep_going=True)
-    rows = cli.summary_rows(job, results)
+    results = jobs.run(job, keep_going=True)
+    rows = summary_rows(job, results)
+    # a method whose design has no solution on this system (P-radius approach 1: an output that
+    # cannot detect the unstable modes alone) does not apply to it; that is not a failure of the demo
+    inapplicable = {r["name"]: _why_not(r["error"]) for r in rows if not r["ok"] and _inapplicable(r["error"])}
     print(f"{job.title} ({len(job.y)} steps)")
-    print(cli.format_table(rows))
+    print(format_table([r for r in rows if r["name"] not in inapplicable]))
     if skipped:
         print(f"thesis observers not registered yet (skipped): {', '.join(skipped)}")
+    for name, why in inapplicable.items():
+        print(f"not applicable: {name} — {why}")
     for method, why in THESIS_NOT_APPLICABLE.items():
         print(f"not applicable: {method} — {why}")
     out = Path(out)
-    cli.write_results(out, job, results, rows, extra={"skipped": skipped})
+    write_results(out, job, results, rows, extra={"skipped": skipped,
+                                                  "not_applicable": {**inapplicable, **THESIS_NOT_APPLICABLE}})
     if plots:
-        for p in cli.write_plots(out, job, results):
+        for p in write_plots(out, job, results):
             print(f"  {p}")
     print(f"results written to {out}")
-    leaked = [r["name"] for r in rows if r["contains_truth"] is False]
-    if leaked:
-        print(f"ERROR: the true state left the guaranteed set of: {', '.join(leaked)}", file=sys.stderr)
+    lost = leaked(rows)
+    if lost:
+        print(f"ERROR: the true state left the guaranteed set of: {', '.join(lost)}", file=sys.stderr)
         return 1
     return 0
 

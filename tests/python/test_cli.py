@@ -2,6 +2,7 @@
 files they write, the summary's contents, and the progress bar."""
 import io
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -164,19 +165,22 @@ def test_demo_short_horizon(tmp_path, capsys):
             assert (out / f"{e['name']}.npz").is_file()
             if e["guaranteed"]:
                 assert e["contains_truth"] is True
-        else:
-            assert e["error"] and "FAILED" in text
+        else:  # a design without solution on this system: "not applicable" with the reason
+            assert e["error"] and f"not applicable: {e['name']} — its design has no solution" in text
+    assert summary["not_applicable"]["pradius"].startswith("its design has no solution for the demo system: no beta")
+    assert "FAILED" not in text and "sb_" not in text and "design_pradius" not in text
     for name in PLOTS | {"widths_relative.png", "projections.png"}:
         _png_ok(out / name)
 
 
-def test_demo_job_is_package_data_and_thesis_hook(monkeypatch):
+def test_demo_job_is_package_data_and_thesis_hook(monkeypatch, request):
     job, skipped = demo.demo_job(steps=3)
     assert len(job.y) == 3 and job.system.nx == 3
     THESIS = list(demo.THESIS_OBSERVERS)
     # the hook: methods listed in THESIS_OBSERVERS are added when registered, else reported
-    monkeypatch.setattr(config, "ESTIMATORS", dict(config.ESTIMATORS))
-    monkeypatch.setattr(config, "METHODS", dict(config.METHODS))
+    # (the registries are shared dicts: their contents are restored after the test)
+    for d in (config.ESTIMATORS, config.METHODS):
+        request.addfinalizer(lambda d=d, saved=dict(d): (d.clear(), d.update(saved)))
     config.register_estimator("thesis_test", "test", dict(config.ESTIMATORS["segment_min"].options),
                               config.ESTIMATORS["segment_min"].build,
                               description="a stand-in")
@@ -246,3 +250,200 @@ def test_run_draws_progress_on_a_terminal_only(tmp_path, monkeypatch, capsys):
     # the chunked (progress) run gives the same numbers as the plain one
     a, b = np.load(tmp_path / "a" / "online.npz"), np.load(tmp_path / "b" / "online.npz")
     np.testing.assert_array_equal(a["lower"], b["lower"])
+
+
+# ---------------------------------------------------------------- hostile job files (issue 26 points 4, 5)
+HARD = """
+[system]
+A = [[0.5, 0.1], [0, 0.7]]
+B = [[0], [1]]
+C = [[1, 0]]
+E = [[0.1, 0], [0, 0.1]]
+F = [[0, 0.1]]
+[initial]
+lower = [-1, -1]
+upper = [1, 1]
+[simulation]
+horizon = 20
+seed = 1
+inputs = ["sin(t)"]
+[[estimator]]
+method = "segment_min"
+"""
+NONLINEAR = (ROOT / "examples" / "thesis_ex4_6_3.toml").read_text()
+DATA = HARD.replace('[simulation]\nhorizon = 20\nseed = 1\ninputs = ["sin(t)"]\n', "[data]\nfile = 'd.csv'\n")
+DATA = DATA.replace("B = [[0], [1]]\n", "")
+CSV_OK = "y0,x0,x1\n" + "0.1,0,0\n" * 4
+
+
+def _cli(tmp_path, text, csv=None, command="check"):
+    """``setbound <command> job.toml`` in this process: (exit code, stdout, stderr). An exception
+    escaping main() would be the traceback these tests exclude."""
+    import contextlib
+
+    p = tmp_path / "job.toml"
+    p.write_text(text)
+    if csv is not None:
+        (tmp_path / "d.csv").write_text(csv)
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = cli.main(["--quiet", command, str(p)] + (["--out", str(tmp_path / "out"), "--no-plots"]
+                                                        if command == "run" else []))
+    return code, out.getvalue(), err.getvalue()
+
+
+def _inputs(expr):
+    return HARD.replace('inputs = ["sin(t)"]', f'inputs = ["{expr}"]')
+
+
+HOSTILE = [
+    ("1/0 input", _inputs("1/0"), None, r"simulation\.inputs\[0\]: division by zero"),
+    ("0**-1", _inputs("0**-1"), None, r"simulation\.inputs\[0\]: division by zero"),
+    ("10**10**10", _inputs("10**10**10"), None, r"simulation\.inputs\[0\]: overflow"),
+    ("2**1024", _inputs("2**1024"), None, r"simulation\.inputs\[0\]: overflow"),
+    ("400 digits", _inputs("9" * 400), None, r"simulation\.inputs\[0\]: a number in .* is beyond the floating-point range .*: an integer of 400 digits"),
+    ("(-1)**0.5", _inputs("(-1)**0.5"), None, r"simulation\.inputs\[0\]: an invalid operation"),
+    ("100000 minus", _inputs("-" * 100_000 + "1"), None, r"simulation\.inputs\[0\]: the expression is 100001 characters"),
+    ("100000 terms", _inputs("+".join(["1"] * 100_000)), None, r"simulation\.inputs\[0\]: the expression is \d+ characters"),
+    ("1/(t-2) at t = 2", _inputs("1/(t-2)"), None, r"simulation\.inputs\[0\]: division by zero at step k = 2 \(t = 2\)"),
+    ("nested 3000", HARD.replace("A = [[0.5, 0.1], [0, 0.7]]", "A = " + "[" * 3000 + "1" + "]" * 3000), None,
+     r"job\.toml: line 3 \(A\): arrays or tables nested too deeply"),
+    ("nested 5000", HARD.replace("A = [[0.5, 0.1], [0, 0.7]]", "A = " + "[" * 5000 + "1" + "]" * 5000), None,
+     r"job\.toml: line 3 \(A\): arrays or tables nested too deeply"),
+    ("nested 30", HARD.replace("A = [[0.5, 0.1], [0, 0.7]]", "A = " + "[" * 30 + "1" + "]" * 30), None,
+     r"system\.A(\[0\])+: nested too deeply"),
+    ("time.start list", HARD.replace("seed = 1", "seed = 1\ntime = {start = [1]}"), None,
+     r"simulation\.time\.start: expected a number"),
+    ("time.start string", HARD.replace("seed = 1", 'seed = 1\ntime = {start = "abc"}'), None,
+     r"simulation\.time\.start: expected a number"),
+    ("seed -1", HARD.replace("seed = 1", "seed = -1"), None, r"simulation\.seed: expected an integer in \[0, "),
+    ("max_generators 2**63-1", HARD.replace('method = "segment_min"', 'method = "segment_min"\nmax_generators = '
+                                            + str(2**63 - 1)), None,
+     r"estimator\[0\]\.max_generators: expected an integer in \[1, 1000000\]"),
+    ("h = 0.1/(k-2)", NONLINEAR.replace('h = ["p*sin(0.5*k*x2)"', 'h = ["0.1/(k-2)"'), None,
+     r"system\.h\[0\]: division by zero at step k = 2"),
+    ("horizon 1e8", HARD.replace("horizon = 20", "horizon = 100000000"), None,
+     r"simulation\.horizon: 100000000 steps would need about [\d.]+ GiB of memory .* available"),
+    ("horizon string", HARD.replace("horizon = 20", 'horizon = "200"'), None,
+     r"simulation\.horizon: expected an integer .* got '200'"),
+    ("string in matrix", HARD.replace("A = [[0.5, 0.1], [0, 0.7]]", 'A = [[0.5, "0.1"], [0, 0.7]]'), None,
+     r"system\.A\[0\]\[1\]: expected a number, got the string '0\.1'"),
+    ("boolean in matrix", HARD.replace("A = [[0.5, 0.1], [0, 0.7]]", "A = [[true, 0.1], [0, 0.7]]"), None,
+     r"system\.A\[0\]\[0\]: expected a number, got True"),
+    ("metod", HARD.replace('method = "segment_min"', 'metod = "segment_min"'), None,
+     r"estimator\[0\]\.metod: unknown key \(did you mean 'method'\?\)"),
+    ("horizont", HARD.replace("horizon = 20", "horizont = 20"), None,
+     r"simulation\.horizont: unknown key \(did you mean 'horizon'\?\)"),
+    ("segment_mn", HARD.replace('method = "segment_min"', 'method = "segment_mn"'), None,
+     r"estimator\[0\]\.method: unknown method 'segment_mn' \(did you mean 'segment_min'\?\)"),
+    ("x0 outside", HARD.replace("seed = 1", "seed = 1\nx0 = [5, 5]"), None,
+     r"simulation\.x0: component 0 = 5 is outside the initial box \[-1, 1\]"),
+    ("overflowing simulation", HARD.replace("A = [[0.5, 0.1], [0, 0.7]]", "A = [[1e100, 0], [0, 0.7]]"), None,
+     r"simulation: the simulated (state|output) is not finite from step k = \d+"),
+    ("kalman cov0 shape", HARD.replace('method = "segment_min"', 'method = "kalman"\ncov0 = [[1, 0, 0]]'), None,
+     r"estimator\[0\]\.cov0: expected shape \(2, 2\), got \(1, 3\)"),
+    ("xhat0 shape", HARD.replace('method = "segment_min"', 'method = "interval_luenberger"\nxhat0 = [0, 0, 0]'), None,
+     r"estimator\[0\]\.xhat0: expected shape \(2,\), got \(3,\)"),
+    ("400-digit horizon", HARD.replace("horizon = 20", "horizon = " + "9" * 400), None,
+     r"simulation\.horizon: an integer of 400 digits is far outside the allowed range"),
+    ("5000-digit integer", HARD.replace("horizon = 20", "horizon = " + "9" * 5000), None,
+     r"job\.toml: not valid TOML \('Exceeds the limit \(4300 digits\)"),
+    ("semicolon csv", DATA, "y0;x0;x1\n3.39;0.00;0\n", r"data\.file: d\.csv, row 1: .* separated by ';'"),
+    ("ragged csv", DATA, "y0,x0,x1\n1,0,0\n1,0,0\n1,0,0\n1,0\n", r"data\.file: d\.csv, row 5: 2 columns, the header has 3"),
+    ("text in csv", DATA, "y0,x0,x1\n1,0,0\nabc,0,0\n", r"data\.file: d\.csv, row 3, column y0: 'abc' is not a number"),
+    ("too many y", DATA, "y0,y1\n1,2\n", r"data\.y: d\.csv has 2 y columns, the system has 1 outputs"),
+    ("unknown column", DATA, "y0,speed\n1,2\n", r"data\.file: d\.csv, row 1: unknown column 'speed'"),
+    ("gap in columns", DATA, "y0,x0,x2\n1,0,0\n", r"data\.file: d\.csv, row 1: the column x1 is missing"),
+    ("x outside initial", DATA, "y0,x0,x1\n1,5,0\n", r"data\.x: component 0 = 5 is outside the initial box"),
+    ("inputs for no-input system", DATA, "y0,u0\n1,2\n", r"data\.u: d\.csv has 1 u column, the system has 0 inputs"),
+    ("unknown [data] key", DATA.replace("file = 'd.csv'", "file = 'd.csv'\ny = [1]"), CSV_OK,
+     r"data\.y: unknown key"),
+]
+
+
+@pytest.mark.parametrize("name, text, csv, message", HOSTILE, ids=[h[0] for h in HOSTILE])
+def test_hostile_job_files_exit_2_naming_the_key(name, text, csv, message, tmp_path):
+    code, out, err = _cli(tmp_path, text, csv)
+    assert code == 2, (out, err)
+    assert "Traceback" not in err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("setbound: error: "), err
+    assert re.search(message, lines[0]), lines[0]
+
+
+def test_the_data_base_is_valid(tmp_path):
+    code, out, err = _cli(tmp_path, DATA, CSV_OK)
+    assert code == 0, err
+
+
+@pytest.mark.parametrize("command", ["check", "run"])
+def test_run_refuses_the_same_files_as_check(command, tmp_path):
+    code, _, err = _cli(tmp_path, HARD.replace("seed = 1", "seed = 1\nx0 = [5, 5]"), command=command)
+    assert code == 2 and "simulation.x0: component 0 = 5 is outside" in err
+
+
+def test_check_does_not_simulate_the_horizon(tmp_path, monkeypatch):
+    """`check` validates a 10⁷-step job without simulating it (it took 118 s): a trial of the
+    first 64 steps; `run` simulates the whole horizon."""
+    import setbound.simulation as sim
+
+    seen = []
+    real = sim.simulate
+
+    def spy(system, x0, N, **kw):
+        seen.append(N)
+        return real(system, x0, N, **kw)
+
+    monkeypatch.setattr(sim, "simulate", spy)
+    code, out, err = _cli(tmp_path, HARD.replace("horizon = 20", "horizon = 10000000"))
+    assert code == 0, err
+    assert "10000000 steps" in out and seen == [64]
+    code, out, err = _cli(tmp_path, HARD, command="run")
+    assert code == 0, err
+    assert seen == [64, 20]
+
+
+def test_check_trial_meets_a_failing_state_expression(tmp_path):
+    """A nonlinear h failing at k = 2 is refused by `check`, naming the key and the step."""
+    code, _, err = _cli(tmp_path, NONLINEAR.replace('h = ["p*sin(0.5*k*x2)"', 'h = ["0.1/(k-2)"'))
+    assert code == 2 and "system.h[0]: division by zero at step k = 2" in err
+
+
+def test_cli_entry_point_never_prints_a_traceback(tmp_path):
+    """The installed entry point (python -m setbound) on hostile files: exit 2, one line."""
+    import subprocess
+    import sys
+
+    for text in (_inputs("1/0"), HARD.replace("A = [[0.5, 0.1], [0, 0.7]]", "A = " + "[" * 5000 + "1" + "]" * 5000)):
+        p = tmp_path / "job.toml"
+        p.write_text(text)
+        r = subprocess.run([sys.executable, "-m", "setbound", "check", str(p)], capture_output=True, text=True,
+                           timeout=120)
+        assert r.returncode == 2, r.stderr
+        assert "Traceback" not in r.stderr and r.stderr.startswith("setbound: error: ")
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["--version"])
+    assert exc.value.code == 0
+    out = capsys.readouterr().out
+    assert re.match(r"setbound \S+ \(C library \S+", out), out
+
+
+def test_user_messages_drop_internal_function_names():
+    from setbound.report import user_message
+
+    assert user_message("InfeasibleError: design_pradius: no beta") == "InfeasibleError: no beta"
+    assert user_message("sb_zonotopic_create: max_generators: expected") == "max_generators: expected"
+    assert user_message("system.A: expected shape (n, 2)") == "system.A: expected shape (n, 2)"
+    assert user_message("estimator[0].beta: expected") == "estimator[0].beta: expected"
+
+
+def test_compare_names_the_file_with_the_error(tmp_path, capsys):
+    good, bad = tmp_path / "good.toml", tmp_path / "bad.toml"
+    good.write_text(HARD)
+    bad.write_text(HARD.replace("horizon = 20", 'horizon = "x"'))
+    assert cli.main(["-q", "compare", str(good), str(bad), "--out", str(tmp_path / "o"), "--no-plots"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"setbound: error: {bad}: simulation.horizon: expected an integer") and "Traceback" not in err

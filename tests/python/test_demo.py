@@ -38,6 +38,18 @@ def test_main_runs_the_main_job(tmp_path, capsys):
         assert spec.name in out
     assert "(4 steps)" in out
     assert (tmp_path / "summary.json").is_file()
+
+
+def test_demo_reports_inapplicable_methods_in_user_terms(tmp_path, capsys):
+    """P-radius approach 1 has no solution on the demo system: listed as "not applicable" with the
+    reason, not as a failure; no message carries the name of a C or C++ function."""
+    assert demo.main(["--out", str(tmp_path), "--steps", "4", "--no-plots", "-q"]) == 0
+    out = capsys.readouterr().out
+    line = next(ln for ln in out.splitlines() if ln.startswith("not applicable: pradius "))
+    assert "its design has no solution for the demo system" in line and "approach 2" in line
+    for method in demo.THESIS_NOT_APPLICABLE:
+        assert f"not applicable: {method} — " in out
+    assert "FAILED" not in out and "sb_" not in out and "design_pradius" not in out
     assert not list(tmp_path.glob("*.png"))
 
 

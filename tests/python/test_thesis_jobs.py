@@ -55,9 +55,9 @@ def _with(doc, path, value=None, delete=False):
     (("simulation", "disturbance"), {"d": ["__import__('os')"]}, False, "simulation.disturbance.d[0]: unsupported"),
     (("simulation", "disturbance"), {"d": ["x1"]}, False, "simulation.disturbance.d[0]: unknown name 'x1'"),
     (("simulation", "disturbance"), "gaussian", False, "simulation.disturbance: expected"),
-    (("simulation", "x0"), [5.0, 0.0], False, "simulation.x0: outside the initial box"),
-    (("estimator",), [{"method": "interval_luenberger", "variant": "loose"}], False, "estimator[0].variant: must be"),
-    (("estimator",), [{"method": "interval_invariant", "mu": 0.5}], False, "estimator[0].mu: must be"),
+    (("simulation", "x0"), [5.0, 0.0], False, "simulation.x0: component 0 = 5 is outside the initial box"),
+    (("estimator",), [{"method": "interval_luenberger", "variant": "loose"}], False, "estimator[0].variant: expected one of"),
+    (("estimator",), [{"method": "interval_invariant", "mu": 0.5}], False, "estimator[0].mu: expected a number"),
     (("estimator",), [{"method": "lpv_sm"}], False, "estimator[0].method: 'lpv_sm' does not apply to a thesis"),
 ])
 def test_thesis_kind_errors_name_the_key(path, value, delete, key):
@@ -72,7 +72,7 @@ def test_thesis_kind_errors_name_the_key(path, value, delete, key):
     (("system", "scheduling"), ["3 + x1", "10"], "system.scheduling: rho = "),
     (("system", "B"), [[[0], [1], [0]]], "system.B: expected 4 vertex matrices"),
     (("system", "theta"), [[-1, 9], [1, 11]], "system.theta: expected shape"),
-    (("system", "clip"), "yes", "system.clip: must be true or false"),
+    (("system", "clip"), "yes", "system.clip: expected true or false"),
     (("system", "A"), [LORENZ["system"]["A"][0], [[1, 0], [0, 1]]] + LORENZ["system"]["A"][2:],
      "system.A[1]: expected shape"),
 ])
@@ -103,7 +103,7 @@ def test_lpv_scheduling_leaving_the_polytope_is_clipped_only_on_request():
     (("system", "h"), ["p"], "system.h: expected a list of 2 expressions"),
     (("system", "p"), {"lower": [1.0], "upper": [0.0]}, "system.p.lower: entry 0 is above"),
     (("simulation", "parameter"), 2.0, "simulation.parameter: 2.0 is outside"),
-    (("simulation", "parameter"), "big", "simulation.parameter: must be a number"),
+    (("simulation", "parameter"), "big", "simulation.parameter: expected a number"),
 ])
 def test_nonlinear_kind_errors_name_the_key(path, value, key):
     with pytest.raises(ConfigError) as exc:
