@@ -7,14 +7,17 @@ import numpy as np
 
 from ..errors import InvalidArgumentError, SetboundError
 from ..system import DescriptorSystem, LinearSystem
+from ..zonotopic import MAX_GENERATORS as _API_MAX_GENERATORS
 from .registry import (BuiltSystem, boolean, number, one_of, optional_matrix, positive_int, register_estimator,
                        register_system)
 from .schema import ConfigError, check_keys, matrix, require
 
 __all__ = ["MAX_GENERATORS"]
 
-#: Largest ``max_generators`` of a zonotopic estimator in a job file.
-MAX_GENERATORS = 1_000_000
+#: Largest ``max_generators`` of a zonotopic estimator in a job file: the API's own bound
+#: (``setbound.zonotopic.MAX_GENERATORS``, which the C library enforces too), so a value the
+#: estimator would refuse is a job-file error (exit 2) at load time, not a failed run.
+MAX_GENERATORS = _API_MAX_GENERATORS
 
 
 # ---------------------------------------------------------------- systems

@@ -59,6 +59,8 @@ import numpy as np
 
 from ..errors import InvalidArgumentError, SetboundError
 from ..interval import Box
+from ..interval_observers import MAX_WINDOW as _API_MAX_WINDOW
+from ..invariant import MAX_ITERATIONS as _API_MAX_ITERATIONS
 from ..plant import Plant
 from ..system import LinearSystem
 from .expressions import compile_expression, evaluate
@@ -785,9 +787,10 @@ _GAIN = {"L": optional_matrix}
 _SM = {"xhat0": None, "W": None, "passes": 2, "lambda_route": None}
 _SM_CHECKS = {**_XHAT, "W": optional_matrix, "passes": one_of(1, 2),
               "lambda_route": _optional(one_of("logdet", "direct", "input_or_logdet", "largest"))}
-# the work of these designs grows with the value: bounded like the Python API's options
-_WINDOW_MAX = 10**6
-_ITERATIONS_MAX = 10**6
+# the work of these designs grows with the value: the Python API's own bounds, so that a value
+# the observer would refuse is a job-file error at load time
+_WINDOW_MAX = _API_MAX_WINDOW
+_ITERATIONS_MAX = _API_MAX_ITERATIONS
 
 register_system("thesis", {"A", "B", "C", "F", "Z", "d", "v"}, _thesis_system, ThesisSystem,
                 description="x+ = A x + B u + F d, y = C x + Z v with boxes d, v (thesis.md §2)")
