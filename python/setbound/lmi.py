@@ -22,6 +22,7 @@ from typing import Sequence
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
+from ._state import ThreadSafe
 from .errors import DimensionError, InvalidArgumentError
 
 STATUS_NAMES = {
@@ -68,8 +69,9 @@ def _block_arrays(F0, Fs, m: int, name: str):
     return F0a, Fsa, n
 
 
-class Problem:
-    """A reusable LMI problem: set up once, then update values and re-solve."""
+class Problem(ThreadSafe):
+    """A reusable LMI problem: set up once, then update values and re-solve. One problem may be
+    shared by threads: each call runs under the problem's own lock (:class:`setbound._state.ThreadSafe`)."""
 
     def __init__(self, num_vars: int):
         if not isinstance(num_vars, (int, np.integer)) or num_vars <= 0:
