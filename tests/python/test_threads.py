@@ -562,30 +562,32 @@ def test_the_lock_is_per_object_not_global():
 def test_gil_is_released_inside_a_locked_c_call():
     """The lock must not keep Python code on other threads from running while a C call is in
     progress: a thread solving a large LMI problem (one C call of a fraction of a second) leaves
-    the main thread free to run (no pause of the main thread close to the solve's length)."""
-    n, m = 40, 60
+    the main thread free to run (no pause of the main thread close to the solve's length). The
+    problem grows until its solve lasts long enough to tell, whatever the machine's speed."""
     rng = np.random.default_rng(1)
-    Fs = rng.standard_normal((m, n, n))
-    Fs = 0.5 * (Fs + Fs.transpose(0, 2, 1))
-    p = lmi.Problem(m)
-    p.add_block(10.0 * np.eye(n), Fs)
-    p.set_objective(rng.standard_normal(m))
-    span = {}
+    for n, m in ((40, 60), (60, 100), (80, 150), (100, 200)):
+        Fs = rng.standard_normal((m, n, n))
+        p = lmi.Problem(m)
+        p.add_block(10.0 * np.eye(n), 0.5 * (Fs + Fs.transpose(0, 2, 1)))
+        p.set_objective(rng.standard_normal(m))
+        span = {}
 
-    def solve():
-        t0 = time.perf_counter()
-        p.solve(duals=False)
-        span["solve"] = (t0, time.perf_counter())
+        def solve():
+            t0 = time.perf_counter()
+            p.solve(duals=False)
+            span["solve"] = (t0, time.perf_counter())
 
-    th = threading.Thread(target=solve)
-    ticks = []
-    th.start()
-    while th.is_alive():
-        ticks.append(time.perf_counter())
-        time.sleep(0.001)
-    th.join()
-    t0, t1 = span["solve"]
-    assert t1 - t0 > 0.05, f"the solve took {t1 - t0:.3f} s: too short to tell"
+        th = threading.Thread(target=solve)
+        ticks = []
+        th.start()
+        while th.is_alive():
+            ticks.append(time.perf_counter())
+            time.sleep(0.001)
+        th.join()
+        t0, t1 = span["solve"]
+        if t1 - t0 > 0.1:
+            break
+    assert t1 - t0 > 0.1, f"the largest solve took {t1 - t0:.3f} s: too short to tell"
     inside = [t for t in ticks if t0 <= t <= t1]
     gaps = np.diff([t0] + inside + [t1])
     assert gaps.max() < 0.5 * (t1 - t0), f"the main thread stalled {gaps.max():.3f} s of a {t1 - t0:.3f} s solve"
