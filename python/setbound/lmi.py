@@ -22,6 +22,7 @@ from typing import Sequence
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
+from ._state import ThreadSafe
 from ._validate import _is_int, as_bool, as_float, as_int
 from .errors import DimensionError, InvalidArgumentError
 
@@ -83,8 +84,9 @@ MIN_GEVP_TOL = 1e-12
 MAX_THREADS = 256
 
 
-class Problem:
-    """A reusable LMI problem: set up once, then update values and re-solve."""
+class Problem(ThreadSafe):
+    """A reusable LMI problem: set up once, then update values and re-solve. One problem may be
+    shared by threads: each call runs under the problem's own lock (:class:`setbound._state.ThreadSafe`)."""
 
     def __init__(self, num_vars: int):
         """``num_vars``: the number of scalar decision variables, an integer in
