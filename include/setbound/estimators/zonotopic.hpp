@@ -437,7 +437,12 @@ class ZonotopicEstimator {
     absCt_ = Ct_.cwiseAbs();
     phi_.resize(ny);
     D_used_.assign(static_cast<std::size_t>(ny), false);
+    c_zero_.assign(static_cast<std::size_t>(ny), false);
     for (Eigen::Index i = 0; i < ny; ++i) {
+      // A zero row of C (a sensor that measures only noise, or only D u) says nothing about x:
+      // its strip is the whole space and is skipped by every gain rule (the Strip of a custom
+      // rule could not even be formed), so the result equals the one without that output.
+      c_zero_[static_cast<std::size_t>(i)] = sys_.C().row(i).cwiseAbs().maxCoeff() == 0.0;
       // φ_i = Σ_j |F_ij|, rounded up when more than one term is summed.
       const Eigen::Index terms = (sys_.F().row(i).array() != 0).count();
       phi_(i) = sys_.output_noise_bound(i) *
@@ -505,6 +510,7 @@ class ZonotopicEstimator {
       Eigen::Index mN = mN_;
       if (want_S_) Sc_ = S_;
       for (Eigen::Index i : opt_.strip_order) {
+        if (c_zero_[static_cast<std::size_t>(i)]) continue;
         const auto c = Ct_.col(i);
         const auto ac = absCt_.col(i);
         double phi = 0.0;
@@ -664,6 +670,7 @@ class ZonotopicEstimator {
     using rounding_bounds::gamma;
     const double g = gamma(n_ + 2), g1 = 1.0 + g;
     for (Eigen::Index i : opt_.strip_order) {
+      if (c_zero_[static_cast<std::size_t>(i)]) continue;
       const auto c = Ct_.col(i);
       const auto ac = absCt_.col(i);
       double phi = 0.0;
@@ -818,7 +825,7 @@ class ZonotopicEstimator {
   bool lazy_ = false, want_S_ = false, interval_ = false;
   Mat absMid_, absA_, Enz_, EEt_, Ct_, absCt_, absB_, absD_;
   Vec phi_;
-  std::vector<bool> D_used_;
+  std::vector<bool> D_used_, c_zero_;
 
   // The prior (the set for x_{k+1}): p_ ⊕ [T_ G, N_] B ⊕ T_ box(rA_) ⊕ box(rP_), with
   // G = H_[cur_].leftCols(mG_); S_ ≈ its Gram matrix (segment minimisation), wG_ = rs|G|
