@@ -40,11 +40,11 @@ LinearSystem without_it(const LinearSystem& s) {
   return LinearSystem(s.A(), s.C().topRows(1), s.E(), s.F().topRows(1), s.B(), s.D().topRows(1), s.A_rad());
 }
 
-struct Run {
+struct Trace {
   std::vector<VectorXd> x, y, u;
 };
-Run simulate(const LinearSystem& s, int N) {
-  Run r;
+Trace simulate(const LinearSystem& s, int N) {
+  Trace r;
   VectorXd x = VectorXd::Zero(2);
   for (int k = 0; k < N; ++k) {
     VectorXd w(3), u(1);
@@ -62,7 +62,7 @@ void expect_same_as_without_the_output(const ZonotopeGain& full_gain, const Zono
                                        const std::string& what) {
   SCOPED_TRACE(what);
   const LinearSystem full = with_noise_output(a_rad), reduced = without_it(full);
-  const Run r = simulate(full, 30);
+  const Trace r = simulate(full, 30);
   ZonotopicOptions opt;
   opt.max_generators = 5;
   const Zonotope x0(VectorXd::Zero(2), 2.0 * MatrixXd::Identity(2, 2));
@@ -99,7 +99,7 @@ TEST(ZonotopicZeroRowOfC, EveryGainRuleSkipsTheStrip) {
     return segment_min_gain(Z, m);
   };
   const LinearSystem full = with_noise_output(0.0);
-  const Run r = simulate(full, 5);
+  const Trace r = simulate(full, 5);
   ZonotopicEstimator e(full, Zonotope(VectorXd::Zero(2), MatrixXd::Identity(2, 2)), counting);
   for (int k = 0; k < 5; ++k) e.step(r.y[size_t(k)], r.u[size_t(k)]);
   EXPECT_EQ(calls, 5);
