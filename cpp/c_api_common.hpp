@@ -114,10 +114,18 @@ inline void state_copy_out(const std::vector<double>& s, double* state, int n) {
                               std::to_string(s.size()) + " (see the *_state_size function)");
   std::copy(s.begin(), s.end(), state);
 }
+/// The copy is the restore's first allocation: running out of memory here is reported like a
+/// refused state (the restore functions map std::bad_alloc the same way, core/state.hpp), with
+/// the object untouched, rather than as the firewall's generic internal "out of memory".
 inline std::vector<double> state_arg(const double* state, int n) {
   if (n < 0) throw InvalidArgumentError("n: must be >= 0, got " + std::to_string(n));
   if (n > 0) require_pointer(state, "state");
-  return std::vector<double>(state, state + n);
+  try {
+    return std::vector<double>(state, state + n);
+  } catch (const std::bad_alloc&) {
+    throw InvalidArgumentError("state: out of memory while copying its " + std::to_string(n) +
+                               " values; nothing was changed");
+  }
 }
 
 }  // namespace setbound::capi

@@ -14,12 +14,20 @@
 // size that does not match the estimator is reported by name. restore_state checks the tag,
 // the version, the fingerprint, the sizes and that every entry is finite, and throws an
 // InvalidArgumentError whose message starts with "state" before anything is changed.
+//
+// Restores are transactions (issue 26): every field is validated against what this estimator
+// can hold (no count read from a blob sizes an allocation beyond the data the blob carries or
+// the design implies), the new state is built in temporaries, and only then committed with
+// moves, swaps and copies into buffers of the right size, none of which can throw. Memory
+// exhaustion while building (std::bad_alloc) is refused like a corrupted state
+// (guard_state_memory): the estimator is unchanged either way.
 #pragma once
 
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -236,5 +244,19 @@ class StateReader {
   StateKind kind_;
   std::size_t pos_ = 0;
 };
+
+/// Runs the validate-and-build half of a restore_state (which changes nothing) and returns its
+/// result. std::bad_alloc there is reported as a refused state (InvalidArgumentError "state:
+/// ..."), not as the C ABI's internal "out of memory": the estimator is unchanged, and the
+/// caller can go on with it (the message says so).
+template <class Build>
+auto guard_state_memory(StateKind kind, Build&& build) -> decltype(build()) {
+  try {
+    return build();
+  } catch (const std::bad_alloc&) {
+    throw InvalidArgumentError(std::string("state: out of memory while reading the saved ") + state_kind_name(kind) +
+                               "; nothing was changed");
+  }
+}
 
 }  // namespace setbound

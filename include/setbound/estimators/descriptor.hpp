@@ -28,6 +28,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <complex>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -257,31 +258,39 @@ class DescriptorEstimator {
   /// Restores a state from save_state() (same design and descriptor system); throws
   /// InvalidArgumentError ("state: ...") otherwise. Unchanged on error.
   void restore_state(const std::vector<double>& state) {
-    const Eigen::Index n = sys_.nx();
-    StateReader r(state, StateKind::DescriptorEstimator, fingerprint());
-    const long long k = r.count("steps");
-    const bool started = r.flag("started");
-    Eigen::MatrixXd P = r.mat(n, n, "shape");
-    Eigen::VectorXd c = r.vec(n, "center");
-    const double rho = r.scalar("level");
-    Eigen::VectorXd yp = r.vec(-1, "y_prev"), up = r.vec(-1, "u_prev");
-    r.finish();
-    if (started ? yp.size() != sys_.ny() : yp.size() != 0) r.fail("y_prev has the wrong length");
-    if (started ? !(up.size() == sys_.nu() || (up.size() == 0 && sys_.nu() == 0)) : up.size() != 0)
-      r.fail("u_prev has the wrong length");
-    if (!started && k != 0) r.fail("steps must be 0 before the first measurement");
-    Ellipsoid cur = [&] {
+    struct Parsed {
+      long long k;
+      bool started;
+      std::unique_ptr<Ellipsoid> cur;
+      Eigen::VectorXd yp, up;
+    };
+    Parsed q = guard_state_memory(StateKind::DescriptorEstimator, [&] {
+      const Eigen::Index n = sys_.nx();
+      StateReader r(state, StateKind::DescriptorEstimator, fingerprint());
+      Parsed t;
+      t.k = r.count("steps");
+      t.started = r.flag("started");
+      Eigen::MatrixXd P = r.mat(n, n, "shape");
+      Eigen::VectorXd c = r.vec(n, "center");
+      const double rho = r.scalar("level");
+      // The lengths are known (n_y, n_u or 0): a wrong one is refused before anything is read.
+      t.yp = r.vec(t.started ? sys_.ny() : 0, "y_prev");
+      t.up = r.vec(t.started ? sys_.nu() : 0, "u_prev");
+      r.finish();
+      if (!t.started && t.k != 0) r.fail("steps must be 0 before the first measurement");
       try {
-        return Ellipsoid(std::move(P), std::move(c), rho);
+        t.cur = std::make_unique<Ellipsoid>(std::move(P), std::move(c), rho);
       } catch (const Error& e) {
         r.fail(std::string("the saved set is invalid (") + e.what() + ")");
       }
-    }();
-    cur_ = std::move(cur);
-    k_ = static_cast<Eigen::Index>(k);
-    started_ = started;
-    y_prev_ = std::move(yp);
-    u_prev_ = std::move(up);
+      return t;
+    });
+    // Commit (moves and swaps: nothing throws).
+    cur_ = std::move(*q.cur);
+    k_ = static_cast<Eigen::Index>(q.k);
+    started_ = q.started;
+    y_prev_.swap(q.yp);
+    u_prev_.swap(q.up);
   }
   StateFingerprint fingerprint() const {
     StateFingerprint f;

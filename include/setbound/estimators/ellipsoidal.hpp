@@ -748,10 +748,12 @@ class EllipsoidalPredictor {
   }
   /// Restores a state from save_state(); throws InvalidArgumentError ("state: ...") when it is
   /// corrupted, of another estimator kind or of another design. Unchanged on error.
-  void restore_state(const std::vector<double>& state) { apply_state(parse_state(state)); }
+  void restore_state(const std::vector<double>& state) {
+    apply_state(guard_state_memory(StateKind::EllipsoidalPredictor, [&] { return parse_state(state); }));
+  }
 
   /// restore_state in two halves (for an estimator that holds a predictor): parse_state
-  /// validates everything and changes nothing, apply_state only assigns.
+  /// validates everything and changes nothing, apply_state only moves (cannot throw).
   struct ParsedState {
     Eigen::Index k = 0, fallbacks = 0;
     double beta = 0;

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <utility>
 
 #include "setbound/core/error.hpp"
@@ -96,30 +97,40 @@ class ImprovedEstimator {
   /// Restores a state from save_state() (same design, option, feedback and predictor); throws
   /// InvalidArgumentError ("state: ...") otherwise. Unchanged on error.
   void restore_state(const std::vector<double>& state) {
-    const Eigen::Index n = pred_.design().system.nx();
-    StateReader r(state, StateKind::ImprovedEstimator, fingerprint());
-    const std::vector<double> pstate = r.blob("predictor");
-    EllipsoidalPredictor::ParsedState ps = pred_.parse_state(pstate);  // validates, changes nothing
-    const long long k = r.count("steps");
-    const bool failed = r.flag("last_correction_failed");
-    Eigen::MatrixXd P = r.mat(n, n, "shape");
-    Eigen::VectorXd c = r.vec(n, "center");
-    const double rho = r.scalar("level");
-    Eigen::VectorXd lo = r.vec(n, "lower"), hi = r.vec(n, "upper");
-    r.finish();
-    Ellipsoid cur = [&] {
+    struct Parsed {
+      EllipsoidalPredictor::ParsedState ps;
+      long long k;
+      bool failed;
+      std::unique_ptr<Ellipsoid> cur;
+      Eigen::VectorXd lo, hi;
+    };
+    Parsed q = guard_state_memory(StateKind::ImprovedEstimator, [&] {
+      const Eigen::Index n = pred_.design().system.nx();
+      StateReader r(state, StateKind::ImprovedEstimator, fingerprint());
+      const std::vector<double> pstate = r.blob("predictor");
+      Parsed t{pred_.parse_state(pstate), 0, false, nullptr, {}, {}};  // validates, changes nothing
+      t.k = r.count("steps");
+      t.failed = r.flag("last_correction_failed");
+      Eigen::MatrixXd P = r.mat(n, n, "shape");
+      Eigen::VectorXd c = r.vec(n, "center");
+      const double rho = r.scalar("level");
+      t.lo = r.vec(n, "lower");
+      t.hi = r.vec(n, "upper");
+      r.finish();
       try {
-        return Ellipsoid(std::move(P), std::move(c), rho);
+        t.cur = std::make_unique<Ellipsoid>(std::move(P), std::move(c), rho);
       } catch (const Error& e) {
         r.fail(std::string("the saved corrected set is invalid (") + e.what() + ")");
       }
-    }();
-    pred_.apply_state(std::move(ps));
-    current_ = std::move(cur);
-    lower_ = std::move(lo);
-    upper_ = std::move(hi);
-    k_ = static_cast<Eigen::Index>(k);
-    last_failed_ = failed;
+      return t;
+    });
+    // Commit (moves only: nothing throws).
+    pred_.apply_state(std::move(q.ps));
+    current_ = std::move(*q.cur);
+    lower_.swap(q.lo);
+    upper_.swap(q.hi);
+    k_ = static_cast<Eigen::Index>(q.k);
+    last_failed_ = q.failed;
   }
   StateFingerprint fingerprint() const {
     StateFingerprint f = pred_.fingerprint();

@@ -189,22 +189,36 @@ class KalmanFilter {
   /// Restores a state from save_state() (same system and omega_cov); throws
   /// InvalidArgumentError ("state: ...") otherwise. Unchanged on error.
   void restore_state(const std::vector<double>& state) {
-    const Eigen::Index n = sys_.nx();
-    StateReader r(state, StateKind::KalmanFilter, fingerprint());
-    const long long k = r.count("steps");
-    Eigen::VectorXd x = r.vec(n, "mean");
-    Eigen::MatrixXd G = r.mat(n, n, "covariance");
-    Eigen::VectorXd xp = r.vec(n, "predicted_mean");
-    Eigen::MatrixXd Gp = r.mat(n, n, "predicted_covariance");
-    Eigen::MatrixXd K = r.mat(n, sys_.ny(), "gain");
-    r.finish();
-    if (G != G.transpose() || Gp != Gp.transpose()) r.fail("covariance is not symmetric");
-    x_ = std::move(x);
-    G_ = std::move(G);
-    xp_ = std::move(xp);
-    Gp_ = std::move(Gp);
-    K_ = std::move(K);
-    steps_ = static_cast<long>(k);
+    struct Parsed {
+      long long k;
+      Eigen::VectorXd x, xp;
+      Eigen::MatrixXd G, Gp, K;
+    };
+    Parsed q = guard_state_memory(StateKind::KalmanFilter, [&] {
+      const Eigen::Index n = sys_.nx();
+      StateReader r(state, StateKind::KalmanFilter, fingerprint());
+      Parsed t;
+      t.k = r.count("steps");
+      t.x = r.vec(n, "mean");
+      t.G = r.mat(n, n, "covariance");
+      t.xp = r.vec(n, "predicted_mean");
+      t.Gp = r.mat(n, n, "predicted_covariance");
+      t.K = r.mat(n, sys_.ny(), "gain");
+      r.finish();
+      if (t.G != t.G.transpose() || t.Gp != t.Gp.transpose()) r.fail("covariance is not symmetric");
+      // A covariance has a non-negative diagonal (a full PSD test would refuse states that
+      // rounding left barely indefinite; the filter's own updates keep them symmetric only).
+      if ((t.G.diagonal().array() < 0).any() || (t.Gp.diagonal().array() < 0).any())
+        r.fail("a covariance has a negative variance on its diagonal");
+      return t;
+    });
+    // Commit (swaps: nothing throws).
+    x_.swap(q.x);
+    G_.swap(q.G);
+    xp_.swap(q.xp);
+    Gp_.swap(q.Gp);
+    K_.swap(q.K);
+    steps_ = static_cast<long>(q.k);
   }
   StateFingerprint fingerprint() const {
     StateFingerprint f;

@@ -285,52 +285,105 @@ class ZonotopicEstimator {
     return w.finish();
   }
   /// Restores a state from save_state() into an estimator made with the same system, gain rule
-  /// and options; throws InvalidArgumentError ("state: ...") otherwise. Unchanged on error.
+  /// and options (the initial set may differ); throws InvalidArgumentError ("state: ...")
+  /// otherwise. Unchanged on error, also on memory exhaustion.
+  ///
+  /// The saved capacity is the saving estimator's work-array size, max(generators of its x0, s)
+  /// + the columns one step adds + n; x0 is not part of the design, so after the first step no
+  /// design bound exists for it and it never sizes an allocation here: the work arrays are sized
+  /// by the generators the blob actually carries (as if x0 had had that many), and kept when the
+  /// current ones are large enough. save_state() then reports this estimator's own capacity;
+  /// the steps do not depend on it.
   void restore_state(const std::vector<double>& state) {
-    StateReader r(state, StateKind::ZonotopicEstimator, fingerprint());
-    const long long k = r.count("steps");
-    const bool has_cur = r.flag("has_current"), red = r.flag("reduced_last_step");
-    const long long method = r.count("reduction", 1, 3);
-    const long long minimum_cap = opt_.max_generators + capN_ + n_;
-    const long long cap = r.count("capacity", minimum_cap, 1ll << 30);
-    const long long mG = r.count("prior generators", 0, cap - capN_);
-    const long long mN = r.count("prior new generators", 0, capN_);
-    const long long m = r.count("current generators", 0, cap);
-    const bool Tid = r.flag("T_identity");
-    Vec p = r.vec(n_, "p"), rA = r.vec(n_, "rA"), rP = r.vec(n_, "rP"), wG = r.vec(n_, "wG");
-    Mat T = r.mat(n_, n_, "T"), N = r.mat(n_, mN, "N"), S = r.mat(n_, n_, "S");
-    Mat H = r.mat(n_, std::max(mG, m), "generators");
-    Vec cp = r.vec(n_, "current center"), cr = r.vec(n_, "current box"), cw = r.vec(n_, "current row sums");
-    Vec clo = r.vec(n_, "current lower"), chi = r.vec(n_, "current upper");
-    r.finish();
-    if (!has_cur && (k != 0 || m != 0)) r.fail("steps and current generators must be 0 before the first step");
-    if (has_cur && k == 0) r.fail("a current set needs steps >= 1");
-    if ((rA.array() < 0).any() || (rP.array() < 0).any() || (cr.array() < 0).any() || (wG.array() < 0).any())
-      r.fail("a box radius is negative");
-    // Commit (nothing below throws except on memory exhaustion).
-    if (cap != cap_) allocate(cap - capN_ - n_);
-    opt_.reduction = static_cast<ZonotopeReduction>(method);
-    k_ = static_cast<Eigen::Index>(k);
-    has_current_ = has_cur;
-    reduced_ = red;
-    mG_ = static_cast<Eigen::Index>(mG);
-    mN_ = static_cast<Eigen::Index>(mN);
-    m_ = static_cast<Eigen::Index>(m);
-    T_identity_ = Tid;
-    p_ = std::move(p);
-    rA_ = std::move(rA);
-    rP_ = std::move(rP);
-    wG_ = std::move(wG);
-    T_ = std::move(T);
-    N_.leftCols(mN_) = N;
-    S_ = std::move(S);
+    struct Parsed {
+      long long k, method, mG, mN, m;
+      bool has_cur, red, Tid;
+      Vec p, rA, rP, wG, cp, cr, cw, clo, chi;
+      Mat T, N, S, H, H0, H1;
+    };
+    Parsed q = guard_state_memory(StateKind::ZonotopicEstimator, [&] {
+      StateReader r(state, StateKind::ZonotopicEstimator, fingerprint());
+      Parsed t;
+      t.k = r.count("steps");
+      t.has_cur = r.flag("has_current");
+      t.red = r.flag("reduced_last_step");
+      t.method = r.count("reduction", 1, 3);
+      const long long s = opt_.max_generators, minimum_cap = s + capN_ + n_;
+      const long long cap = r.count("capacity", minimum_cap);
+      t.mG = r.count("prior generators", 0, cap - capN_ - n_);
+      // A prior after a step holds E's non-zero columns and, for [A], up to 2n box columns; the
+      // correction appends one column per output, so N's capacity capN_ is never exceeded.
+      const long long nE = Enz_.cols(), nN = t.has_cur ? nE + (interval_ ? 2 * n_ : 0) : 0;
+      t.mN = r.count("prior new generators", t.has_cur ? nE : 0, nN);
+      t.m = r.count("current generators", 0, cap);
+      t.Tid = r.flag("T_identity");
+      t.p = r.vec(n_, "p");
+      t.rA = r.vec(n_, "rA");
+      t.rP = r.vec(n_, "rP");
+      t.wG = r.vec(n_, "wG");
+      t.T = r.mat(n_, n_, "T");
+      t.N = r.mat(n_, t.mN, "N");
+      t.S = r.mat(n_, n_, "S");
+      t.H = r.mat(n_, std::max(t.mG, t.m), "generators");
+      t.cp = r.vec(n_, "current center");
+      t.cr = r.vec(n_, "current box");
+      t.cw = r.vec(n_, "current row sums");
+      t.clo = r.vec(n_, "current lower");
+      t.chi = r.vec(n_, "current upper");
+      r.finish();
+      // The invariants the steps rely on (a violated one is a corrupted state, not a set).
+      if (t.has_cur) {
+        if (t.k == 0) r.fail("a current set needs steps >= 1");
+        if (t.m != t.mG) r.fail("current generators must equal prior generators after a step");
+      } else {
+        // Before the first step the prior is x0 itself: T = I, no box, no new generators. (Its
+        // capacity may exceed the one of x0: a restore keeps larger work arrays.)
+        if (t.k != 0 || t.m != 0) r.fail("steps and current generators must be 0 before the first step");
+        if (!t.Tid || !t.rA.isZero(0) || !t.rP.isZero(0))
+          r.fail("before the first step the prior must be the initial set (T = I, no rounding box)");
+      }
+      if (t.Tid && !t.T.isIdentity(0)) r.fail("T is flagged as the identity but is not");
+      if ((t.rA.array() < 0).any() || (t.rP.array() < 0).any() || (t.cr.array() < 0).any() ||
+          (t.wG.array() < 0).any() || (t.cw.array() < 0).any())
+        r.fail("a box radius or row sum is negative");
+      if (t.has_cur && ((t.clo.array() > t.cp.array()).any() || (t.chi.array() < t.cp.array()).any()))
+        r.fail("the current hull does not contain the current center");
+      // Work arrays: a step writes at most mG + capN_ + n_ columns (prior, new columns, box).
+      const Eigen::Index need = static_cast<Eigen::Index>(std::max(t.mG, s)) + capN_ + n_;
+      if (need > cap_) {
+        t.H0.resize(n_, need);
+        t.H1.resize(n_, need);
+      }
+      return t;
+    });
+    // Commit: moves, swaps and copies into buffers already large enough (nothing throws).
+    if (q.H0.cols() > cap_) {
+      H_[0].swap(q.H0);
+      H_[1].swap(q.H1);
+      cap_ = H_[0].cols();
+    }
+    opt_.reduction = static_cast<ZonotopeReduction>(q.method);
+    k_ = static_cast<Eigen::Index>(q.k);
+    has_current_ = q.has_cur;
+    reduced_ = q.red;
+    mG_ = static_cast<Eigen::Index>(q.mG);
+    mN_ = static_cast<Eigen::Index>(q.mN);
+    m_ = static_cast<Eigen::Index>(q.m);
+    T_identity_ = q.Tid;
+    p_.swap(q.p);
+    rA_.swap(q.rA);
+    rP_.swap(q.rP);
+    wG_.swap(q.wG);
+    T_.swap(q.T);
+    N_.leftCols(mN_) = q.N;
+    S_.swap(q.S);
     cur_ = 0;
-    H_[0].leftCols(H.cols()) = H;
-    cur_p_ = std::move(cp);
-    cur_r_ = std::move(cr);
-    cur_w_ = std::move(cw);
-    cur_lo_ = std::move(clo);
-    cur_hi_ = std::move(chi);
+    H_[0].leftCols(q.H.cols()) = q.H;
+    cur_p_.swap(q.cp);
+    cur_r_.swap(q.cr);
+    cur_w_.swap(q.cw);
+    cur_lo_.swap(q.clo);
+    cur_hi_.swap(q.chi);
   }
   /// Hash of what a state depends on: the system, the gain rule's kind and fixed gains, and
   /// the options fixed at construction (a custom callable rule is not hashed).
@@ -382,7 +435,12 @@ class ZonotopicEstimator {
     absCt_ = Ct_.cwiseAbs();
     phi_.resize(ny);
     D_used_.assign(static_cast<std::size_t>(ny), false);
+    c_zero_.assign(static_cast<std::size_t>(ny), false);
     for (Eigen::Index i = 0; i < ny; ++i) {
+      // A zero row of C (a sensor that measures only noise, or only D u) says nothing about x:
+      // its strip is the whole space and is skipped by every gain rule (the Strip of a custom
+      // rule could not even be formed), so the result equals the one without that output.
+      c_zero_[static_cast<std::size_t>(i)] = sys_.C().row(i).cwiseAbs().maxCoeff() == 0.0;
       // φ_i = Σ_j |F_ij|, rounded up when more than one term is summed.
       const Eigen::Index terms = (sys_.F().row(i).array() != 0).count();
       phi_(i) = sys_.output_noise_bound(i) *
@@ -450,6 +508,7 @@ class ZonotopicEstimator {
       Eigen::Index mN = mN_;
       if (want_S_) Sc_ = S_;
       for (Eigen::Index i : opt_.strip_order) {
+        if (c_zero_[static_cast<std::size_t>(i)]) continue;
         const auto c = Ct_.col(i);
         const auto ac = absCt_.col(i);
         double phi = 0.0;
@@ -609,6 +668,7 @@ class ZonotopicEstimator {
     using rounding_bounds::gamma;
     const double g = gamma(n_ + 2), g1 = 1.0 + g;
     for (Eigen::Index i : opt_.strip_order) {
+      if (c_zero_[static_cast<std::size_t>(i)]) continue;
       const auto c = Ct_.col(i);
       const auto ac = absCt_.col(i);
       double phi = 0.0;
@@ -763,7 +823,7 @@ class ZonotopicEstimator {
   bool lazy_ = false, want_S_ = false, interval_ = false;
   Mat absMid_, absA_, Enz_, EEt_, Ct_, absCt_, absB_, absD_;
   Vec phi_;
-  std::vector<bool> D_used_;
+  std::vector<bool> D_used_, c_zero_;
 
   // The prior (the set for x_{k+1}): p_ ⊕ [T_ G, N_] B ⊕ T_ box(rA_) ⊕ box(rP_), with
   // G = H_[cur_].leftCols(mG_); S_ ≈ its Gram matrix (segment minimisation), wG_ = rs|G|

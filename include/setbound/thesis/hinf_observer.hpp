@@ -499,7 +499,9 @@ struct SMState {
     mu_out = r.scalar("mu");
     if (!(mu_out > 0)) r.fail("mu must be positive");
   }
-  void apply(long k_in, Eigen::VectorXd&& xhat_in, double mu_in) {
+  /// Commits a state read by read(): no allocation (x̂ is moved in, the box has its size), so
+  /// it cannot throw and a restore is all-or-nothing.
+  void apply(long k_in, Eigen::VectorXd&& xhat_in, double mu_in) noexcept {
     k = k_in;
     xhat = std::move(xhat_in);
     mu = mu_in;
@@ -577,13 +579,15 @@ class EllipsoidalSMObserver {
   /// Restores a state from save_state() (same plant and design); throws InvalidArgumentError
   /// ("state: ...") otherwise. Unchanged on error.
   void restore_state(const std::vector<double>& state) {
-    StateReader r(state, StateKind::EllipsoidalSMObserver, fingerprint());
     long k = 0;
     Eigen::VectorXd xhat;
     double mu = 0;
-    hinf_detail::SMState::read(r, Ao_.rows(), k, xhat, mu);
-    r.finish();
-    st_.apply(k, std::move(xhat), mu);
+    guard_state_memory(StateKind::EllipsoidalSMObserver, [&] {
+      StateReader r(state, StateKind::EllipsoidalSMObserver, fingerprint());
+      hinf_detail::SMState::read(r, Ao_.rows(), k, xhat, mu);
+      r.finish();
+    });
+    st_.apply(k, std::move(xhat), mu);  // moves and writes into sized buffers: cannot throw
   }
   StateFingerprint fingerprint() const {
     StateFingerprint f;

@@ -669,16 +669,23 @@ class IntervalLuenbergerObserver {
   /// Restores a state from save_state() into an observer made with the same plant, gain,
   /// boxes and variant; throws InvalidArgumentError ("state: ...") otherwise. Unchanged on error.
   void restore_state(const std::vector<double>& state) {
-    const Eigen::Index n = plant_.nx();
-    StateReader r(state, StateKind::IntervalLuenbergerObserver, fingerprint());
-    const long long k = r.count("steps");
-    Eigen::VectorXd xh = r.vec(n, "xhat"), cc = r.vec(n, "center offset");
-    const double xi = r.scalar("rounding residue");
-    r.finish();
-    if (!(xi >= 0)) r.fail("rounding residue must be >= 0");
+    long long k = 0;
+    Eigen::VectorXd xh, cc;
+    double xi = 0;
+    guard_state_memory(StateKind::IntervalLuenbergerObserver, [&] {
+      const Eigen::Index n = plant_.nx();
+      StateReader r(state, StateKind::IntervalLuenbergerObserver, fingerprint());
+      k = r.count("steps");
+      xh = r.vec(n, "xhat");
+      cc = r.vec(n, "center offset");
+      xi = r.scalar("rounding residue");
+      r.finish();
+      if (!(xi >= 0)) r.fail("rounding residue must be >= 0");
+    });
+    // Commit (swaps; update_bounds writes into sized buffers: nothing throws).
     k_ = static_cast<long>(k);
-    xhat_ = std::move(xh);
-    cc_ = std::move(cc);
+    xhat_.swap(xh);
+    cc_.swap(cc);
     xi_ = xi;
     update_bounds();
   }
@@ -867,23 +874,32 @@ class NonlinearIntervalObserver {
   /// Restores a state from save_state() into an observer made with the same plant, gain, boxes
   /// and window; throws InvalidArgumentError ("state: ...") otherwise. Unchanged on error.
   void restore_state(const std::vector<double>& state) {
-    const Eigen::Index n = plant_.nx();
-    StateReader r(state, StateKind::NonlinearIntervalObserver, fingerprint());
-    const long long k = r.count("steps");
-    Eigen::VectorXd xh = r.vec(n, "xhat"), cc = r.vec(n, "center offset");
-    const double xi = r.scalar("rounding residue");
-    Eigen::MatrixXd ring = r.mat(n, W_, "window");
-    Eigen::VectorXd rmax = r.vec(n, "window maxima");
-    const double rn = r.scalar("window norm"), rno = r.scalar("window norm out");
-    r.finish();
-    if (!(xi >= 0) || !(rn >= 0) || !(rno >= 0) || (ring.array() < 0).any() || (rmax.array() < 0).any())
-      r.fail("a radius or residue is negative");
+    long long k = 0;
+    Eigen::VectorXd xh, cc, rmax;
+    Eigen::MatrixXd ring;
+    double xi = 0, rn = 0, rno = 0;
+    guard_state_memory(StateKind::NonlinearIntervalObserver, [&] {
+      const Eigen::Index n = plant_.nx();
+      StateReader r(state, StateKind::NonlinearIntervalObserver, fingerprint());
+      k = r.count("steps");
+      xh = r.vec(n, "xhat");
+      cc = r.vec(n, "center offset");
+      xi = r.scalar("rounding residue");
+      ring = r.mat(n, W_, "window");  // the window length is the design's W, never the blob's
+      rmax = r.vec(n, "window maxima");
+      rn = r.scalar("window norm");
+      rno = r.scalar("window norm out");
+      r.finish();
+      if (!(xi >= 0) || !(rn >= 0) || !(rno >= 0) || (ring.array() < 0).any() || (rmax.array() < 0).any())
+        r.fail("a radius or residue is negative");
+    });
+    // Commit (swaps; update_bounds writes into sized buffers: nothing throws).
     k_ = static_cast<long>(k);
-    xhat_ = std::move(xh);
-    cc_ = std::move(cc);
+    xhat_.swap(xh);
+    cc_.swap(cc);
     xi_ = xi;
-    ring_ = std::move(ring);
-    Rmax_ = std::move(rmax);
+    ring_.swap(ring);
+    Rmax_.swap(rmax);
     rmax_norm_ = rn;
     rmax_norm_out_ = rno;
     update_bounds();
@@ -1245,14 +1261,20 @@ class IntervalInvariantObserver {
   /// Restores a state from save_state() (same design); throws InvalidArgumentError
   /// ("state: ...") otherwise. Unchanged on error.
   void restore_state(const std::vector<double>& state) {
-    StateReader r(state, StateKind::IntervalInvariantObserver, fingerprint());
-    const long long k = r.count("steps");
-    Eigen::VectorXd xh = r.vec(D_.plant.nx(), "xhat");
-    const double xi = r.scalar("rounding residue");
-    r.finish();
-    if (!(xi >= 0)) r.fail("rounding residue must be >= 0");
+    long long k = 0;
+    Eigen::VectorXd xh;
+    double xi = 0;
+    guard_state_memory(StateKind::IntervalInvariantObserver, [&] {
+      StateReader r(state, StateKind::IntervalInvariantObserver, fingerprint());
+      k = r.count("steps");
+      xh = r.vec(D_.plant.nx(), "xhat");
+      xi = r.scalar("rounding residue");
+      r.finish();
+      if (!(xi >= 0)) r.fail("rounding residue must be >= 0");
+    });
+    // Commit (a swap; update_bounds writes into sized buffers: nothing throws).
     k_ = static_cast<long>(k);
-    xhat_ = std::move(xh);
+    xhat_.swap(xh);
     xi_ = xi;
     update_bounds();
   }

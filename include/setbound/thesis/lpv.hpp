@@ -323,14 +323,21 @@ class LPVEllipsoidalSMObserver {
   /// Restores a state from save_state() (same LPV system and design); throws
   /// InvalidArgumentError ("state: ...") otherwise. Unchanged on error.
   void restore_state(const std::vector<double>& state) {
-    StateReader r(state, StateKind::LPVEllipsoidalSMObserver, fingerprint());
     long k = 0;
-    Eigen::VectorXd xhat;
+    Eigen::VectorXd xhat, alpha;
     double mu = 0;
-    hinf_detail::SMState::read(r, sys_.nx(), k, xhat, mu);
-    Eigen::VectorXd alpha = r.vec(sys_.num_vertices(), "weights");
-    r.finish();
-    alpha_ = std::move(alpha);
+    guard_state_memory(StateKind::LPVEllipsoidalSMObserver, [&] {
+      StateReader r(state, StateKind::LPVEllipsoidalSMObserver, fingerprint());
+      hinf_detail::SMState::read(r, sys_.nx(), k, xhat, mu);
+      alpha = r.vec(sys_.num_vertices(), "weights");
+      r.finish();
+      // Convex weights of the vertices (only reported: a step recomputes them from ρ; before
+      // the first step they are zeros). The tolerance covers the LP's rounding.
+      if ((alpha.array() < -1e-9).any() || alpha.sum() > 1.0 + 1e-6)
+        r.fail("weights must be non-negative with a sum of at most 1");
+    });
+    // Commit (a swap and SMState::apply: nothing throws).
+    alpha_.swap(alpha);
     st_.apply(k, std::move(xhat), mu);
   }
   StateFingerprint fingerprint() const {
