@@ -65,16 +65,15 @@ test: test-cpp test-python test-wheel
 # The C++ tests under AddressSanitizer + UndefinedBehaviorSanitizer (own build dir; -O1 -g1:
 # line numbers in the reports). Any report aborts the test (docs/reliability.md). test_alloc is
 # built without sanitizers (it replaces malloc) and runs too. Leak checking is on.
-# The test files are compiled in the same unity groups as the Release build: about half the CPU
-# of file-by-file units, which keeps a cold sanitized build inside CI's budget (.ci/run runs it on
-# every CI, docs/reliability.md "CI time"). SETBOUND_UNITY_TESTS=OFF on the cmake line gives one
-# executable per test file when hunting a report.
+# The test files are compiled one by one here (no unity groups): more CPU in total, but every
+# unit takes at most a few minutes, so a CI run that stops the build at its time budget still
+# leaves finished units in ccache and the next run gets further (.ci/run).
 SAN_FLAGS := -O1 -g1
 test-sanitize: sanitize-run
 
 sanitize-build: deps
 	cmake -S . -B $(SAN_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DSETBOUND_SANITIZE=ON \
-	  -DSETBOUND_UNITY_TESTS=ON \
+	  -DSETBOUND_UNITY_TESTS=OFF \
 	  -DCMAKE_CXX_FLAGS_SANITIZE="$(SAN_FLAGS)" -DCMAKE_C_FLAGS_SANITIZE="$(SAN_FLAGS)"
 	cmake --build $(SAN_BUILD) -j $(JOBS)
 
