@@ -24,16 +24,30 @@ import numpy as np
 
 from .errors import InvalidArgumentError
 
-__all__ = ["as_int", "as_float", "as_bool", "as_choice", "as_str", "INT_MAX", "fmt_range", "memory_budget",
+__all__ = ["describe", "as_int", "as_float", "as_bool", "as_choice", "as_str", "INT_MAX", "fmt_range", "memory_budget",
            "check_memory"]
 
 #: The largest value of a C ``int`` (every count crosses the C ABI as an ``int``).
 INT_MAX = 2**31 - 1
 
 
-def _describe(value: Any) -> str:
-    r = repr(value)
-    return r if len(r) <= 40 else r[:37] + "..."
+def describe(value: Any, limit: int = 40) -> str:
+    """A short, safe ``repr`` for messages: a hostile value (a 400-digit integer, a list nested
+    thousands deep) must not turn the error message itself into the failure (``str`` of an
+    integer of more than 4300 digits raises ``ValueError``)."""
+    if isinstance(value, (list, tuple)):
+        return f"a list of {len(value)} item{'s' if len(value) != 1 else ''}"
+    if isinstance(value, dict):
+        return f"a table ({len(value)} key{'s' if len(value) != 1 else ''})"
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 100:
+        if value.bit_length() < 14000:  # below Python's 4300-digit limit of int -> str
+            return f"an integer of {len(str(abs(value)))} digits"
+        return f"an integer of about {int(value.bit_length() * 0.30103) + 1} digits"  # str() would raise
+    try:
+        r = repr(value)
+    except (RecursionError, ValueError):
+        return f"a {type(value).__name__}"
+    return r if len(r) <= limit else r[:limit - 3] + "..."
 
 
 def fmt_range(lo, hi, *, lo_open: bool = False, hi_open: bool = False) -> str:
@@ -58,11 +72,11 @@ def as_int(value: Any, name: str, *, lo: int | None = None, hi: int | None = INT
     largest C ``int``; pass ``hi=None`` for no upper bound (only where nothing is sized by it).
     """
     if not _is_int(value):
-        raise InvalidArgumentError(f"{name}: expected an integer in {fmt_range(lo, hi)}, got {_describe(value)}"
+        raise InvalidArgumentError(f"{name}: expected an integer in {fmt_range(lo, hi)}, got {describe(value)}"
                                    f" ({type(value).__name__})")
     v = int(value)
     if (lo is not None and v < lo) or (hi is not None and v > hi):
-        raise InvalidArgumentError(f"{name}: expected an integer in {fmt_range(lo, hi)}, got {v}")
+        raise InvalidArgumentError(f"{name}: expected an integer in {fmt_range(lo, hi)}, got {describe(v)}")
     return v
 
 
@@ -77,11 +91,11 @@ def as_float(value: Any, name: str, *, lo: float | None = None, hi: float | None
     """
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise InvalidArgumentError(f"{name}: expected a number in {fmt_range(lo, hi, lo_open=lo_open, hi_open=hi_open)}"
-                                   f", got {_describe(value)} ({type(value).__name__})")
+                                   f", got {describe(value)} ({type(value).__name__})")
     try:
         v = float(value)
     except OverflowError:  # an int beyond the float range
-        raise InvalidArgumentError(f"{name}: {_describe(value)} is too large for a floating-point number") from None
+        raise InvalidArgumentError(f"{name}: {describe(value)} is too large for a floating-point number") from None
     if math.isnan(v) and nan:
         return v
     if math.isnan(v) or (finite and math.isinf(v)):
@@ -98,7 +112,7 @@ def as_bool(value: Any, name: str) -> bool:
     """``value`` as a ``bool``: only ``True``/``False`` (and numpy bools), never ``1``, ``"yes"``
     or ``None``."""
     if not isinstance(value, (bool, np.bool_)):
-        raise InvalidArgumentError(f"{name}: expected True or False, got {_describe(value)} ({type(value).__name__})")
+        raise InvalidArgumentError(f"{name}: expected True or False, got {describe(value)} ({type(value).__name__})")
     return bool(value)
 
 
@@ -108,13 +122,13 @@ def as_choice(value: Any, name: str, choices: Iterable[Any]):
     for c in choices:
         if (type(value) is type(c) or (_is_int(value) and _is_int(c))) and value == c:
             return c
-    raise InvalidArgumentError(f"{name}: expected one of {', '.join(repr(c) for c in choices)}, got {_describe(value)}")
+    raise InvalidArgumentError(f"{name}: expected one of {', '.join(repr(c) for c in choices)}, got {describe(value)}")
 
 
 def as_str(value: Any, name: str) -> str:
     """``value`` if it is a ``str`` (a label or a name; ``None``, numbers and bytes are refused)."""
     if not isinstance(value, str):
-        raise InvalidArgumentError(f"{name}: expected a string, got {_describe(value)} ({type(value).__name__})")
+        raise InvalidArgumentError(f"{name}: expected a string, got {describe(value)} ({type(value).__name__})")
     return value
 
 

@@ -276,3 +276,15 @@ def test_c_abi_passes_and_window(plant, nl_plant):
                                           dptr(xh), dptr(vlo), dptr(vhi), lib.SB_INTERVAL_MAX_WINDOW + 1, g)
     assert rc == lib.SB_ERR_INVALID_ARGUMENT
     assert "window" in ffi.string(lib.sb_last_error()).decode()
+
+
+def test_integers_beyond_the_str_limit_are_named_not_a_bare_value_error():
+    # str() of an integer of more than 4300 digits raises ValueError: the message itself must not
+    # fail (it did for the API's as_int/as_float before they shared describe with the job files)
+    huge = 10**5000
+    for convert in (lambda v: as_int(v, "k", lo=1, hi=5), lambda v: as_float(v, "k")):
+        with pytest.raises(errors.InvalidArgumentError, match=r"^k: .*an integer of about 5001 digits"):
+            convert(huge)
+    with pytest.raises(errors.InvalidArgumentError, match="^max_generators:"):
+        zonotopic.SegmentMinEstimator(LinearSystem([[0.5]], C=[[1.0]], E=[[0.1]], F=[[0.1]]),
+                                      Zonotope([0.0], [[1.0]]), max_generators=huge)

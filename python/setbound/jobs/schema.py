@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import difflib
 import numbers
-from typing import Any
 
 import numpy as np
 
 from .. import _validate
+from .._validate import describe  # one safe repr for the API's and the job files' messages
 from ..errors import InvalidArgumentError
 
 __all__ = ["ConfigError", "describe", "matrix", "check_keys", "require", "as_int", "as_float", "as_bool",
@@ -24,24 +24,6 @@ __all__ = ["ConfigError", "describe", "matrix", "check_keys", "require", "as_int
 
 class ConfigError(InvalidArgumentError):
     """A job file is invalid; the message starts with the offending key."""
-
-
-def describe(value: Any, limit: int = 40) -> str:
-    """A short, safe ``repr`` for messages: a hostile value (a 400-digit integer, a list nested
-    thousands deep) must not turn the error message itself into the failure."""
-    if isinstance(value, (list, tuple)):
-        return f"a list of {len(value)} item{'s' if len(value) != 1 else ''}"
-    if isinstance(value, dict):
-        return f"a table ({len(value)} key{'s' if len(value) != 1 else ''})"
-    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 100:
-        if value.bit_length() < 14000:  # below Python's 4300-digit limit of int -> str
-            return f"an integer of {len(str(abs(value)))} digits"
-        return f"an integer of about {int(value.bit_length() * 0.30103) + 1} digits"  # str() would raise
-    try:
-        r = repr(value)
-    except (RecursionError, ValueError):
-        return f"a {type(value).__name__}"
-    return r if len(r) <= limit else r[:limit - 3] + "..."
 
 
 def _wrap(fn, value, key, *args, **kwargs):
