@@ -25,21 +25,7 @@ enum class ErrorKind : int {
 };
 
 /// Human-readable name of an error kind (used in messages and by the C ABI).
-inline const char* error_kind_name(ErrorKind k) noexcept {
-  switch (k) {
-    case ErrorKind::InvalidArgument: return "invalid argument";
-    case ErrorKind::Dimension: return "dimension mismatch";
-    case ErrorKind::NotFinite: return "not finite";
-    case ErrorKind::NotSymmetric: return "not symmetric";
-    case ErrorKind::NotPositiveDefinite: return "not positive definite";
-    case ErrorKind::Infeasible: return "infeasible";
-    case ErrorKind::NotDetectable: return "not detectable";
-    case ErrorKind::Numerical: return "numerical error";
-    case ErrorKind::BufferTooSmall: return "buffer too small";
-    case ErrorKind::Internal: return "internal error";
-  }
-  return "unknown error";
-}
+const char* error_kind_name(ErrorKind k) noexcept;
 
 /// Base class of every exception thrown by setbound.
 class Error : public std::runtime_error {
@@ -72,3 +58,8 @@ SETBOUND_DEFINE_ERROR(InternalError, Internal)
 #undef SETBOUND_DEFINE_ERROR
 
 }  // namespace setbound
+
+// The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
+#if !defined(SETBOUND_SEPARATE_COMPILATION)
+#include "setbound/core/impl/error.ipp"
+#endif

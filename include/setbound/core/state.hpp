@@ -53,33 +53,13 @@ inline constexpr double kStateTagBase = 5342000.0;  // "SB" 0x53 0x42
 inline constexpr double kStateVersion = 1.0;
 inline constexpr std::size_t kStateHeader = 4;
 
-inline const char* state_kind_name(StateKind k) {
-  switch (k) {
-    case StateKind::EllipsoidalPredictor: return "EllipsoidalPredictor";
-    case StateKind::ImprovedEstimator: return "ImprovedEstimator";
-    case StateKind::DescriptorEstimator: return "DescriptorEstimator";
-    case StateKind::KalmanFilter: return "KalmanFilter";
-    case StateKind::ZonotopicEstimator: return "ZonotopicEstimator";
-    case StateKind::EllipsoidalSMObserver: return "EllipsoidalSMObserver";
-    case StateKind::LPVEllipsoidalSMObserver: return "LPVEllipsoidalSMObserver";
-    case StateKind::IntervalLuenbergerObserver: return "IntervalLuenbergerObserver";
-    case StateKind::NonlinearIntervalObserver: return "NonlinearIntervalObserver";
-    case StateKind::IntervalInvariantObserver: return "IntervalInvariantObserver";
-  }
-  return "unknown estimator";
-}
+const char* state_kind_name(StateKind k);
 
 /// FNV-1a over the bytes of the design data (cheap; not cryptographic: it only refuses a state
 /// restored into an estimator made from another design).
 class StateFingerprint {
  public:
-  StateFingerprint& add(double v) {
-    if (v == 0.0) v = 0.0;  // -0 and +0 hash alike
-    unsigned char b[sizeof(double)];
-    std::memcpy(b, &v, sizeof v);
-    for (unsigned char c : b) h_ = (h_ ^ c) * 1099511628211ull;
-    return *this;
-  }
+  StateFingerprint& add(double v);
   StateFingerprint& add_int(long long v) { return add(static_cast<double>(v)); }
   template <class Derived>
   StateFingerprint& add(const Eigen::DenseBase<Derived>& m) {
@@ -98,12 +78,7 @@ class StateFingerprint {
 /// Builds a blob: header, then items.
 class StateWriter {
  public:
-  StateWriter(StateKind kind, const StateFingerprint& fp) {
-    buf_.push_back(kStateTagBase + static_cast<int>(kind));
-    buf_.push_back(kStateVersion);
-    buf_.push_back(static_cast<double>(fp.value() >> 32));
-    buf_.push_back(static_cast<double>(fp.value() & 0xffffffffull));
-  }
+  StateWriter(StateKind kind, const StateFingerprint& fp);
   StateWriter& scalar(double v) {
     buf_.push_back(v);
     return *this;
@@ -124,16 +99,8 @@ class StateWriter {
       for (Eigen::Index i = 0; i < m.rows(); ++i) buf_.push_back(m(i, j));
     return *this;
   }
-  StateWriter& text(const std::string& s) {
-    buf_.push_back(static_cast<double>(s.size()));
-    for (char c : s) buf_.push_back(static_cast<double>(static_cast<unsigned char>(c)));
-    return *this;
-  }
-  StateWriter& blob(const std::vector<double>& b) {
-    buf_.push_back(static_cast<double>(b.size()));
-    buf_.insert(buf_.end(), b.begin(), b.end());
-    return *this;
-  }
+  StateWriter& text(const std::string& s);
+  StateWriter& blob(const std::vector<double>& b);
   std::vector<double> finish() { return std::move(buf_); }
 
  private:
@@ -143,103 +110,24 @@ class StateWriter {
 /// Reads a blob, validating everything; throws InvalidArgumentError("state: ...").
 class StateReader {
  public:
-  StateReader(const std::vector<double>& b, StateKind kind, const StateFingerprint& fp) : b_(b), kind_(kind) {
-    const std::string who = state_kind_name(kind);
-    if (b.size() < kStateHeader)
-      fail("truncated: " + std::to_string(b.size()) + " values, a saved state has at least " +
-           std::to_string(kStateHeader));
-    for (std::size_t i = 0; i < b.size(); ++i)
-      if (!std::isfinite(b[i])) fail("entry " + std::to_string(i) + " is not finite (corrupted)");
-    const double tag = kStateTagBase + static_cast<int>(kind);
-    if (b[0] != tag) {
-      const double k = b[0] - kStateTagBase;
-      std::string what = "not a saved state of setbound";
-      if (k >= 1 && k <= 10 && k == std::floor(k))
-        what = std::string("a saved ") + state_kind_name(static_cast<StateKind>(static_cast<int>(k)));
-      fail("tag " + num(b[0]) + " is " + what + ", expected a saved " + who);
-    }
-    if (b[1] != kStateVersion) fail("format version " + num(b[1]) + " is not supported (expected " + num(kStateVersion) + ")");
-    if (b[2] != static_cast<double>(fp.value() >> 32) || b[3] != static_cast<double>(fp.value() & 0xffffffffull))
-      fail("it was saved from a " + who + " with another design (gains, shapes, system or options differ); restore it "
-           "into an estimator constructed from the same design");
-    pos_ = kStateHeader;
-  }
+  StateReader(const std::vector<double>& b, StateKind kind, const StateFingerprint& fp);
 
-  double scalar(const char* name) {
-    need(1, name);
-    return b_[pos_++];
-  }
-  long long count(const char* name, long long lo = 0, long long hi = (1ll << 52)) {
-    const double v = scalar(name);
-    if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi))
-      fail(std::string(name) + " is " + num(v) + ", expected an integer in [" + std::to_string(lo) + ", " +
-           std::to_string(hi) + "]");
-    return static_cast<long long>(v);
-  }
+  double scalar(const char* name);
+  long long count(const char* name, long long lo = 0, long long hi = (1ll << 52));
   bool flag(const char* name) { return count(name, 0, 1) != 0; }
   /// A vector of exactly n entries (n < 0: any length).
-  Eigen::VectorXd vec(Eigen::Index n, const char* name) {
-    const long long len = count(name);
-    if (n >= 0 && len != n)
-      fail(std::string(name) + " has " + std::to_string(len) + " entries, expected " + std::to_string(n));
-    need(static_cast<std::size_t>(len), name);
-    Eigen::VectorXd v(static_cast<Eigen::Index>(len));
-    for (Eigen::Index i = 0; i < v.size(); ++i) v(i) = b_[pos_++];
-    return v;
-  }
+  Eigen::VectorXd vec(Eigen::Index n, const char* name);
   /// A rows × cols matrix (negative: any size).
-  Eigen::MatrixXd mat(Eigen::Index rows, Eigen::Index cols, const char* name) {
-    const long long r = count(name), c = count(name);
-    if ((rows >= 0 && r != rows) || (cols >= 0 && c != cols))
-      fail(std::string(name) + " is " + std::to_string(r) + "x" + std::to_string(c) + ", expected " +
-           (rows >= 0 ? std::to_string(rows) : std::string("any")) + "x" +
-           (cols >= 0 ? std::to_string(cols) : std::string("any")));
-    if (r > 0 && c > (1ll << 40) / r) fail(std::string(name) + " is too large");
-    need(static_cast<std::size_t>(r * c), name);
-    Eigen::MatrixXd m(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c));
-    for (Eigen::Index j = 0; j < m.cols(); ++j)
-      for (Eigen::Index i = 0; i < m.rows(); ++i) m(i, j) = b_[pos_++];
-    return m;
-  }
-  std::string text(const char* name) {
-    const long long len = count(name);
-    need(static_cast<std::size_t>(len), name);
-    std::string s;
-    for (long long i = 0; i < len; ++i) {
-      const double v = b_[pos_++];
-      if (v != std::floor(v) || v < 0 || v > 255) fail(std::string(name) + " is not a character string");
-      s.push_back(static_cast<char>(static_cast<unsigned char>(v)));
-    }
-    return s;
-  }
-  std::vector<double> blob(const char* name) {
-    const long long len = count(name);
-    need(static_cast<std::size_t>(len), name);
-    std::vector<double> out(b_.begin() + static_cast<std::ptrdiff_t>(pos_),
-                            b_.begin() + static_cast<std::ptrdiff_t>(pos_ + static_cast<std::size_t>(len)));
-    pos_ += static_cast<std::size_t>(len);
-    return out;
-  }
+  Eigen::MatrixXd mat(Eigen::Index rows, Eigen::Index cols, const char* name);
+  std::string text(const char* name);
+  std::vector<double> blob(const char* name);
   /// The blob must end here.
-  void finish() const {
-    if (pos_ != b_.size())
-      fail(std::to_string(b_.size() - pos_) + " values left over after the saved " + state_kind_name(kind_) +
-           " (corrupted or of another format)");
-  }
-  [[noreturn]] void fail(const std::string& what) const {
-    throw InvalidArgumentError(std::string("state: ") + what);
-  }
+  void finish() const;
+  [[noreturn]] void fail(const std::string& what) const;
 
  private:
-  static std::string num(double v) {
-    std::string s = std::to_string(v);
-    return s;
-  }
-  void need(std::size_t k, const char* name) const {
-    if (k > b_.size() - pos_)
-      fail(std::string("truncated: ") + name + " needs " + std::to_string(k) + " values, " +
-           std::to_string(b_.size() - pos_) + " left");
-  }
+  static std::string num(double v);
+  void need(std::size_t k, const char* name) const;
   const std::vector<double>& b_;
   StateKind kind_;
   std::size_t pos_ = 0;
@@ -260,3 +148,8 @@ auto guard_state_memory(StateKind kind, Build&& build) -> decltype(build()) {
 }
 
 }  // namespace setbound
+
+// The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
+#if !defined(SETBOUND_SEPARATE_COMPILATION)
+#include "setbound/core/impl/state.ipp"
+#endif

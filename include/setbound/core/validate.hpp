@@ -19,11 +19,7 @@ namespace setbound {
 inline constexpr double kSymmetryTolerance = 1e-10;
 
 namespace detail {
-inline std::string shape_string(Eigen::Index r, Eigen::Index c) {
-  std::ostringstream s;
-  s << r << "x" << c;
-  return s.str();
-}
+std::string shape_string(Eigen::Index r, Eigen::Index c);
 }  // namespace detail
 
 template <class Derived>
@@ -38,13 +34,7 @@ void require_finite(const Eigen::DenseBase<Derived>& m, const std::string& name)
       }
 }
 
-inline void require_finite(double v, const std::string& name) {
-  if (!std::isfinite(v)) {
-    std::ostringstream s;
-    s << name << ": value is " << v << "; it must be finite";
-    throw NotFiniteError(s.str());
-  }
-}
+void require_finite(double v, const std::string& name);
 
 template <class Derived>
 void require_shape(const Eigen::DenseBase<Derived>& m, Eigen::Index rows, Eigen::Index cols,
@@ -84,22 +74,13 @@ void require_positive_definite(const Eigen::MatrixBase<Derived>& m, const std::s
     throw NotPositiveDefiniteError(name + ": matrix is not positive definite");
 }
 
-inline void require_positive(double v, const std::string& name) {
-  require_finite(v, name);
-  if (!(v > 0)) {
-    std::ostringstream s;
-    s << name << ": must be > 0, got " << v;
-    throw InvalidArgumentError(s.str());
-  }
-}
+void require_positive(double v, const std::string& name);
 
-inline void require_nonnegative(double v, const std::string& name) {
-  require_finite(v, name);
-  if (!(v >= 0)) {
-    std::ostringstream s;
-    s << name << ": must be >= 0, got " << v;
-    throw InvalidArgumentError(s.str());
-  }
-}
+void require_nonnegative(double v, const std::string& name);
 
 }  // namespace setbound
+
+// The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
+#if !defined(SETBOUND_SEPARATE_COMPILATION)
+#include "setbound/core/impl/validate.ipp"
+#endif

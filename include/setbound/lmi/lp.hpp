@@ -24,36 +24,14 @@ class LinearProgram {
   int num_vars() const { return n_; }
   void set_objective(const Eigen::Ref<const Eigen::VectorXd>& c) { c_ = c; }
   /// row·x ≤ rhs
-  void add_le(LpRow row, double rhs) { le_.push_back({std::move(row), rhs}); }
+  void add_le(LpRow row, double rhs);
   /// row·x = rhs
-  void add_eq(LpRow row, double rhs) { eq_.push_back({std::move(row), rhs}); }
+  void add_eq(LpRow row, double rhs);
   /// lo ≤ x_i ≤ hi
-  void add_bounds(int i, double lo, double hi) {
-    add_le({{i, 1.0}}, hi);
-    add_le({{i, -1.0}}, -lo);
-  }
+  void add_bounds(int i, double lo, double hi);
 
   /// The LMI form: one 1×1 block rhs − row·x ⪰ 0 per inequality.
-  LmiProblem to_lmi() const {
-    LmiProblem p(n_);
-    p.set_objective(c_);
-    for (const auto& [row, rhs] : le_) {
-      BlockTerms terms;
-      for (const auto& [v, a] : row)
-        if (a != 0.0) terms.emplace_back(v, Eigen::MatrixXd::Constant(1, 1, -a));
-      p.add_block_terms(Eigen::MatrixXd::Constant(1, 1, rhs), terms);
-    }
-    if (!eq_.empty()) {
-      Eigen::MatrixXd A = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(eq_.size()), n_);
-      Eigen::VectorXd b(static_cast<Eigen::Index>(eq_.size()));
-      for (std::size_t r = 0; r < eq_.size(); ++r) {
-        for (const auto& [v, a] : eq_[r].first) A(static_cast<Eigen::Index>(r), v) += a;
-        b(static_cast<Eigen::Index>(r)) = eq_[r].second;
-      }
-      p.set_equalities(A, b);
-    }
-    return p;
-  }
+  LmiProblem to_lmi() const;
 
   SolveResult solve(const SolverOptions& options = {}) const { return solve_linear(to_lmi(), options); }
 
@@ -64,3 +42,8 @@ class LinearProgram {
 };
 
 }  // namespace setbound::lmi
+
+// The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
+#if !defined(SETBOUND_SEPARATE_COMPILATION)
+#include "setbound/lmi/impl/lp.ipp"
+#endif

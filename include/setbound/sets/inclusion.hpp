@@ -28,20 +28,9 @@
 namespace setbound {
 
 namespace detail {
-inline void require_bounded_nonempty(const Interval& x, const std::string& name) {
-  if (x.is_empty()) throw InvalidArgumentError(name + ": the interval is empty");
-  if (!x.is_bounded()) throw InvalidArgumentError(name + ": the interval must be bounded");
-}
-inline void require_bounded_nonempty(const Box& x, const std::string& name) {
-  if (x.size() == 0) throw DimensionError(name + ": the box has dimension 0");
-  if (x.is_empty()) throw InvalidArgumentError(name + ": the box is empty");
-  if (!x.lo().allFinite() || !x.hi().allFinite())
-    throw InvalidArgumentError(name + ": the box must be bounded");
-}
-inline void require_result_size(Eigen::Index got, Eigen::Index want, const std::string& what) {
-  if (got != want)
-    throw DimensionError(what + ": expected size " + std::to_string(want) + ", got " + std::to_string(got));
-}
+void require_bounded_nonempty(const Interval& x, const std::string& name);
+void require_bounded_nonempty(const Box& x, const std::string& name);
+void require_result_size(Eigen::Index got, Eigen::Index want, const std::string& what);
 }  // namespace detail
 
 // ---------------------------------------------------------------- scalar functions ℝ → ℝ
@@ -127,3 +116,8 @@ Box taylor2_inclusion(F&& f, JF&& jac, HF&& hess, const Box& x) {
 }
 
 }  // namespace setbound
+
+// The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
+#if !defined(SETBOUND_SEPARATE_COMPILATION)
+#include "setbound/sets/impl/inclusion.ipp"
+#endif

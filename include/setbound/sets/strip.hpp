@@ -27,14 +27,7 @@ class Strip {
   /// Validates: c finite and not identically zero ("c"), y finite ("y"), phi >= 0 finite
   /// ("phi"). A zero c would make the strip either all of R^n or empty, which is never
   /// what a measurement model means, so it is rejected.
-  Strip(Eigen::VectorXd c, double y, double phi) : c_(std::move(c)), y_(y), phi_(phi) {
-    if (c_.size() == 0) throw DimensionError("c: the strip normal must have at least one entry");
-    require_finite(c_, "c");
-    if (c_.cwiseAbs().maxCoeff() == 0.0)
-      throw InvalidArgumentError("c: the strip normal must not be the zero vector");
-    require_finite(y_, "y");
-    require_nonnegative(phi_, "phi");
-  }
+  Strip(Eigen::VectorXd c, double y, double phi);
 
   Eigen::Index dimension() const { return c_.size(); }
   const Eigen::VectorXd& normal() const { return c_; }
@@ -46,19 +39,10 @@ class Strip {
 
   /// |c^T x - y| <= phi (1 + rel_tol) + rel_tol * |y|: the relative slack absorbs the
   /// rounding of the inner product when a sample sits on the boundary.
-  bool contains(const Eigen::Ref<const Eigen::VectorXd>& x, double rel_tol = 1e-12) const {
-    if (x.size() != c_.size())
-      throw DimensionError("x: expected length " + std::to_string(c_.size()) + ", got " +
-                           std::to_string(x.size()));
-    const double r = c_.dot(x) - y_;
-    const double scale = c_.cwiseAbs().dot(x.cwiseAbs()) + std::abs(y_) + phi_;
-    return std::abs(r) <= phi_ + rel_tol * scale;
-  }
+  bool contains(const Eigen::Ref<const Eigen::VectorXd>& x, double rel_tol = 1e-12) const;
 
   /// The strip as { c^T x <= y + phi } ∩ { -c^T x <= phi - y }.
-  std::pair<HalfSpace, HalfSpace> half_spaces() const {
-    return {HalfSpace{c_, y_ + phi_}, HalfSpace{-c_, phi_ - y_}};
-  }
+  std::pair<HalfSpace, HalfSpace> half_spaces() const;
 
  private:
   Eigen::VectorXd c_;
@@ -67,3 +51,8 @@ class Strip {
 };
 
 }  // namespace setbound
+
+// The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
+#if !defined(SETBOUND_SEPARATE_COMPILATION)
+#include "setbound/sets/impl/strip.ipp"
+#endif

@@ -48,10 +48,7 @@ namespace rounding_bounds {
 inline constexpr double kUnitRoundoff = std::numeric_limits<double>::epsilon() / 2;
 /// γ_k = k u / (1 − k u) (Higham), for k + 2 operations and doubled as a safety factor for
 /// the additions around it.
-inline double gamma(Eigen::Index k) {
-  const double ku = static_cast<double>(k + 2) * kUnitRoundoff;
-  return 2.0 * ku / (1.0 - ku);
-}
+double gamma(Eigen::Index k);
 }  // namespace rounding_bounds
 
 namespace detail {
@@ -70,83 +67,14 @@ struct ReductionWorkspace {
 };
 
 /// Reduction keys of the first m columns of H: larger = more worth keeping.
-inline void reduction_keys(ZonotopeReduction method, const Eigen::MatrixXd& H, Eigen::Index m, Eigen::VectorXd& key) {
-  if (key.size() < m) key.resize(std::max<Eigen::Index>(m, 2 * key.size()));
-  const Eigen::Index n = H.rows();
-  const double* base = H.data();
-  double* out = key.data();
-  // Four columns at a time: independent accumulators instead of one dependency chain.
-  Eigen::Index j = 0;
-  for (; j + 4 <= m; j += 4) {
-    const double* g0 = base + j * n;
-    const double *g1 = g0 + n, *g2 = g1 + n, *g3 = g2 + n;
-    double a0 = 0, a1 = 0, a2 = 0, a3 = 0, b0 = 0, b1 = 0, b2 = 0, b3 = 0;
-    if (method == ZonotopeReduction::Combastel) {
-      for (Eigen::Index i = 0; i < n; ++i) a0 += g0[i] * g0[i], a1 += g1[i] * g1[i], a2 += g2[i] * g2[i], a3 += g3[i] * g3[i];
-      out[j] = std::sqrt(a0), out[j + 1] = std::sqrt(a1), out[j + 2] = std::sqrt(a2), out[j + 3] = std::sqrt(a3);
-    } else {  // ‖g‖₁ − ‖g‖∞ (MATLAB: vecnorm(G,1,1) − vecnorm(G,Inf,1))
-      for (Eigen::Index i = 0; i < n; ++i) {
-        const double x0 = std::abs(g0[i]), x1 = std::abs(g1[i]), x2 = std::abs(g2[i]), x3 = std::abs(g3[i]);
-        a0 += x0, a1 += x1, a2 += x2, a3 += x3;
-        b0 = std::max(b0, x0), b1 = std::max(b1, x1), b2 = std::max(b2, x2), b3 = std::max(b3, x3);
-      }
-      out[j] = a0 - b0, out[j + 1] = a1 - b1, out[j + 2] = a2 - b2, out[j + 3] = a3 - b3;
-    }
-  }
-  for (; j < m; ++j) {
-    const double* g = base + j * n;
-    double a = 0, b = 0;
-    if (method == ZonotopeReduction::Combastel) {
-      for (Eigen::Index i = 0; i < n; ++i) a += g[i] * g[i];
-      out[j] = std::sqrt(a);
-    } else {
-      for (Eigen::Index i = 0; i < n; ++i) a += std::abs(g[i]), b = std::max(b, std::abs(g[i]));
-      out[j] = a - b;
-    }
-  }
-}
+void reduction_keys(ZonotopeReduction method, const Eigen::MatrixXd& H, Eigen::Index m, Eigen::VectorXd& key);
 
 /// The axis box: s = rs(|Gred|) + r, rounded up (exact enclosure of Gred B ⊕ B_r).
-inline void axis_box(const Eigen::VectorXd& wred, const Eigen::VectorXd* r, Eigen::Index count, Eigen::VectorXd& s) {
-  const double infl = 1.0 + static_cast<double>(count + 4) * std::numeric_limits<double>::epsilon();
-  s = wred;
-  if (r) s += *r;
-  s *= infl;
-}
+void axis_box(const Eigen::VectorXd& wred, const Eigen::VectorXd* r, Eigen::Index count, Eigen::VectorXd& s);
 
 /// PCA box of ws.Gred (⊕ B_r) into ws.W (n × n); returns false (W untouched) when the
 /// computed basis is not safely orthogonal, so the caller uses the axis box.
-inline bool pca_box(const Eigen::VectorXd* r, Eigen::Index k, ReductionWorkspace& ws) {
-  using rounding_bounds::gamma;
-  const double u = rounding_bounds::kUnitRoundoff;
-  const Eigen::Index n = ws.Gred.rows();
-  const auto Gred = ws.Gred.leftCols(k);
-  ws.eig.compute(ws.gram);
-  if (ws.eig.info() != Eigen::Success) return false;
-  // Descending eigenvalues, as CORA's svd(cov) orders its basis.
-  ws.Q = ws.eig.eigenvectors().rowwise().reverse();
-  ws.QtQ.noalias() = ws.Q.transpose() * ws.Q;
-  const Eigen::MatrixXd& absQ = ws.absQ = ws.Q.cwiseAbs();
-  ws.bound = (ws.QtQ - Eigen::MatrixXd::Identity(n, n)).cwiseAbs() * (1.0 + u);
-  ws.bound.noalias() += (gamma(n) + 3.0 * u) * (absQ.transpose() * absQ);
-  const double f = ws.bound.rowwise().sum().maxCoeff() * (1.0 + gamma(n));
-  if (!(f < 0.5)) return false;
-  const double eta = f * std::sqrt(1.0 + f) / (1.0 - f) * (1.0 + 4.0 * u);
-  double mass = 0.0;  // Σ‖g_j‖₂ + ‖r‖₂
-  for (Eigen::Index j = 0; j < k; ++j) mass += Gred.col(j).norm();
-  if (r) mass += r->norm();
-  if (ws.QtG.rows() != n || ws.QtG.cols() < k) ws.QtG.resize(n, std::max<Eigen::Index>(k, 2 * ws.QtG.cols()));
-  ws.QtG.leftCols(k).noalias() = ws.Q.transpose() * Gred;
-  ws.s = ws.QtG.leftCols(k).cwiseAbs().rowwise().sum();
-  ws.s.noalias() += (gamma(n) + u) * (absQ.transpose() * ws.wred);
-  if (r) ws.s.noalias() += (1.0 + u) * (absQ.transpose() * *r);
-  ws.s.array() += eta * mass;
-  ws.s *= 1.0 + gamma(k + n + 8);
-  // fl(Q_ij s_j) has relative error <= u only for normal results: refuse tiny boxes.
-  if (!(ws.s.minCoeff() > 1e-280) || !ws.s.allFinite()) return false;
-  ws.W = ws.Q * ws.s.asDiagonal();
-  return true;
-}
+bool pca_box(const Eigen::VectorXd* r, Eigen::Index k, ReductionWorkspace& ws);
 
 /// Reduces the first m columns of H in place to at most `limit` (>= n) columns when m > limit,
 /// absorbing the box B_r (r may be null) into the replacement generators. Returns the new
@@ -154,69 +82,13 @@ inline bool pca_box(const Eigen::VectorXd* r, Eigen::Index k, ReductionWorkspace
 /// ws.reduced_count = 0. H must have room for m columns; the result never needs more.
 /// With want_gram, ws.gram = Gred Gredᵀ of the reduced columns afterwards (for the estimators'
 /// Gram matrix); the reduced columns are ws.Gred.leftCols(ws.reduced_count).
-inline Eigen::Index reduce_in_place(ZonotopeReduction method, Eigen::MatrixXd& H, Eigen::Index m, Eigen::Index limit,
-                                    const Eigen::VectorXd* r, ReductionWorkspace& ws, bool want_gram = false) {
-  const Eigen::Index n = H.rows();
-  ws.reduced_count = 0;
-  if (m <= limit) return m;
-  const Eigen::Index keep = limit - n, nred = m - keep;
-  // Which columns: the nred smallest keys, ties to the lower index (MATLAB mink).
-  reduction_keys(method, H, m, ws.key);
-  const double* key = ws.key.data();
-  auto less = [key](Eigen::Index a, Eigen::Index b) { return key[a] < key[b] || (key[a] == key[b] && a < b); };
-  ws.order.clear();
-  if (nred * 16 < m) {
-    // Few to reduce (the estimators' steady state): a max-heap of the nred smallest so far.
-    for (Eigen::Index j = 0; j < m; ++j) {
-      if (static_cast<Eigen::Index>(ws.order.size()) < nred) {
-        ws.order.push_back(j);
-        std::push_heap(ws.order.begin(), ws.order.end(), less);
-      } else if (less(j, ws.order.front())) {
-        std::pop_heap(ws.order.begin(), ws.order.end(), less);
-        ws.order.back() = j;
-        std::push_heap(ws.order.begin(), ws.order.end(), less);
-      }
-    }
-  } else {
-    ws.order.resize(static_cast<std::size_t>(m));
-    std::iota(ws.order.begin(), ws.order.end(), Eigen::Index{0});
-    if (nred < m)
-      std::nth_element(ws.order.begin(), ws.order.begin() + static_cast<std::ptrdiff_t>(nred), ws.order.end(), less);
-    ws.order.resize(static_cast<std::size_t>(nred));
-  }
-  std::sort(ws.order.begin(), ws.order.end());  // the reduced columns, in index order
-  // Gather the reduced columns and close the gaps (runs of kept columns move as blocks).
-  if (ws.Gred.rows() != n || ws.Gred.cols() < nred) ws.Gred.resize(n, std::max<Eigen::Index>(nred, 2 * ws.Gred.cols()));
-  double* const base = H.data();
-  Eigen::Index kk = 0, from = 0;
-  for (Eigen::Index t = 0; t < nred; ++t) {
-    const Eigen::Index j = ws.order[static_cast<std::size_t>(t)];
-    std::copy(base + j * n, base + (j + 1) * n, ws.Gred.data() + t * n);
-    if (j > from) {
-      if (kk != from) std::memmove(base + kk * n, base + from * n, static_cast<std::size_t>((j - from) * n) * sizeof(double));
-      kk += j - from;
-    }
-    from = j + 1;
-  }
-  if (m > from) {
-    if (kk != from) std::memmove(base + kk * n, base + from * n, static_cast<std::size_t>((m - from) * n) * sizeof(double));
-    kk += m - from;
-  }
-  const auto Gred = ws.Gred.leftCols(nred);
-  ws.wred = Gred.cwiseAbs().rowwise().sum() * (1.0 + static_cast<double>(nred + 2) * std::numeric_limits<double>::epsilon());
-  if (method == ZonotopeReduction::Pca || want_gram) ws.gram.noalias() = Gred * Gred.transpose();
-  bool boxed = false;
-  if (method == ZonotopeReduction::Pca) boxed = pca_box(r, nred, ws);
-  if (!boxed) {
-    axis_box(ws.wred, r, nred, ws.s);
-    ws.W = ws.s.asDiagonal();
-  }
-  // Append the non-zero box columns (CORA keeps zero ones, but never counts them).
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (ws.W.col(i).cwiseAbs().maxCoeff() > 0) H.col(kk++) = ws.W.col(i);
-  ws.reduced_count = nred;
-  return kk;
-}
+Eigen::Index reduce_in_place(ZonotopeReduction method, Eigen::MatrixXd& H, Eigen::Index m, Eigen::Index limit,
+                                    const Eigen::VectorXd* r, ReductionWorkspace& ws, bool want_gram = false);
 
 }  // namespace detail
 }  // namespace setbound
+
+// The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
+#if !defined(SETBOUND_SEPARATE_COMPILATION)
+#include "setbound/sets/impl/zonotope_reduction.ipp"
+#endif

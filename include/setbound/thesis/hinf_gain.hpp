@@ -54,13 +54,7 @@ struct HinfOptions {
   /// PBH tolerance of the detectability test (relative to max(1, ‖[A; C]‖)).
   double detectability_tol = 1e-9;
 
-  void validate() const {
-    solver.validate();
-    require_nonnegative(margin, "margin");
-    require_nonnegative(certificate_slack, "certificate_slack");
-    if (certify_attempts < 1) throw InvalidArgumentError("certify_attempts: must be >= 1");
-    require_positive(detectability_tol, "detectability_tol");
-  }
+  void validate() const;
 };
 
 struct HinfGain {
@@ -85,87 +79,31 @@ namespace hinf_detail {
 
 /// An upper bound of λ_max(P), P symmetric: the computed eigenvalue plus a backward-error
 /// bound of the symmetric eigensolver (8 n eps ‖P‖_F), rounded up.
-inline double lambda_max_up(const Eigen::MatrixXd& P) {
-  const double lm = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(P, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
-  return ell_rounding::round_up(lm + 8.0 * static_cast<double>(P.rows()) * ell_rounding::kEps * P.norm());
-}
+double lambda_max_up(const Eigen::MatrixXd& P);
 
-inline double spectral_radius(const Eigen::MatrixXd& A) {
-  if (A.size() == 0) return 0.0;
-  return Eigen::EigenSolver<Eigen::MatrixXd>(A, false).eigenvalues().cwiseAbs().maxCoeff();
-}
+double spectral_radius(const Eigen::MatrixXd& A);
 
 /// PBH test: every eigenvalue z of A with |z| ≥ 1 must be observable, i.e. [A − zI; C] has
 /// full column rank. Throws NotDetectableError naming `name`.
-inline void require_detectable(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C, double tol,
-                               const std::string& name) {
-  const Eigen::Index n = A.rows();
-  Eigen::EigenSolver<Eigen::MatrixXd> es(A, false);
-  const double scale = std::max({1.0, A.cwiseAbs().maxCoeff(), C.cwiseAbs().maxCoeff()});
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const std::complex<double> z = es.eigenvalues()(i);
-    if (std::abs(z) < 1.0 - 1e-12) continue;
-    Eigen::MatrixXcd M(n + C.rows(), n);
-    M.topRows(n) = A.cast<std::complex<double>>();
-    M.topRows(n).diagonal().array() -= z;
-    M.bottomRows(C.rows()) = C.cast<std::complex<double>>();
-    Eigen::JacobiSVD<Eigen::MatrixXcd> svd(M);
-    const double smin = svd.singularValues()(n - 1);
-    if (smin <= tol * scale * static_cast<double>(n)) {
-      std::ostringstream s;
-      s << name << ": the pair (A, C) is not detectable (the mode z = " << z.real()
-        << (z.imag() >= 0 ? "+" : "") << z.imag() << "i with |z| = " << std::abs(z)
-        << " >= 1 is unobservable from C); no stable observer gain exists";
-      throw NotDetectableError(s.str());
-    }
-  }
-}
+void require_detectable(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C, double tol,
+                               const std::string& name);
 
-inline Eigen::MatrixXd dissipation_or_identity(const Eigen::MatrixXd& Q, Eigen::Index n) {
-  if (Q.size() == 0) return Eigen::MatrixXd::Identity(n, n);
-  require_shape(Q, n, n, "Q");
-  require_positive_definite(Q, "Q");
-  return 0.5 * (Q + Q.transpose());
-}
+Eigen::MatrixXd dissipation_or_identity(const Eigen::MatrixXd& Q, Eigen::Index n);
 
 /// The negated dissipation block matrix −M ⪰ 0 of (2.35)/(3.13)/(1.48) for given numbers:
 ///   [ P − Q, 0, −A_oᵀP ; 0, g I, −EᵀP ; −P A_o, −P E, P ].
-inline Eigen::MatrixXd dissipation_block(const Eigen::MatrixXd& P, const Eigen::MatrixXd& Q,
-                                         const Eigen::MatrixXd& Ao, const Eigen::MatrixXd& E, double g) {
-  const Eigen::Index n = P.rows(), m = E.cols();
-  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(2 * n + m, 2 * n + m);
-  M.topLeftCorner(n, n) = P - Q;
-  M.block(n, n, m, m).diagonal().setConstant(g);
-  const Eigen::MatrixXd PAo = P * Ao, PE = P * E;
-  M.block(n + m, 0, n, n) = -PAo;
-  M.block(0, n + m, n, n) = -PAo.transpose();
-  M.block(n + m, n, n, m) = -PE;
-  M.block(n, n + m, m, n) = -PE.transpose();
-  M.bottomRightCorner(n, n) = P;
-  return M;
-}
+Eigen::MatrixXd dissipation_block(const Eigen::MatrixXd& P, const Eigen::MatrixXd& Q,
+                                         const Eigen::MatrixXd& Ao, const Eigen::MatrixXd& E, double g);
 
 /// certify_psd after an exact diagonal scaling D M D by powers of two (D_ii ≈ 1/√M_ii): the
 /// scaling does not change definiteness and is exact in floating point, and it keeps the
 /// certificate's slack (relative to the trace) from swamping the small eigenvalues of badly
 /// scaled matrices (P with a large condition number).
-inline bool certify_psd_scaled(const Eigen::MatrixXd& M, double slack) {
-  const Eigen::Index n = M.rows();
-  if (M.cols() != n || !M.allFinite()) return false;
-  Eigen::VectorXd d(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    if (!(M(i, i) > 0)) return false;
-    d(i) = std::ldexp(1.0, -static_cast<int>(std::lround(0.5 * std::log2(M(i, i)))));
-  }
-  const Eigen::MatrixXd S = d.asDiagonal() * M * d.asDiagonal();
-  return certify_psd(S, 0.0, slack);
-}
+bool certify_psd_scaled(const Eigen::MatrixXd& M, double slack);
 
 /// True when the dissipation inequality with (P, Q, A_o, E, g) is certified (Cholesky).
-inline bool certify_dissipation(const Eigen::MatrixXd& P, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& Ao,
-                                const Eigen::MatrixXd& E, double g, double slack) {
-  return certify_psd_scaled(dissipation_block(P, Q, Ao, E, g), slack);
-}
+bool certify_dissipation(const Eigen::MatrixXd& P, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& Ao,
+                                const Eigen::MatrixXd& E, double g, double slack);
 
 struct VertexGainResult {
   Eigen::MatrixXd P;
@@ -177,171 +115,36 @@ struct VertexGainResult {
 
 /// The vertex LMIs (3.13) with a common P (one vertex = LMI 2.35): minimise g. `what` names
 /// the caller in messages. C may have zero rows only with `no_gain` (the BRL: U = 0, L = 0).
-inline VertexGainResult hinf_vertex_gains_once(const std::vector<Eigen::MatrixXd>& As,
+VertexGainResult hinf_vertex_gains_once(const std::vector<Eigen::MatrixXd>& As,
                                                const std::vector<Eigen::MatrixXd>& Fs, const Eigen::MatrixXd& C,
                                                const Eigen::MatrixXd& Z, const Eigen::MatrixXd& Q,
                                                const HinfOptions& opt, const std::string& what, bool no_gain,
-                                               double margin, double& needed_margin) {
-  const int n = static_cast<int>(As.front().rows());
-  const int ny = static_cast<int>(C.rows());
-  const int nd = static_cast<int>(Fs.front().cols());
-  const int nv = static_cast<int>(Z.cols());
-  const int m = nd + nv;
-  const size_t N = As.size();
-  lmi::Model model;
-  lmi::Var P = model.symmetric(n);
-  std::vector<lmi::Var> U;
-  if (!no_gain)
-    for (size_t i = 0; i < N; ++i) U.push_back(model.full(n, ny));
-  lmi::Var g = model.scalar();
-  const Eigen::MatrixXd Im = Eigen::MatrixXd::Identity(m, m);
-  for (size_t i = 0; i < N; ++i) {
-    lmi::AffineExpr PAo = P * As[i];
-    if (!no_gain) PAo = PAo - U[i] * C;
-    lmi::AffineExpr PE;
-    if (nd > 0 && nv > 0) PE = lmi::block_matrix({{P * Fs[i], -(U[i] * Z)}});
-    else if (nd > 0) PE = P * Fs[i];
-    else PE = no_gain ? lmi::AffineExpr::zero(n, m) : -(U[i] * Z);
-    model.add_lmi(lmi::sym_block({{P - Q}, {lmi::AffineExpr::zero(m, n), g * Im}, {-PAo, -PE, P}}), margin);
-  }
-  model.minimize(g);
-  const lmi::LmiProblem problem = model.build();
-  const lmi::SolveResult res = lmi::solve(problem, opt.solver);
-  VertexGainResult out;
-  out.status = res.status;
-  out.iterations = res.iterations;
-  out.solve_time = res.solve_time;
-  if (res.status != lmi::SolveStatus::Optimal && res.status != lmi::SolveStatus::Inaccurate)
-    throw InfeasibleError(what + ": the H-infinity LMI has no solution (solver status: " +
-                          lmi::status_name(res.status) + ")");
-  out.P = model.value(P, res.x);
-  out.P = 0.5 * (out.P + out.P.transpose());
-  out.g_solver = model.scalar_value(g, res.x);
-  Eigen::LLT<Eigen::MatrixXd> llt(out.P);
-  if (llt.info() != Eigen::Success) throw NumericalError(what + ": the solver returned a P that is not positive definite");
-  for (size_t i = 0; i < N; ++i) {
-    if (no_gain) {
-      out.U.emplace_back(Eigen::MatrixXd::Zero(n, std::max(ny, 0)));
-      out.L.emplace_back(Eigen::MatrixXd::Zero(n, std::max(ny, 0)));
-    } else {
-      out.U.push_back(model.value(U[i], res.x));
-      out.L.push_back(llt.solve(out.U.back()));
-    }
-  }
-  // Certificate with the returned L (A_o = A − LC, E = [F, −LZ]); enlarge g if needed.
-  std::vector<Eigen::MatrixXd> Aos(N), Es(N);
-  for (size_t i = 0; i < N; ++i) {
-    Aos[i] = no_gain ? As[i] : Eigen::MatrixXd(As[i] - out.L[i] * C);
-    Es[i].resize(n, m);
-    if (nd > 0) Es[i].leftCols(nd) = Fs[i];
-    if (nv > 0) Es[i].rightCols(nv) = no_gain ? Eigen::MatrixXd::Zero(n, nv) : Eigen::MatrixXd(-out.L[i] * Z);
-    out.spectral_radius = std::max(out.spectral_radius, spectral_radius(Aos[i]));
-  }
-  if (!(out.spectral_radius < 1.0))
-    throw NumericalError(what + ": the gain returned by the solver does not make A - LC Schur stable (spectral radius " +
-                         std::to_string(out.spectral_radius) + ")");
-  double gc = std::max(out.g_solver, 0.0);
-  bool ok = false;
-  for (int k = 0; k < opt.certify_attempts && !ok; ++k) {
-    if (k > 0) gc = gc * (1.0 + 1e-9 * std::pow(4.0, k)) + 1e-12;
-    ok = true;
-    for (size_t i = 0; i < N && ok; ++i) ok = certify_dissipation(out.P, Q, Aos[i], Es[i], gc, opt.certificate_slack);
-  }
-  // The slack the certificate subtracts (see certify_psd), for a retry with a larger margin.
-  double tr = 0;
-  for (size_t i = 0; i < N; ++i)
-    tr = std::max(tr, dissipation_block(out.P, Q, Aos[i], Es[i], gc).diagonal().cwiseAbs().sum());
-  needed_margin = (ell_rounding::gamma(2 * n + m + 1) * 4.0 + opt.certificate_slack) * tr;
-  if (!ok) return VertexGainResult{};  // empty P: not certified
-  out.g = gc;
-  return out;
-}
+                                               double margin, double& needed_margin);
 
 /// The vertex LMIs (3.13) with a common P (one vertex = LMI 2.35): minimise g, certified.
 /// `what` names the caller in messages. With `no_gain` (the BRL) U = 0, L = 0.
 /// The margin starts at opt.margin·max(1, ‖Q‖) and, when the certificate fails because the
 /// solution is large, the LMI is re-solved with a margin of 8× the certificate's slack.
-inline VertexGainResult hinf_vertex_gains(const std::vector<Eigen::MatrixXd>& As,
+VertexGainResult hinf_vertex_gains(const std::vector<Eigen::MatrixXd>& As,
                                           const std::vector<Eigen::MatrixXd>& Fs, const Eigen::MatrixXd& C,
                                           const Eigen::MatrixXd& Z, const Eigen::MatrixXd& Q,
-                                          const HinfOptions& opt, const std::string& what, bool no_gain) {
-  double margin = opt.margin * std::max(1.0, Q.cwiseAbs().maxCoeff());
-  double needed = 0, time = 0;
-  for (int attempt = 0; attempt < 3; ++attempt) {
-    VertexGainResult r = hinf_vertex_gains_once(As, Fs, C, Z, Q, opt, what, no_gain, margin, needed);
-    time += r.solve_time;
-    if (r.P.size() > 0) {
-      r.solve_time = time;
-      return r;
-    }
-    margin = std::max(margin * 10.0, 8.0 * needed);
-  }
-  throw NumericalError(what + ": the LMI solution could not be certified in floating point (margin " +
-                       std::to_string(margin) + ")");
-}
+                                          const HinfOptions& opt, const std::string& what, bool no_gain);
 
 }  // namespace hinf_detail
 
 /// LMI (2.35) with dissipation matrix Q (empty = I_n): minimise g = γ². L = P⁻¹U, E = [F, −LZ].
 /// Throws NotDetectableError when (A, C) is not detectable, InfeasibleError when the LMI fails,
 /// NumericalError when the solution cannot be certified.
-inline HinfGain hinf_observer_gain(const Plant& plant, const Eigen::MatrixXd& Q = {}, const HinfOptions& opt = {}) {
-  opt.validate();
-  const Eigen::Index n = plant.nx();
-  const Eigen::MatrixXd Qd = hinf_detail::dissipation_or_identity(Q, n);
-  hinf_detail::require_detectable(plant.A, plant.C, opt.detectability_tol, "A, C");
-  hinf_detail::VertexGainResult r =
-      hinf_detail::hinf_vertex_gains({plant.A}, {plant.F}, plant.C, plant.Z, Qd, opt, "hinf_observer_gain", false);
-  HinfGain h;
-  h.P = std::move(r.P);
-  h.U = std::move(r.U.front());
-  h.L = std::move(r.L.front());
-  h.Q = Qd;
-  h.g = r.g;
-  h.gamma = ell_rounding::round_up(std::sqrt(r.g));
-  h.g_solver = r.g_solver;
-  h.status = r.status;
-  h.iterations = r.iterations;
-  h.solve_time = r.solve_time;
-  h.spectral_radius = r.spectral_radius;
-  return h;
-}
+HinfGain hinf_observer_gain(const Plant& plant, const Eigen::MatrixXd& Q = {}, const HinfOptions& opt = {});
 
 /// LMI (1.48) for x⁺ = A x + E w with |w| ≤ w̄ componentwise (so wᵀw ≤ w̄ᵀw̄):
 /// minimise γ²; level = λ_max(P) γ² w̄ᵀw̄ (1.55), rounded up. A must be Schur stable.
-inline BrlRpi brl_ellipsoidal_rpi(const Eigen::MatrixXd& A, const Eigen::MatrixXd& E, const Eigen::VectorXd& wbar,
-                                  const HinfOptions& opt = {}) {
-  opt.validate();
-  if (A.rows() == 0) throw DimensionError("A: the state dimension must be >= 1");
-  require_square(A, "A");
-  require_finite(A, "A");
-  const Eigen::Index n = A.rows();
-  if (E.rows() != n || E.cols() == 0)
-    throw DimensionError("E: expected shape (" + std::to_string(n) + ", m) with m >= 1, got " +
-                         setbound::detail::shape_string(E.rows(), E.cols()));
-  require_finite(E, "E");
-  if (wbar.size() != E.cols())
-    throw DimensionError("wbar: expected " + std::to_string(E.cols()) + " entries (the columns of E), got " +
-                         std::to_string(wbar.size()));
-  require_finite(wbar, "wbar");
-  if ((wbar.array() < 0).any()) throw InvalidArgumentError("wbar: the bounds must be >= 0");
-  const double rho = hinf_detail::spectral_radius(A);
-  if (!(rho < 1.0))
-    throw InfeasibleError("A: not Schur stable (spectral radius " + std::to_string(rho) +
-                          " >= 1); the bounded-real-lemma LMI (1.48) has no solution");
-  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
-  hinf_detail::VertexGainResult r = hinf_detail::hinf_vertex_gains({A}, {E}, Eigen::MatrixXd::Zero(0, n),
-                                                         Eigen::MatrixXd::Zero(0, 0), I, opt, "brl_ellipsoidal_rpi", true);
-  BrlRpi b;
-  b.P = std::move(r.P);
-  b.g = r.g;
-  b.gamma = ell_rounding::round_up(std::sqrt(r.g));
-  b.g_solver = r.g_solver;
-  b.solve_time = r.solve_time;
-  using ell_rounding::round_up;
-  const double wtw = round_up(wbar.squaredNorm());
-  b.level = round_up(round_up(hinf_detail::lambda_max_up(b.P) * b.g) * wtw);
-  return b;
-}
+BrlRpi brl_ellipsoidal_rpi(const Eigen::MatrixXd& A, const Eigen::MatrixXd& E, const Eigen::VectorXd& wbar,
+                                  const HinfOptions& opt = {});
 
 }  // namespace setbound::thesis
+
+// The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
+#if !defined(SETBOUND_SEPARATE_COMPILATION)
+#include "setbound/thesis/impl/hinf_gain.ipp"
+#endif

@@ -26,50 +26,22 @@ struct Plant {
   /// Validates every matrix (finite, shapes consistent); messages name the argument.
   /// An empty B means no input (n_u = 0); an empty F or Z means no d or no v.
   Plant(Eigen::MatrixXd A_, Eigen::MatrixXd B_, Eigen::MatrixXd C_, Eigen::MatrixXd F_,
-        Eigen::MatrixXd Z_)
-      : A(std::move(A_)), B(std::move(B_)), C(std::move(C_)), F(std::move(F_)), Z(std::move(Z_)) {
-    if (A.rows() == 0) throw DimensionError("A: the state dimension must be >= 1");
-    require_square(A, "A");
-    require_finite(A, "A");
-    const Eigen::Index n = A.rows();
-    if (C.cols() != n || C.rows() == 0)
-      throw DimensionError("C: expected shape (n_y, " + std::to_string(n) + ") with n_y >= 1, got " +
-                           setbound::detail::shape_string(C.rows(), C.cols()));
-    require_finite(C, "C");
-    if (B.size() == 0) B.resize(n, 0);
-    if (B.rows() != n)
-      throw DimensionError("B: expected " + std::to_string(n) + " rows (the state dimension), got " +
-                           std::to_string(B.rows()));
-    require_finite(B, "B");
-    if (F.size() == 0) F.resize(n, 0);
-    if (F.rows() != n)
-      throw DimensionError("F: expected " + std::to_string(n) + " rows (the state dimension), got " +
-                           std::to_string(F.rows()));
-    require_finite(F, "F");
-    if (Z.size() == 0) Z.resize(C.rows(), 0);
-    if (Z.rows() != C.rows())
-      throw DimensionError("Z: expected " + std::to_string(C.rows()) + " rows (the output dimension), got " +
-                           std::to_string(Z.rows()));
-    require_finite(Z, "Z");
-    if (F.cols() + Z.cols() == 0)
-      throw DimensionError("F, Z: the plant has no disturbance (n_d + n_v = 0)");
-  }
+        Eigen::MatrixXd Z_);
 
   Eigen::Index nx() const { return A.rows(); }
   Eigen::Index nu() const { return B.cols(); }
   Eigen::Index ny() const { return C.rows(); }
   Eigen::Index nd() const { return F.cols(); }
   Eigen::Index nv() const { return Z.cols(); }
-  Eigen::Index m() const { return F.cols() + Z.cols(); }
+  Eigen::Index m() const;
 
   /// E = [F, −L Z] (thesis.md §2), n_x × m.
-  Eigen::MatrixXd error_input(const Eigen::MatrixXd& L) const {
-    require_shape(L, nx(), ny(), "L");
-    Eigen::MatrixXd E(nx(), m());
-    E.leftCols(nd()) = F;
-    E.rightCols(nv()) = -L * Z;
-    return E;
-  }
+  Eigen::MatrixXd error_input(const Eigen::MatrixXd& L) const;
 };
 
 }  // namespace setbound::thesis
+
+// The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
+#if !defined(SETBOUND_SEPARATE_COMPILATION)
+#include "setbound/thesis/impl/plant.ipp"
+#endif
