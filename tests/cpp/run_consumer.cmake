@@ -15,7 +15,10 @@ run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 # the library.
 set(extra)
 if(SANITIZE)
-  set(extra "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined" -DSETBOUND_CONSUMER_HEADER_ONLY=OFF)
+  # The consumer is compiled with ASan too: Eigen allocates differently under __SANITIZE_ADDRESS__
+  # (no "malloc is already aligned"), so matrices crossing into a sanitized library must agree.
+  set(extra "-DCMAKE_CXX_FLAGS=-fsanitize=address,undefined"
+      "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined" -DSETBOUND_CONSUMER_HEADER_ONLY=OFF)
 endif()
 run(${CMAKE_COMMAND} -S ${CONSUMER_SOURCE} -B ${WORK_DIR}/build -G ${GENERATOR}
     -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=Release ${extra})
