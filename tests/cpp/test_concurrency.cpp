@@ -23,6 +23,7 @@
 #include <utility>
 #include <vector>
 
+#include "test_helpers.hpp"
 #include "c_api_common.hpp"
 
 namespace {
@@ -168,10 +169,7 @@ const Run kFamilies[] = {run_ellipsoidal, run_zonotopic, run_kalman, run_interva
 const char* const kNames[] = {"ellipsoidal online", "zonotopic", "Kalman", "interval Luenberger", "H-infinity"};
 constexpr int kFamilyCount = 5;
 
-bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
-  // empty() first: memcmp with the null data() of an empty vector is undefined (UBSan).
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
-}
+using setbound::testing::same_bits;
 
 }  // namespace
 

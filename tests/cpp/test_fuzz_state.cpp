@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "test_helpers.hpp"
 #include "ell_test_systems.hpp"
 #include "setbound/estimators/descriptor.hpp"
 #include "setbound/estimators/ellipsoidal.hpp"
@@ -50,9 +51,7 @@ namespace {
 
 using Blob = std::vector<double>;
 
-bool same_bits(const Blob& a, const Blob& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
-}
+using setbound::testing::same_bits;
 
 void append(Blob& out, const Eigen::Ref<const MatrixXd>& m) {
   for (Eigen::Index j = 0; j < m.cols(); ++j)

@@ -4,10 +4,18 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <cstring>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace setbound::testing {
+
+/// Bit-for-bit equality of two double vectors (saved states, replayed runs): NaN payloads and
+/// signed zeros count. empty() first: memcmp with the null data() of an empty vector is undefined.
+inline bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
+}
 
 /// gtest predicate: matrices of equal shape whose entries differ by at most `tol`.
 template <class A, class B>

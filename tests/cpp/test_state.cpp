@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "test_helpers.hpp"
 #include "ell_test_systems.hpp"
 #include "setbound/estimators/descriptor.hpp"
 #include "setbound/estimators/ellipsoidal.hpp"
@@ -31,9 +32,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
-}
+using setbound::testing::same_bits;
 
 void append(std::vector<double>& out, const Eigen::Ref<const MatrixXd>& m) {
   for (Eigen::Index j = 0; j < m.cols(); ++j)
