@@ -14,6 +14,7 @@
 
 #include "setbound/core/error.hpp"
 #include "setbound/core/validate.hpp"
+#include "setbound/estimators/measurement_check.hpp"
 #include "setbound/sets/box.hpp"
 
 #ifndef SETBOUND_C_API_DECLARED  // setbound.h may enter a translation unit only once
@@ -99,6 +100,29 @@ inline Box box_arg(const double* lo, const double* hi, int n, const std::string&
     require_pointer(hi, (name + " (upper ends)").c_str());
   }
   return Box(ConstVecMap(lo, n), ConstVecMap(hi, n), name);
+}
+
+/// SB_ON_INCONSISTENCY_* as the C++ policy; other values are refused with their name.
+inline OnInconsistency inconsistency_policy_arg(int policy) {
+  switch (policy) {
+    case SB_ON_INCONSISTENCY_FLAG: return OnInconsistency::Flag;
+    case SB_ON_INCONSISTENCY_RAISE: return OnInconsistency::Raise;
+    case SB_ON_INCONSISTENCY_RESET: return OnInconsistency::Reset;
+    default:
+      throw InvalidArgumentError("policy: unknown inconsistency policy " + std::to_string(policy) +
+                                 " (SB_ON_INCONSISTENCY_FLAG = 0, _RAISE = 1, _RESET = 2)");
+  }
+}
+
+/// A step's screening (sb_*_last_check): statuses as SB_OUTPUT_* codes, margins, the reset flag;
+/// NULL outputs are skipped.
+inline void check_out(const MeasurementCheck& c, int* status, double* margin, int* reset) {
+  const Eigen::Index ny = c.margin.size();
+  for (Eigen::Index i = 0; i < ny; ++i) {
+    if (status != nullptr) status[i] = static_cast<int>(c.status[static_cast<std::size_t>(i)]);
+    if (margin != nullptr) margin[i] = c.margin(i);
+  }
+  if (reset != nullptr) *reset = c.reset ? 1 : 0;
 }
 
 /// Saved states (sb_*_state_size / _save_state / _restore_state): the size, a copy into the

@@ -26,7 +26,7 @@ const char* sb_last_error(void) { return setbound::capi::g_last_error.c_str(); }
 
 const char* sb_status_name(int status) {
   if (status == SB_OK) return "ok";
-  if (status < static_cast<int>(setbound::ErrorKind::Internal) || status > 0) return "unknown status";
+  if (status < static_cast<int>(setbound::ErrorKind::Inconsistent) || status > 0) return "unknown status";
   return setbound::error_kind_name(static_cast<setbound::ErrorKind>(status));
 }
 

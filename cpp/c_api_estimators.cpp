@@ -141,6 +141,38 @@ int sb_zonotopic_set_reduction(sb_zonotopic* estimator, int method) {
   });
 }
 
+int sb_zonotopic_set_inconsistency_policy(sb_zonotopic* estimator, int policy, int m, const double* p,
+                                          const double* H) {
+  return guard("sb_zonotopic_set_inconsistency_policy", [&] {
+    require_pointer(estimator, "estimator");
+    ZonotopicEstimator& est = estimator->estimator;
+    const OnInconsistency pol = inconsistency_policy_arg(policy);
+    if (p == nullptr) {
+      est.set_inconsistency_policy(pol);
+      return;
+    }
+    require_dimension(m, "m", true);
+    const int nx = static_cast<int>(est.system().nx());
+    est.set_inconsistency_policy(
+        pol, Zonotope(vector_arg(p, nx, "p"),
+                      m > 0 ? Eigen::MatrixXd(matrix_arg(H, nx, m, "H")) : Eigen::MatrixXd::Zero(nx, 0)));
+  });
+}
+
+int sb_zonotopic_last_check(const sb_zonotopic* estimator, int* status, double* margin, int* reset) {
+  return guard("sb_zonotopic_last_check", [&] {
+    require_pointer(estimator, "estimator");
+    check_out(estimator->estimator.last_check(), status, margin, reset);
+  });
+}
+
+int sb_zonotopic_reset(sb_zonotopic* estimator) {
+  return guard("sb_zonotopic_reset", [&] {
+    require_pointer(estimator, "estimator");
+    estimator->estimator.reset();
+  });
+}
+
 int sb_zonotopic_step(sb_zonotopic* estimator, const double* y, const double* u, double* center,
                       double* lower, double* upper, int* m) {
   return guard("sb_zonotopic_step", [&] {

@@ -35,6 +35,9 @@
 #define SB_ERR_NUMERICAL -8
 #define SB_ERR_BUFFER_TOO_SMALL -9
 #define SB_ERR_INTERNAL -10
+/* A measurement that no state of the model can produce, under the policy
+ * SB_ON_INCONSISTENCY_RAISE; the message names the step and the output. */
+#define SB_ERR_INCONSISTENT -11
 
 /* ---- library information ----------------------------------------------------------- */
 /* Version string of the library, e.g. "0.1.0". Never NULL. */
@@ -307,9 +310,12 @@ int sb_pradius_design(const sb_linear_system* system, int approach, const int* s
                       int try_all_orders, double beta_lo, double beta_hi, double* lambdas,
                       double* P, double* beta, double* tau, double* psi, int* order_out);
 int sb_zonotopic_free(sb_zonotopic* estimator);
-/* One step: y (ny), u (nu; NULL when nu = 0). Writes the centre, the interval hull (lower,
- * upper, nx each) and the number of generators *m of the set for x_k; its generators are
- * then read with sb_zonotopic_last_set. On error the estimator is unchanged. */
+/* One step: y (ny), u (nu; NULL when nu = 0). A NaN entry of y is a missing output (not
+ * used); every present output is first tested against the predicted output set and a reading
+ * outside it is handled by the inconsistency policy (SB_ON_INCONSISTENCY_*; see
+ * sb_zonotopic_last_check). Writes the centre, the interval hull (lower, upper, nx each) and
+ * the number of generators *m of the set for x_k; its generators are then read with
+ * sb_zonotopic_last_set. On error the estimator is unchanged. */
 int sb_zonotopic_step(sb_zonotopic* estimator, const double* y, const double* u, double* center,
                       double* lower, double* upper, int* m);
 /* The set returned by the last step: p (nx) and H (nx x m, row-major); *m in: capacity in
@@ -324,10 +330,37 @@ int sb_zonotopic_last_set(const sb_zonotopic* estimator, int* m, double* p, doub
 #define SB_ZONO_REDUCE_GIRARD 2
 #define SB_ZONO_REDUCE_PCA 3
 int sb_zonotopic_set_reduction(sb_zonotopic* estimator, int method);
+/* Missing and impossible readings (estimators/measurement_check.hpp). A reading outside the
+ * output set the estimator predicts (c_i' X + D_i u +- phi_i) cannot come from any state of the
+ * model: the estimator never uses it, and under
+ *   SB_ON_INCONSISTENCY_FLAG  (the default) skips it, uses the other outputs, marks the step;
+ *   SB_ON_INCONSISTENCY_RAISE returns SB_ERR_INCONSISTENT naming the step and the output (the
+ *                             estimator is unchanged);
+ *   SB_ON_INCONSISTENCY_RESET restarts from the reset set (p, H: nx and nx x m row-major; p NULL:
+ *                             the initial set) and corrects it with the outputs consistent with it.
+ * The test accounts for rounding: a consistent reading is never declared inconsistent. */
+#define SB_ON_INCONSISTENCY_FLAG 0
+#define SB_ON_INCONSISTENCY_RAISE 1
+#define SB_ON_INCONSISTENCY_RESET 2
+int sb_zonotopic_set_inconsistency_policy(sb_zonotopic* estimator, int policy, int m, const double* p,
+                                          const double* H);
+/* What the last step did with each output: status (ny) one of SB_OUTPUT_*; margin (ny) the
+ * distance of the reading from the predicted output set in units of the output's noise bound
+ * (absolute when it has none), > 0 outside, <= 0 inside, NaN when missing or not tested; *reset
+ * = 1 when the step restarted from the reset set (the statuses and margins are then those of
+ * the test that triggered it). NULL outputs are skipped. */
+#define SB_OUTPUT_USED 0
+#define SB_OUTPUT_MISSING 1
+#define SB_OUTPUT_INCONSISTENT 2
+#define SB_OUTPUT_UNUSED 3
+int sb_zonotopic_last_check(const sb_zonotopic* estimator, int* status, double* margin, int* reset);
+/* Back to the state of construction (prior = initial set, no step taken); options kept. */
+int sb_zonotopic_reset(sb_zonotopic* estimator);
 /* The exact reference: interval hull of the exact consistent state set at each step (2 nx
  * LPs per step over x0 = p0 + H0 xi and all disturbances; known A only). Y: N x ny, U: N x nu
  * (NULL when nu = 0); lower, upper: N x nx. Row k uses y_0..y_k (y_1..y_k when
- * use_first_measurement = 0). Inconsistent data give SB_ERR_INFEASIBLE. */
+ * use_first_measurement = 0); NaN entries of Y are missing outputs (no constraint).
+ * Inconsistent data give SB_ERR_INFEASIBLE. */
 int sb_exact_hull(const sb_linear_system* system, int m0, const double* p0, const double* H0,
                   int N, const double* Y, const double* U, int use_first_measurement,
                   double* lower, double* upper);

@@ -31,6 +31,7 @@ extern "C" {
 #include "setbound/estimators/improved_correction.hpp"
 #include "setbound/estimators/improved_estimator.hpp"
 #include "setbound/estimators/kalman.hpp"
+#include "setbound/estimators/measurement_check.hpp"
 #include "setbound/estimators/pradius.hpp"
 #include "setbound/estimators/volume_min.hpp"
 #include "setbound/estimators/zonotopic.hpp"

@@ -32,7 +32,7 @@ from cffi import FFI
 from .errors import ERROR_BY_STATUS, DimensionError, InvalidArgumentError, SetboundError
 
 #: ABI version this Python package was written for (must equal sb_abi_version()).
-ABI_VERSION = 1
+ABI_VERSION = 2
 
 _LIBRARY_NAMES = {
     "linux": ("libsetbound.so",),

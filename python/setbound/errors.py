@@ -79,6 +79,14 @@ class InternalError(SetboundError):
     status = -10
 
 
+class InconsistentMeasurementError(SetboundError):
+    """A measurement that no state of the model can produce (a fault, a glitch or a wrong
+    model), raised under ``on_inconsistency="raise"``; the message names the step and the
+    output."""
+
+    status = -11
+
+
 ERROR_BY_STATUS: dict[int, type[SetboundError]] = {
     cls.status: cls
     for cls in (
@@ -92,6 +100,7 @@ ERROR_BY_STATUS: dict[int, type[SetboundError]] = {
         NumericalError,
         BufferTooSmallError,
         InternalError,
+        InconsistentMeasurementError,
     )
 }
 

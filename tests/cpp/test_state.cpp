@@ -203,10 +203,17 @@ VectorXd nan_at(VectorXd v, Eigen::Index i) {
   return v;
 }
 
+VectorXd inf_at(VectorXd v, Eigen::Index i) {
+  v(i) = std::numeric_limits<double>::infinity();
+  return v;
+}
+
 /// The usual bad measurements / inputs for an estimator with step(y, u).
 template <class E>
 void add_bad_yu(Subject& s, E* e, const Data& d) {
-  s.bad_steps.emplace_back("NaN y", [e, d](int i) { e->step(nan_at(d.y[size_t(i)], 0), d.u[size_t(i)]); });
+  // An infinite reading is an error for every estimator (NaN is a missing reading where those are
+  // accepted, test_measurement_check.cpp).
+  s.bad_steps.emplace_back("Inf y", [e, d](int i) { e->step(inf_at(d.y[size_t(i)], 0), d.u[size_t(i)]); });
   s.bad_steps.emplace_back("short y", [e, d](int i) {
     e->step(d.y[size_t(i)].head(d.y[size_t(i)].size() - 1), d.u[size_t(i)]);
   });

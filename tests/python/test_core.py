@@ -45,7 +45,7 @@ def test_missing_library_is_a_clear_import_error(tmp_path):
 
 def test_every_status_code_maps_to_its_own_class():
     codes = [getattr(_native.lib, n) for n in dir(_native.lib) if n.startswith("SB_ERR_")]
-    assert len(codes) == 10
+    assert len(codes) == 11
     classes = {ERROR_BY_STATUS[c] for c in codes}
     assert len(classes) == len(codes)
     for c in codes:

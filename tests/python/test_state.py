@@ -126,8 +126,16 @@ def _nan_first(v):
     return v
 
 
+def _inf_first(v):
+    v = np.array(v, dtype=float)
+    v.flat[0] = np.inf
+    return v
+
+
 def _bad_yu(ys, us):
-    out = [lambda e, i: e.step(_nan_first(ys[i]), us[i]),
+    # an infinite reading is an error for every estimator (NaN means "missing" where missing
+    # readings are accepted)
+    out = [lambda e, i: e.step(_inf_first(ys[i]), us[i]),
            lambda e, i: e.step(np.append(ys[i], 0.0), us[i])]
     if us[0] is not None:
         out.append(lambda e, i: e.step(ys[i], _nan_first(us[i])))

@@ -22,6 +22,7 @@ enum class ErrorKind : int {
   Numerical = -8,            // numerical breakdown (solver failure, ill-conditioning)
   BufferTooSmall = -9,       // C ABI only: an output buffer is too small
   Internal = -10,            // a bug: should never happen
+  Inconsistent = -11,        // a measurement no state of the model can produce (policy "raise")
 };
 
 /// Human-readable name of an error kind (used in messages and by the C ABI).
@@ -54,6 +55,7 @@ SETBOUND_DEFINE_ERROR(NotDetectableError, NotDetectable)
 SETBOUND_DEFINE_ERROR(NumericalError, Numerical)
 SETBOUND_DEFINE_ERROR(BufferTooSmallError, BufferTooSmall)
 SETBOUND_DEFINE_ERROR(InternalError, Internal)
+SETBOUND_DEFINE_ERROR(InconsistentMeasurementError, Inconsistent)
 
 #undef SETBOUND_DEFINE_ERROR
 

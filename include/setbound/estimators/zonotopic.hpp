@@ -47,6 +47,7 @@
 #include "setbound/core/linear_system.hpp"
 #include "setbound/core/state.hpp"
 #include "setbound/core/validate.hpp"
+#include "setbound/estimators/measurement_check.hpp"
 #include "setbound/sets/strip.hpp"
 #include "setbound/sets/zonotope.hpp"
 
@@ -104,12 +105,17 @@ struct ZonotopicOptions {
   std::vector<Eigen::Index> strip_order;  ///< order of the outputs; empty = 0, 1, …, n_y − 1
   /// Combastel (papers §0.1), Girard (CORA's default) or Pca (CORA's observer examples).
   ZonotopeReduction reduction = ZonotopeReduction::Combastel;
+  /// A reading outside the predicted output set (measurement_check.hpp): Flag (skip it and mark
+  /// the step), Raise (InconsistentMeasurementError, estimator unchanged) or Reset (restart from
+  /// the reset set, by default x0, and correct with the outputs consistent with it).
+  OnInconsistency on_inconsistency = OnInconsistency::Flag;
 };
 
 /// Sets of one run: row k of center/lower/upper and element k of the lists describe x_k.
 struct ZonotopeTrajectory {
   Eigen::MatrixXd center, lower, upper;  ///< N × n_x
   std::vector<Zonotope> sets;
+  std::vector<MeasurementCheck> checks;  ///< which outputs each step used, and the margins
 };
 
 class ZonotopicEstimator {
@@ -120,14 +126,25 @@ class ZonotopicEstimator {
   const ZonotopicOptions& options() const { return opt_; }
   /// Changes the reduction method from the next step on (every method is guaranteed).
   void set_reduction(ZonotopeReduction method) { opt_.reduction = method; }
+  /// Changes the inconsistency policy from the next step on; `reset_set` (Reset only; default
+  /// x0) must have the state dimension and at most max(max_generators, generators of x0)
+  /// generators.
+  void set_inconsistency_policy(OnInconsistency policy);
+  void set_inconsistency_policy(OnInconsistency policy, const Zonotope& reset_set);
   Eigen::Index steps_taken() const { return k_; }
+  /// Back to the state of construction: the prior is x0 again, no step taken (the options,
+  /// the reduction method and the policy are kept).
+  void reset();
 
   /// Set for the next state x_{k+1} (before its measurement is used), the pending rounding
   /// box included as generators.
   Zonotope prediction() const;
 
   /// Uses y_k (and u_k for D u_k), then predicts x_{k+1} with u_k; the set for x_k is then
-  /// available from the current_*() accessors. On any error the estimator is unchanged.
+  /// available from the current_*() accessors. NaN entries of y are missing outputs (not used);
+  /// each present output is first tested against the predicted output set and an impossible
+  /// reading is handled by the policy (last_check() reports both). On any error the estimator
+  /// is unchanged.
   void update(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u);
 
   /// update(), returning the set for x_k.
@@ -147,6 +164,8 @@ class ZonotopicEstimator {
   const Eigen::VectorXd& current_box() const { return cur_r_; }
   const Eigen::VectorXd& current_lower() const { return cur_lo_; }
   const Eigen::VectorXd& current_upper() const { return cur_hi_; }
+  /// Screening of the last update: per output used / missing / inconsistent / unused, margins.
+  const MeasurementCheck& last_check() const { return last_check_; }
   /// Whether the last update ran the order reduction.
   bool reduced_last_step() const { return reduced_; }
   /// Generator count of current_set(): the generators plus the non-zero box entries.
@@ -154,10 +173,12 @@ class ZonotopicEstimator {
   /// The last set as one zonotope (the rounding box as axis-aligned generators).
   Zonotope current_set() const;
 
-  /// Runs over rows of Y (N × n_y) and U (N × n_u, or empty when n_u = 0).
+  /// Runs over rows of Y (N × n_y; NaN entries are missing) and U (N × n_u, or empty when
+  /// n_u = 0) from the initial set: reset() first, so the same data give the same result.
   ZonotopeTrajectory run(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& U = Eigen::MatrixXd());
 
-  /// Strip-by-strip correction (papers §3.1) of X, followed by the reduction.
+  /// Strip-by-strip correction (papers §3.1) of X, followed by the reduction (NaN outputs are
+  /// skipped; an inconsistent output is skipped, or raises under policy Raise).
   Zonotope correct(const Zonotope& X, const Eigen::Ref<const Eigen::VectorXd>& y,
                    const Eigen::Ref<const Eigen::VectorXd>& u) const;
 
@@ -205,6 +226,12 @@ class ZonotopicEstimator {
   // ---- correction and reduction: writes the current set, the prior stays untouched until
   // the very end (nothing is committed if a gain rule throws) ------------------------------
   void correct_and_reduce(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, bool correct);
+
+  /// Tests output i (y_i − D_i u, half-width φ) against the support interval center ± radius of
+  /// the set before its strip (measurement_check.hpp) and records the result in chk_; throws
+  /// under policy Raise. Returns whether the strip is used.
+  bool screen_output(Eigen::Index i, double yi, double phi, double center, double radius, double magnitude,
+                     Eigen::Index terms, const Eigen::Ref<const Vec>& y);
 
   /// y_i − D_i u and the strip half-width, widened by the rounding of D_i u when D_i ≠ 0.
   double shifted_measurement(Eigen::Index i, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u,
@@ -290,8 +317,13 @@ class ZonotopicEstimator {
   bool has_current_ = false, reduced_ = false;
   Eigen::Index k_ = 0;
 
+  // Missing and impossible readings: the initial set (reset()), the reset set of policy Reset,
+  // the screening of the step being computed (chk_) and of the last committed one.
+  Zonotope x0_, reset_set_;
+  MeasurementCheck chk_, last_check_;
+
   // Scratch.
-  Vec pc_, rc_, wH_, wGA_, lam_, sc_, v_, t_, e_, cN_, uabs_;
+  Vec sg_, pc_, rc_, wH_, wGA_, lam_, sc_, v_, t_, e_, cN_, uabs_;
   Mat Tc_, Nc_, Sc_, absT_;
   detail::ReductionWorkspace rws_;
 };

@@ -66,6 +66,11 @@ struct ReductionWorkspace {
   Eigen::Index reduced_count = 0;  ///< |R| of the last call (0: nothing reduced)
 };
 
+/// Sizes the workspace for reductions of up to `capacity` columns of n rows, so that reductions
+/// never allocate afterwards (they otherwise grow the buffers on first need; an estimator's
+/// allocation-free steady state must not depend on the largest column count seen so far).
+void reserve_reduction_workspace(ReductionWorkspace& ws, Eigen::Index n, Eigen::Index capacity);
+
 /// Reduction keys of the first m columns of H: larger = more worth keeping.
 void reduction_keys(ZonotopeReduction method, const Eigen::MatrixXd& H, Eigen::Index m, Eigen::VectorXd& key);
 

@@ -20,6 +20,7 @@ SETBOUND_INLINE const char* error_kind_name(ErrorKind k) noexcept {
     case ErrorKind::Numerical: return "numerical error";
     case ErrorKind::BufferTooSmall: return "buffer too small";
     case ErrorKind::Internal: return "internal error";
+    case ErrorKind::Inconsistent: return "inconsistent measurement";
   }
   return "unknown error";
 }

@@ -15,7 +15,11 @@ SETBOUND_INLINE ExactHull exact_hull(const LinearSystem& sys, const Zonotope& x0
   const Eigen::Index n = sys.nx(), nw = sys.nw(), ny = sys.ny(), nu = sys.nu();
   if (x0.dimension() != n) throw DimensionError("x0: expected dimension " + std::to_string(n));
   if (Y.cols() != ny) throw DimensionError("y: expected " + std::to_string(ny) + " columns");
-  require_finite(Y, "y");
+  // NaN entries are missing outputs (no constraint); ±inf is an error.
+  for (Eigen::Index k = 0; k < Y.rows(); ++k)
+    if (Y.row(k).array().isInf().any())
+      throw NotFiniteError("y: row " + std::to_string(k) + " has an infinite entry; a reading must be finite "
+                           "(NaN marks a missing one)");
   const Eigen::Index N = Y.rows();
   if (nu > 0) {
     require_shape(U, N, nu, "u");
@@ -37,6 +41,7 @@ SETBOUND_INLINE ExactHull exact_hull(const LinearSystem& sys, const Zonotope& x0
       const Eigen::MatrixXd Cx = sys.C() * xv;
       const Eigen::VectorXd rhs = Y.row(k).transpose() - du - sys.C() * xc;
       for (Eigen::Index i = 0; i < ny; ++i) {
+        if (std::isnan(Y(k, i))) continue;  // missing: no constraint
         lmi::LpRow row;
         for (Eigen::Index v = 0; v < wk; ++v)
           if (Cx(i, v) != 0.0) row.emplace_back(static_cast<int>(v), Cx(i, v));

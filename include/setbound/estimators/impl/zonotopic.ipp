@@ -47,7 +47,7 @@ SETBOUND_INLINE Eigen::VectorXd ZonotopeGain::operator()(const Zonotope& Z, cons
 }
 
 SETBOUND_INLINE ZonotopicEstimator::ZonotopicEstimator(LinearSystem system, const Zonotope& x0, ZonotopeGain gain, ZonotopicOptions options)
-    : sys_(std::move(system)), gain_(std::move(gain)), opt_(std::move(options)) {
+    : sys_(std::move(system)), gain_(std::move(gain)), opt_(std::move(options)), x0_(x0), reset_set_(x0) {
   const Eigen::Index n = sys_.nx(), ny = sys_.ny();
   if (x0.dimension() != n)
     throw DimensionError("x0: expected a zonotope of dimension " + std::to_string(n) + ", got " +
@@ -73,9 +73,47 @@ SETBOUND_INLINE ZonotopicEstimator::ZonotopicEstimator(LinearSystem system, cons
       seen[static_cast<std::size_t>(i)] = true;
     }
   }
+  if (static_cast<int>(opt_.on_inconsistency) < 0 || static_cast<int>(opt_.on_inconsistency) > 2)
+    throw InvalidArgumentError("on_inconsistency: must be Flag, Raise or Reset");
   setup_model();
   allocate(x0.remove_zero_generators().num_generators());
   load_prior(x0);
+  chk_.clear(ny);
+  last_check_.clear(ny);
+}
+
+SETBOUND_INLINE void ZonotopicEstimator::set_inconsistency_policy(OnInconsistency policy) {
+  set_inconsistency_policy(policy, x0_);
+}
+
+SETBOUND_INLINE void ZonotopicEstimator::set_inconsistency_policy(OnInconsistency policy, const Zonotope& reset_set) {
+  if (static_cast<int>(policy) < 0 || static_cast<int>(policy) > 2)
+    throw InvalidArgumentError("on_inconsistency: must be Flag, Raise or Reset");
+  if (reset_set.dimension() != n_)
+    throw DimensionError("reset_set: expected a zonotope of dimension " + std::to_string(n_) + ", got " +
+                         std::to_string(reset_set.dimension()));
+  Zonotope r = reset_set.remove_zero_generators();
+  const Eigen::Index limit = cap_ - capN_ - n_;  // the generator capacity of the prior
+  if (r.num_generators() > limit)
+    throw InvalidArgumentError("reset_set: at most " + std::to_string(limit) +
+                               " generators (max_generators or those of x0), got " +
+                               std::to_string(r.num_generators()));
+  opt_.on_inconsistency = policy;
+  reset_set_ = std::move(r);
+}
+
+SETBOUND_INLINE void ZonotopicEstimator::reset() {
+  load_prior(x0_);
+  k_ = 0;
+  has_current_ = false;
+  reduced_ = false;
+  m_ = 0;
+  cur_p_.setZero();
+  cur_r_.setZero();
+  cur_w_.setZero();
+  cur_lo_.setZero();
+  cur_hi_.setZero();
+  last_check_.clear(sys_.ny());
 }
 
 SETBOUND_INLINE Zonotope ZonotopicEstimator::prediction() const {
@@ -90,9 +128,25 @@ SETBOUND_INLINE void ZonotopicEstimator::update(const Eigen::Ref<const Eigen::Ve
     throw DimensionError("y: expected length " + std::to_string(sys_.ny()) + ", got " + std::to_string(y.size()));
   if (u.size() != sys_.nu())
     throw DimensionError("u: expected length " + std::to_string(sys_.nu()) + ", got " + std::to_string(u.size()));
-  require_finite(y, "y");
+  require_no_infinity(y, "y");
   require_finite(u, "u");
-  correct_and_reduce(y, u, !(k_ == 0 && !opt_.use_first_measurement));  // may throw; commits last
+  const bool correct = !(k_ == 0 && !opt_.use_first_measurement);
+  correct_and_reduce(y, u, correct);  // may throw (policy Raise, a gain rule); commits last
+  if (correct && opt_.on_inconsistency == OnInconsistency::Reset && chk_.flagged()) {
+    // Restart from the reset set and correct it with this step's outputs (those inconsistent
+    // with it are skipped). The report keeps the test that triggered the reset.
+    const MeasurementCheck trigger = chk_;
+    const std::vector<double> before = save_state();
+    try {
+      load_prior(reset_set_);
+      correct_and_reduce(y, u, true);
+    } catch (...) {
+      restore_state(before);
+      throw;
+    }
+    last_check_ = trigger;
+    last_check_.reset = true;
+  }
   predict_prior(u);
   ++k_;
 }
@@ -111,8 +165,10 @@ SETBOUND_INLINE ZonotopeTrajectory ZonotopicEstimator::run(const Eigen::MatrixXd
   if (Y.cols() != sys_.ny())
     throw DimensionError("y: expected " + std::to_string(sys_.ny()) + " columns, got " + std::to_string(Y.cols()));
   if (sys_.nu() > 0) require_shape(U, N, sys_.nu(), "u");
-  ZonotopeTrajectory t{Eigen::MatrixXd(N, n_), Eigen::MatrixXd(N, n_), Eigen::MatrixXd(N, n_), {}};
+  ZonotopeTrajectory t{Eigen::MatrixXd(N, n_), Eigen::MatrixXd(N, n_), Eigen::MatrixXd(N, n_), {}, {}};
   t.sets.reserve(static_cast<std::size_t>(N));
+  t.checks.reserve(static_cast<std::size_t>(N));
+  reset();
   const Eigen::VectorXd no_input(0);
   for (Eigen::Index k = 0; k < N; ++k) {
     if (sys_.nu() > 0) update(Y.row(k).transpose(), U.row(k).transpose());
@@ -121,6 +177,7 @@ SETBOUND_INLINE ZonotopeTrajectory ZonotopicEstimator::run(const Eigen::MatrixXd
     t.lower.row(k) = cur_lo_.transpose();
     t.upper.row(k) = cur_hi_.transpose();
     t.sets.push_back(current_set());
+    t.checks.push_back(last_check_);
   }
   return t;
 }
@@ -130,9 +187,10 @@ SETBOUND_INLINE Zonotope ZonotopicEstimator::correct(const Zonotope& X, const Ei
   detail::require_length(X.dimension(), n_, "X");
   detail::require_length(y.size(), sys_.ny(), "y");
   detail::require_length(u.size(), sys_.nu(), "u");
-  require_finite(y, "y");
+  require_no_infinity(y, "y");
   require_finite(u, "u");
   ZonotopicEstimator tmp(sys_, X, gain_, opt_);
+  tmp.k_ = k_;
   tmp.correct_and_reduce(y, u, true);
   return tmp.current_set();
 }
@@ -323,6 +381,8 @@ SETBOUND_INLINE void ZonotopicEstimator::allocate(Eigen::Index m0) {
   uabs_ = Vec::Zero(sys_.nu());
   absT_ = Mat::Zero(n_, n_);
   cN_ = Vec::Zero(capN_);
+  sg_ = Vec::Zero(cap_);
+  detail::reserve_reduction_workspace(rws_, n_, cap_);
 }
 
 SETBOUND_INLINE void ZonotopicEstimator::load_prior(const Zonotope& X) {
@@ -347,6 +407,9 @@ SETBOUND_INLINE void ZonotopicEstimator::correct_and_reduce(const Eigen::Ref<con
   pc_ = p_;
   rc_ = rP_;
   Eigen::Index mW = 0;
+  chk_.clear(sys_.ny(), correct ? OutputStatus::Used : OutputStatus::Unused);
+  for (Eigen::Index i = 0; i < sys_.ny(); ++i)
+    if (std::isnan(y(i))) chk_.status[static_cast<std::size_t>(i)] = OutputStatus::Missing;
   const double g = gamma(n_ + 2), g1 = 1.0 + g;
   // The columns the transform T acts on: G and the carried box diag(rA); rs|[G, diag(rA)]|.
   wGA_ = wG_ + rA_;
@@ -357,11 +420,38 @@ SETBOUND_INLINE void ZonotopicEstimator::correct_and_reduce(const Eigen::Ref<con
     Eigen::Index mN = mN_;
     if (want_S_) Sc_ = S_;
     for (Eigen::Index i : opt_.strip_order) {
-      if (c_zero_[static_cast<std::size_t>(i)]) continue;
+      if (std::isnan(y(i))) continue;  // missing (chk_ says so)
       const auto c = Ct_.col(i);
       const auto ac = absCt_.col(i);
       double phi = 0.0;
       const double yi = shifted_measurement(i, y, u, phi);
+      {
+        // Support of the set before this strip in direction c: |(Tᵀc)ᵀG|₁ + |Tᵀc|ᵀrA + |Nᵀc|₁
+        // + |c|ᵀrc; its magnitude bounds the rounding of that computation.
+        double radius = ac.dot(rc_), magnitude = ac.dot(pc_.cwiseAbs()) + radius;
+        if (Tc_identity) {
+          t_ = c;
+          magnitude += ac.dot(wGA_);
+        } else {
+          t_.noalias() = Tc_.transpose() * c;
+          absT_ = Tc_.cwiseAbs();  // preallocated: no temporary in the steady state
+          v_.noalias() = absT_.transpose() * ac;
+          magnitude += v_.dot(wGA_);
+        }
+        radius += t_.cwiseAbs().dot(rA_);
+        if (mG_ > 0) {
+          if (sg_.size() < mG_) sg_.resize(cap_);  // restore_state() may have grown the capacity
+          sg_.head(mG_).noalias() = G().leftCols(mG_).transpose() * t_;
+          radius += sg_.head(mG_).cwiseAbs().sum();
+        }
+        if (mN > 0) {
+          cN_.head(mN).noalias() = Nc_.leftCols(mN).transpose() * c;
+          radius += cN_.head(mN).cwiseAbs().sum();
+          for (Eigen::Index j = 0; j < mN; ++j) magnitude += ac.dot(Nc_.col(j).cwiseAbs());
+        }
+        if (!screen_output(i, yi, phi, c.dot(pc_), radius, magnitude, n_ + mG_ + mN + 4, y)) continue;
+      }
+      if (c_zero_[static_cast<std::size_t>(i)]) continue;  // tested, carries no information on x
       if (want_S_) {
         sc_.noalias() = Sc_ * c;
         const double den = c.dot(sc_) + phi * phi;
@@ -467,12 +557,27 @@ SETBOUND_INLINE void ZonotopicEstimator::correct_and_reduce(const Eigen::Ref<con
   cur_r_ = rc_;
   cur_w_ = wH_;
   reduced_ = reduced;
+  last_check_.status = chk_.status;  // same sizes: no allocation
+  last_check_.margin = chk_.margin;
+  last_check_.reset = false;
   has_current_ = true;
   const double infl = 1.0 + static_cast<double>(mW + n_ + 4) * std::numeric_limits<double>::epsilon();
   e_ = (wH_ + rc_) * infl;
   cur_lo_ = cur_p_ - e_;
   cur_hi_ = cur_p_ + e_;
   if (want_S_) S_ = Sc_;
+}
+
+SETBOUND_INLINE bool ZonotopicEstimator::screen_output(Eigen::Index i, double yi, double phi, double center, double radius,
+                                                       double magnitude, Eigen::Index terms,
+                                                       const Eigen::Ref<const Vec>& y) {
+  const OutputTest t = test_output(yi, center, radius, phi, magnitude, terms);
+  chk_.margin(i) = t.margin;
+  if (!t.inconsistent) return true;
+  if (opt_.on_inconsistency == OnInconsistency::Raise)
+    throw_inconsistent(k_, i, y(i), center + (y(i) - yi), radius, phi, t.margin);
+  chk_.status[static_cast<std::size_t>(i)] = OutputStatus::Inconsistent;
+  return false;
 }
 
 SETBOUND_INLINE double ZonotopicEstimator::shifted_measurement(Eigen::Index i, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u,
@@ -512,11 +617,22 @@ SETBOUND_INLINE Eigen::Index ZonotopicEstimator::explicit_strips(Mat& W, Eigen::
   using rounding_bounds::gamma;
   const double g = gamma(n_ + 2), g1 = 1.0 + g;
   for (Eigen::Index i : opt_.strip_order) {
-    if (c_zero_[static_cast<std::size_t>(i)]) continue;
+    if (std::isnan(y(i))) continue;  // missing (chk_ says so)
     const auto c = Ct_.col(i);
     const auto ac = absCt_.col(i);
     double phi = 0.0;
     const double yi = shifted_measurement(i, y, u, phi);
+    {
+      double radius = ac.dot(rc_), magnitude = ac.dot(pc_.cwiseAbs()) + radius;
+      if (m > 0) {
+        cN_.resize(std::max(cN_.size(), m));
+        cN_.head(m).noalias() = W.leftCols(m).transpose() * c;
+        radius += cN_.head(m).cwiseAbs().sum();
+        for (Eigen::Index j = 0; j < m; ++j) magnitude += ac.dot(W.col(j).cwiseAbs());
+      }
+      if (!screen_output(i, yi, phi, c.dot(pc_), radius, magnitude, n_ + m + 4, y)) continue;
+    }
+    if (c_zero_[static_cast<std::size_t>(i)]) continue;  // tested, carries no information on x
     const StripMeasurement meas{Strip(Vec(c), yi, phi), i};
     const Vec lambda = gain_(Zonotope(pc_, W.leftCols(m)), meas);
     if (lambda.size() != n_ || !lambda.allFinite())

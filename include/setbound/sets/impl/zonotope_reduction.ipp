@@ -20,6 +20,13 @@ SETBOUND_INLINE double gamma(Eigen::Index k) {
 namespace setbound {
 namespace detail {
 
+SETBOUND_INLINE void reserve_reduction_workspace(ReductionWorkspace& ws, Eigen::Index n, Eigen::Index capacity) {
+  if (ws.key.size() < capacity) ws.key.resize(capacity);
+  ws.order.reserve(static_cast<std::size_t>(capacity));
+  if (ws.Gred.rows() != n || ws.Gred.cols() < capacity) ws.Gred.resize(n, capacity);
+  if (ws.QtG.rows() != n || ws.QtG.cols() < capacity) ws.QtG.resize(n, capacity);
+}
+
 SETBOUND_INLINE void reduction_keys(ZonotopeReduction method, const Eigen::MatrixXd& H, Eigen::Index m, Eigen::VectorXd& key) {
   if (key.size() < m) key.resize(std::max<Eigen::Index>(m, 2 * key.size()));
   const Eigen::Index n = H.rows();
