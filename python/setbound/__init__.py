@@ -7,7 +7,7 @@ library's message.
 """
 from __future__ import annotations
 
-from . import errors, lmi
+from . import errors, lmi, measurement
 from ._native import ABI_VERSION, version
 from .errors import *  # noqa: F401,F403  (the exception classes are part of the API)
 from .interval import Box, Interval, IntervalMatrix
@@ -64,6 +64,7 @@ __all__ = [
     "inclusion",
     "invariant",
     "lmi",
+    "measurement",
     "zonotopic",
     "version",
 ] + list(errors.__all__)

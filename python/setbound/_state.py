@@ -33,7 +33,7 @@ import numpy as np
 from ._native import check, dptr, ffi, lib
 from .errors import InvalidArgumentError
 
-__all__ = ["reconstructible", "remember_call", "StateMixin", "ThreadSafe"]
+__all__ = ["reconstructible", "remember_call", "run_from_initial_set", "StateMixin", "ThreadSafe"]
 
 
 def _rebuild(factory, args, kwargs, state):
@@ -92,6 +92,24 @@ def reconstructible(cls):
     cls.__copy__ = _copy
     cls.__deepcopy__ = _deepcopy
     return cls
+
+
+def run_from_initial_set(run):
+    """Decorator of an estimator's ``run``: adds the keyword ``reset`` (default True: start from
+    the initial set, so the same record always gives the same result; False: continue from the
+    current state, to process a record in pieces) and makes the call atomic: when it fails, the
+    estimator is left as it was before the call."""
+    @functools.wraps(run)
+    def wrapper(self, *args, reset: bool = True, **kwargs):
+        before = self.save_state()
+        if reset:
+            self.reset()
+        try:
+            return run(self, *args, **kwargs)
+        except BaseException:
+            self.restore_state(before)
+            raise
+    return wrapper
 
 
 def remember_call(obj, function, *args, **kwargs):
@@ -243,6 +261,18 @@ class StateMixin(ThreadSafe):
         buf = np.frombuffer(raw, dtype="<f8").astype(np.float64)
         check(getattr(lib, self._state_prefix + "_restore_state")(self._state_handle(), dptr(buf), buf.size))
         self._after_restore()
+
+    def reset(self) -> None:
+        """Back to the state of construction: the initial set, no step taken (``run()`` starts
+        with it, so the same record always gives the same result)."""
+        state = self.__dict__.get("_initial_state")
+        if state is None:
+            # a twin made with the same construction arguments (designs are immutable objects,
+            # so this does not design again) gives the state of construction; kept for later
+            args, kwargs = _ctor_of(self)
+            state = type(self)(*args, **kwargs).save_state()
+            self.__dict__["_initial_state"] = state
+        self.restore_state(state)
 
     def _after_restore(self) -> None:
         """Refreshes values cached on the Python side (overridden where there are some)."""

@@ -26,11 +26,11 @@ from typing import Any
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
-from ._state import MadeByCall, StateMixin, reconstructible, remember_call
+from ._state import MadeByCall, StateMixin, reconstructible, remember_call, run_from_initial_set
 from ._validate import as_bool, as_choice, as_float
 from .errors import DimensionError, InvalidArgumentError
 from .sets import Ellipsoid
-from .system import as_system, DescriptorSystem, LinearSystem, run_inputs, step_inputs
+from .system import as_system, DescriptorSystem, LinearSystem, refuse_missing, run_inputs, step_inputs
 from .trajectory import Trajectory
 
 _NORMALIZATIONS = {
@@ -169,6 +169,7 @@ class _EllipsoidalEstimator(StateMixin):
 
     def _step(self, y, u):
         y, up = step_inputs(self.system, y, u)
+        refuse_missing(y, type(self).__name__)
         check(lib.sb_ellipsoidal_step(self._handle, dptr(y), up, dptr(self._P), dptr(self._c), self._rho,
                                       dptr(self._lo), dptr(self._hi)))
 
@@ -186,11 +187,13 @@ class _EllipsoidalEstimator(StateMixin):
         check(lib.sb_ellipsoidal_last_step(self._handle, b, dptr(L), fb))
         return {"beta": float(b[0]), "L": L, "fallback": bool(fb[0])}
 
+    @run_from_initial_set
     def run(self, y, u=None) -> Trajectory:
         """Processes the rows of ``y`` (N × n_y) and ``u`` (N × n_u); row k of the result is
         about ``x_k`` (see the module docstring for what each row has used)."""
         s = self.system
         y, u = run_inputs(s, y, u)
+        refuse_missing(y, type(self).__name__)
         N = y.shape[0]
         n = self.design.nx
         centers, lows, highs, sets = np.empty((N, n)), np.empty((N, n)), np.empty((N, n)), []
@@ -334,16 +337,19 @@ class KalmanFilter(StateMixin):
         """Correction with ``y_k``, then prediction; returns ``(mean, covariance)`` of ``x_k``."""
         s = self.system
         y, up = step_inputs(s, y, u)
+        refuse_missing(y, type(self).__name__)
         m, G = np.empty(s.nx), np.empty((s.nx, s.nx))
         check(lib.sb_kalman_step(self._handle, dptr(y), up, dptr(m), dptr(G)))
         self.mean, self.covariance = m, G
         return m.copy(), G.copy()
 
+    @run_from_initial_set
     def run(self, y, u=None) -> Trajectory:
         """Processes the rows of ``y`` (N × n_y) and ``u``; returns the Trajectory of means and
         ``mean ± nsigma·σ`` boxes (``guaranteed = False``) with ``covariance`` (N × n × n); row k uses y_0 … y_k."""
         s = self.system
         y, u = run_inputs(s, y, u)
+        refuse_missing(y, type(self).__name__)
         N = y.shape[0]
         means, covs = np.empty((N, s.nx)), np.empty((N, s.nx, s.nx))
         for k in range(N):

@@ -22,11 +22,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
-from ._state import MadeByCall, StateMixin, reconstructible, remember_call
+from ._state import MadeByCall, StateMixin, reconstructible, remember_call, run_from_initial_set
 from ._validate import as_choice, as_float, as_int
 from .errors import DimensionError, InvalidArgumentError
 from .interval import Box
 from .plant import Plant
+from .system import refuse_missing
 from .trajectory import Trajectory
 
 __all__ = [
@@ -425,6 +426,7 @@ class _Observer(StateMixin):
         if y.ndim == 1 and self.ny == 1:
             y = y.reshape(-1, 1)
         y = as_f64(y, "y", shape=(None, self.ny))
+        refuse_missing(y, type(self).__name__)
         T = y.shape[0]
         if u is None:
             if self.nu:
@@ -464,8 +466,11 @@ class EllipsoidalSMObserver(_Observer):
         """Uses y_k and u_k, advances the observer and returns the box of x_{k+1} (unchanged on error)."""
         return self._step(y, u, None)
 
+    @run_from_initial_set
     def run(self, y, u=None) -> Trajectory:
-        """Runs over y (N × n_y) and u; row k of the trajectory bounds x_k (row 0: the initial box)."""
+        """Runs over y (N × n_y) and u from the initial set (``reset=False``: from the current
+        state, to process a record in pieces); row k of the trajectory bounds x_k (row 0: the
+        initial box)."""
         return self._run(y, u, None)
 
 
@@ -480,6 +485,8 @@ class LPVEllipsoidalSMObserver(_Observer):
             raise InvalidArgumentError("rho: the LPV observer needs the scheduling value of this step")
         return self._step(y, u, rho)
 
+    @run_from_initial_set
     def run(self, y, u=None, rho=None) -> Trajectory:
-        """Runs over y, u and the scheduling signal rho (N × n_ρ); row k bounds x_k (row 0: the initial box)."""
+        """Runs over y, u and the scheduling signal rho (N × n_ρ) from the initial set
+        (``reset=False``: from the current state); row k bounds x_k (row 0: the initial box)."""
         return self._run(y, u, rho)

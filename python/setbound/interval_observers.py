@@ -25,12 +25,13 @@ from typing import Callable, Union
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
-from ._state import MadeByCall, StateMixin, reconstructible, remember_call
+from ._state import MadeByCall, StateMixin, reconstructible, remember_call, run_from_initial_set
 from ._state import _reduce as _state_reduce
 from ._validate import INT_MAX, as_float, as_int, check_memory
 from .errors import DimensionError, InvalidArgumentError
 from .interval import Box
 from .plant import Plant
+from .system import refuse_missing
 from .trajectory import Trajectory
 
 __all__ = [
@@ -166,6 +167,7 @@ class _OnlineObserver(StateMixin):
         check(getattr(lib, self._prefix + "_current")(self._handle, dptr(xh), dptr(lo), dptr(hi)))
         return xh
 
+    @run_from_initial_set
     def run(self, y, u=None, **kw) -> Trajectory:
         """Processes rows ``y[k]`` (and ``u[k]``); row ``k`` of the result bounds ``x_k`` having
         used ``y_0 … y_{k−1}`` (row 0 is the initial box)."""
@@ -174,6 +176,7 @@ class _OnlineObserver(StateMixin):
         N = y.shape[0]
         if y.shape[1] != p.ny:
             raise DimensionError(f"y: expected shape (N, {p.ny}), got {y.shape}")
+        refuse_missing(y, type(self).__name__)
         if p.nu > 0:
             u = as_f64(u, "u", shape=(N, p.nu))
         elif u is not None and np.size(u) != 0:

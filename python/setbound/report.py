@@ -68,6 +68,10 @@ def summary_rows(job, results) -> list[dict]:
                 "final_volume": float(t.volume[-1]) if t.sets and np.isfinite(t.volume[-1]) else None,
                 "design_time_s": r.design_time,
                 "time_per_step_s": r.step_time,
+                # impossible readings (setbound.measurement); None: the method does not test them
+                "flagged_steps": None if t.status is None else int(np.count_nonzero(t.flagged)),
+                "first_flagged_step": (None if t.status is None or not t.flagged.any()
+                                       else int(np.flatnonzero(t.flagged)[0])),
             })
         else:
             row.update({"guaranteed": ESTIMATORS[r.method].guaranteed, "contains_truth": None,
@@ -103,6 +107,11 @@ def format_table(rows) -> str:
         lines.append(f"{r['name']:<20}{inside:>13}{max(r['mean_width']):>12.4g}{max(r['final_width']):>12.4g}"
                      f"{vol:>12}{r['design_time_s']:>10.3f}{1e3 * r['time_per_step_s']:>9.3f}")
     lines += sorted(notes)
+    for r in rows:
+        if r["ok"] and r.get("flagged_steps"):
+            lines.append(f"! {r['name']}: readings no state of the model can produce at {r['flagged_steps']} step"
+                         f"{'s' if r['flagged_steps'] != 1 else ''} (first: step {r['first_flagged_step']}); they were "
+                         f"not used (status and margin in {r['name']}.npz)")
     return "\n".join(lines)
 
 
@@ -121,6 +130,8 @@ def write_results(out: Path, job, results, rows, *, extra: dict | None = None) -
             arrays["x_true"] = job.x_true
         if job.t is not None:
             arrays["t"] = job.t
+        if t.status is not None:  # what each step did with each reading (setbound.measurement)
+            arrays["status"], arrays["margin"] = t.status, t.margin
         np.savez(out / f"{r.name}.npz", **arrays)
         with open(out / f"{r.name}.csv", "w", newline="") as fh:
             wr = csv.writer(fh)

@@ -15,9 +15,20 @@ import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
 from ._validate import as_float, as_int
-from .errors import DimensionError, InvalidArgumentError
+from .errors import DimensionError, InvalidArgumentError, NotFiniteError
 from ._state import reconstructible
 from .interval import IntervalMatrix
+
+
+def refuse_missing(y, who: str) -> None:
+    """Raises NotFiniteError naming the first NaN (missing) reading of ``y`` (one step, or N × n_y)
+    for an estimator that needs every output at every step (``who``: its class name)."""
+    bad = np.argwhere(np.isnan(y))
+    if bad.size == 0:
+        return
+    where = f"row {bad[0][0]}, output {bad[0][1]}" if y.ndim == 2 else f"output {bad[0][0]}"
+    raise NotFiniteError(f"y: {where} is NaN (a missing reading): {who} needs every output at every step; the "
+                         "zonotopic estimators accept missing readings (docs/user_guide.md, \"Real measurement data\")")
 
 
 def step_inputs(system, y, u):

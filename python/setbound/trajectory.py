@@ -33,6 +33,21 @@ class Trajectory:
     _volume: np.ndarray | None = field(default=None, repr=False)
     _radius: np.ndarray | None = field(default=None, repr=False)
     guaranteed: bool = True
+    #: Per step and output (N × n_y): what the step did with the reading (setbound.measurement:
+    #: USED, MISSING, INCONSISTENT, UNUSED) and its margin; None for families that do not
+    #: screen their measurements yet.
+    status: np.ndarray | None = None
+    margin: np.ndarray | None = None
+    #: Per step: the estimator restarted from its reset set (on_inconsistency="reset").
+    resets: np.ndarray | None = None
+
+    @property
+    def flagged(self) -> np.ndarray:
+        """Per step: some reading was impossible (outside the predicted output set), (N,)."""
+        if self.status is None:
+            return np.zeros(len(self), dtype=bool)
+        from .measurement import INCONSISTENT
+        return np.any(self.status == INCONSISTENT, axis=1)
 
     def __len__(self) -> int:
         return self.center.shape[0]

@@ -17,9 +17,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
-from ._state import StateMixin, reconstructible, remember_call
+from ._state import StateMixin, reconstructible, remember_call, run_from_initial_set
 from ._validate import as_bool, as_choice, as_float, as_int, check_memory
 from .errors import DimensionError, InvalidArgumentError
+from .measurement import MeasurementCheck, POLICIES, measurement_or_missing
 from .sets import Zonotope
 from .system import as_system, LinearSystem, run_inputs, step_inputs
 from .trajectory import Trajectory
@@ -54,14 +55,21 @@ class _ZonotopicEstimator(StateMixin):
 
     ``max_generators`` is an integer in [n_x, ``MAX_GENERATORS``] (100000: the reduction sorts
     and the correction touches every generator at every step, and the sets are n_x × m arrays;
-    CORA's observers use orders up to about 100); ``use_first_measurement`` a bool."""
+    CORA's observers use orders up to about 100); ``use_first_measurement`` a bool.
+
+    Real data (:mod:`setbound.measurement`): NaN entries of ``y`` (or ``step(None)``) are missing
+    outputs; a reading outside the predicted output set is never used and is handled by
+    ``on_inconsistency``: ``"flag"`` (default), ``"raise"`` or ``"reset"`` (restart from
+    ``reset_set``, a :class:`~setbound.sets.Zonotope`, by default ``x0``). ``last_check`` and the
+    trajectory's ``status`` and ``margin`` report what each step did with each output."""
 
     _gain: int
     _lambdas = None
     _state_prefix = "sb_zonotopic"
 
     def __init__(self, system: LinearSystem, x0: Zonotope, *, max_generators: int = 20,
-                 use_first_measurement: bool = True, strip_order=None, reduction: str = "combastel"):
+                 use_first_measurement: bool = True, strip_order=None, reduction: str = "combastel",
+                 on_inconsistency: str = "flag", reset_set: Zonotope | None = None):
         system = as_system(system)
         _check_system_and_x0(system, x0)
         max_generators = as_int(max_generators, "max_generators", lo=1, hi=MAX_GENERATORS)
@@ -70,6 +78,14 @@ class _ZonotopicEstimator(StateMixin):
                      4 * 8.0 * system.nx * (max_generators + system.nx + system.ny + system.nw))
         use_first_measurement = as_bool(use_first_measurement, "use_first_measurement")
         reduction = as_choice(reduction, "reduction", REDUCTIONS)
+        on_inconsistency = as_choice(on_inconsistency, "on_inconsistency", POLICIES)
+        if reset_set is not None:
+            if on_inconsistency != "reset":
+                raise InvalidArgumentError('reset_set: only used with on_inconsistency="reset"')
+            if not isinstance(reset_set, Zonotope):
+                raise InvalidArgumentError(f"reset_set: expected a setbound.sets.Zonotope, got {type(reset_set).__name__}")
+            if reset_set.n != system.nx:
+                raise DimensionError(f"reset_set: expected a zonotope of dimension {system.nx}, got {reset_set.n}")
         self.system = system
         order_ptr = ffi.NULL
         if strip_order is not None:
@@ -86,7 +102,16 @@ class _ZonotopicEstimator(StateMixin):
         self._handle = ffi.gc(handle[0], lib.sb_zonotopic_free)
         check(lib.sb_zonotopic_set_reduction(self._handle, REDUCTIONS[reduction]))
         self.reduction = reduction
+        if reset_set is None:
+            check(lib.sb_zonotopic_set_inconsistency_policy(self._handle, POLICIES[on_inconsistency], 0, ffi.NULL,
+                                                            ffi.NULL))
+        else:
+            check(lib.sb_zonotopic_set_inconsistency_policy(self._handle, POLICIES[on_inconsistency], reset_set.m,
+                                                            dptr(reset_set.center), dptr(reset_set.generators)))
+        self.on_inconsistency = on_inconsistency
         self._m = ffi.new("int*")
+        self._status = ffi.new("int[]", max(system.ny, 1))
+        self._reset_flag = ffi.new("int*")
 
     def restore_state(self, state) -> None:
         """Restores a state from ``save_state`` (see :class:`setbound._state.StateMixin`); the
@@ -97,7 +122,7 @@ class _ZonotopicEstimator(StateMixin):
 
     def _step(self, y, u):
         s = self.system
-        y, up = step_inputs(s, y, u)
+        y, up = step_inputs(s, measurement_or_missing(y, s.ny), u)
         c, lo, hi = np.empty(s.nx), np.empty(s.nx), np.empty(s.nx)
         check(lib.sb_zonotopic_step(self._handle, dptr(y), up,
                                     dptr(c), dptr(lo), dptr(hi), self._m))
@@ -110,21 +135,49 @@ class _ZonotopicEstimator(StateMixin):
         check(lib.sb_zonotopic_last_set(self._handle, cap, dptr(p), dptr(H)))
         return Zonotope(p, H)
 
+    def _check_into(self, status, margin) -> bool:
+        """Writes the last step's statuses and margins into the given rows; returns the reset flag."""
+        check(lib.sb_zonotopic_last_check(self._handle, self._status, dptr(margin), self._reset_flag))
+        status[:] = np.frombuffer(ffi.buffer(self._status, 4 * max(self.system.ny, 1)), dtype=np.intc)[:self.system.ny]
+        return bool(self._reset_flag[0])
+
+    @property
+    def last_check(self) -> MeasurementCheck:
+        """What the last step did with each output (:class:`~setbound.measurement.MeasurementCheck`)."""
+        ny = self.system.ny
+        status, margin = np.empty(ny, dtype=np.int8), np.empty(ny)
+        reset = self._check_into(status, margin)
+        return MeasurementCheck(status, margin, reset)
+
     def step(self, y, u=None) -> Zonotope:
-        """Uses ``y_k`` (and ``u_k``), returns the set for ``x_k``, predicts ``x_{k+1}``."""
+        """Uses ``y_k`` (and ``u_k``), returns the set for ``x_k``, predicts ``x_{k+1}``. ``y`` None
+        or NaN entries: missing outputs; see ``last_check`` for what the step did with each."""
         self._step(y, u)
         return self._last_set()
 
+    def reset(self) -> None:
+        """Back to the initial set, no step taken (the options are kept)."""
+        check(lib.sb_zonotopic_reset(self._handle))
+
+    @run_from_initial_set
     def run(self, y, u=None) -> Trajectory:
-        """Processes the rows of ``y`` (N × n_y) and ``u`` (N × n_u); row k is about x_k."""
+        """Processes the rows of ``y`` (N × n_y; NaN entries are missing) and ``u`` (N × n_u) from
+        the initial set (``reset()`` first: the same data give the same result; ``reset=False``
+        continues from the current state, to process a record in pieces; a failed run leaves the
+        estimator as it was); row k is about x_k. The trajectory's ``status`` and ``margin``
+        (N × n_y) say what each step did with each output, ``flagged`` which steps had an
+        impossible reading."""
         s = self.system
         y, u = run_inputs(s, y, u)
         N = y.shape[0]
         centers, lows, highs, sets = np.empty((N, s.nx)), np.empty((N, s.nx)), np.empty((N, s.nx)), []
+        status, margin = np.empty((N, s.ny), dtype=np.int8), np.empty((N, s.ny))
+        resets = np.zeros(N, dtype=bool)
         for k in range(N):
             centers[k], lows[k], highs[k] = self._step(y[k], u[k] if s.nu > 0 else None)
             sets.append(self._last_set())
-        return Trajectory(centers, lows, highs, sets)
+            resets[k] = self._check_into(status[k], margin[k])
+        return Trajectory(centers, lows, highs, sets, status=status, margin=margin, resets=resets)
 
 
 @reconstructible
@@ -154,7 +207,8 @@ class ExactHull:
 def exact_hull(system: LinearSystem, y, u=None, *, x0: Zonotope, use_first_measurement: bool = True) -> ExactHull:
     """The exact reference (known ``A`` only): for each step, 2 n_x linear programs over the
     initial set and every disturbance give the interval hull of the states consistent with
-    ``y_0 … y_k``. Slow by nature; every guaranteed estimator's hull contains it.
+    ``y_0 … y_k`` (NaN entries of ``y``: missing outputs, no constraint). Slow by nature; every
+    guaranteed estimator's hull contains it. Data no state can produce raise InfeasibleError.
     ``use_first_measurement``: a bool."""
     use_first_measurement = as_bool(use_first_measurement, "use_first_measurement")
     system = as_system(system)
@@ -236,11 +290,12 @@ class PRadiusEstimator(_ZonotopicEstimator):
     _gain = lib.SB_ZONO_GAIN_FIXED
 
     def __init__(self, design: PRadiusDesign, x0: Zonotope, *, max_generators: int = 20,
-                 use_first_measurement: bool = True, reduction: str = "combastel"):
+                 use_first_measurement: bool = True, reduction: str = "combastel", on_inconsistency: str = "flag",
+                 reset_set: Zonotope | None = None):
         if not isinstance(design, PRadiusDesign):
             raise InvalidArgumentError(f"design: expected a PRadiusDesign, got {type(design).__name__}")
         self.design = design
         self._lambdas = np.ascontiguousarray(design.lambdas, dtype=float)
         super().__init__(design.system, x0, max_generators=max_generators,
                          use_first_measurement=use_first_measurement, strip_order=design.strip_order,
-                         reduction=reduction)
+                         reduction=reduction, on_inconsistency=on_inconsistency, reset_set=reset_set)

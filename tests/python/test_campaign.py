@@ -26,6 +26,8 @@ def test_no_containment_violation(short_campaign, name):
         f"seed {v['seed']} step {v['step']} excess {v['excess']:.3e} ({v['reproduce']})" for v in s["violations"][:5])
     assert s["steps"] > 0, f"{name}: no step ran ({s['reasons']})"
     assert s["max_excess"] <= 0.0
+    # fault-free data: an impossible reading reported by an estimator would be a false alarm
+    assert s["false_alarms"] == 0
 
 
 def test_the_checks_detect_a_point_outside():

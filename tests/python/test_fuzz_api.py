@@ -746,9 +746,11 @@ OPTIONS: dict[str, dict[str, str]] = {
     "setbound.zonotopic.exact_hull": {"u": "data", "x0": "data", "use_first_measurement": "bool"},
     "setbound.zonotopic.design_pradius": {"approach": "choice", "order": "data", "beta_range": "pair"},
     "setbound.zonotopic._ZonotopicEstimator.__init__": {"max_generators": "int", "use_first_measurement": "bool",
-                                                        "strip_order": "data", "reduction": "choice"},
+                                                        "strip_order": "data", "reduction": "choice",
+                                                        "on_inconsistency": "choice", "reset_set": "data"},
     "setbound.zonotopic.PRadiusEstimator.__init__": {"max_generators": "int", "use_first_measurement": "bool",
-                                                     "reduction": "choice"},
+                                                     "reduction": "choice", "on_inconsistency": "choice",
+                                                     "reset_set": "data"},
     "setbound.zonotopic._ZonotopicEstimator.step": {"u": "data"},
     "setbound.zonotopic._ZonotopicEstimator.run": {"u": "data"},
     # hinf

@@ -2,7 +2,10 @@
 
 A CSV file has one header row naming its columns — ``y0, y1, …`` (measurements), ``u0, …``
 (inputs), ``x0, …`` (the true state, when known) — and one row per step, comma-separated. An
-NPZ file holds the arrays ``y`` (N × n_y), ``u`` (N × n_u) and ``x`` (N × n_x). Anything else
+NPZ file holds the arrays ``y`` (N × n_y), ``u`` (N × n_u) and ``x`` (N × n_x). A measurement
+that was not taken is an empty cell or ``nan`` (NaN in an NPZ ``y``): the estimators that accept
+missing readings skip it (docs/user_guide.md, "Real measurement data"); inputs and states must
+be complete. Anything else
 (another column or array name, a row of another length, a value that is not a number, a missing
 or doubled column index) is refused with the file, the key and the row, rather than read
 around: a silently dropped column is a silently wrong estimate.
@@ -23,6 +26,8 @@ __all__ = ["read_data_file", "MAX_DATA_BYTES"]
 
 _PREFIXES = ("y", "u", "x")
 _COLUMN = re.compile(r"^([yux])(\d+)$")
+#: CSV cells of a y column that mean "not measured".
+_MISSING = ("", "nan", "na")
 #: Largest data file read (bytes); bigger files are refused before reading.
 MAX_DATA_BYTES = 2 * 1024 ** 3
 
@@ -61,6 +66,9 @@ def _csv(f: Path, shown: str) -> dict:
                                       f"{len(header)}")
                 line = []
                 for j, c in enumerate(row):
+                    if header[j][0] == "y" and c.strip().lower() in _MISSING:
+                        line.append(math.nan)  # a reading that was not taken
+                        continue
                     try:
                         v = float(c)
                     except ValueError:
@@ -68,7 +76,9 @@ def _csv(f: Path, shown: str) -> dict:
                         raise ConfigError(f"data.file: {shown}, row {r}, column {header[j]}: "
                                           f"{describe(c.strip())} is not a number{hint}") from None
                     if not math.isfinite(v):
-                        raise ConfigError(f"data.file: {shown}, row {r}, column {header[j]}: not a finite number")
+                        what = ("not a finite number (a missing reading is an empty cell or nan)" if header[j][0] == "y"
+                                else "not a finite number (inputs and states cannot be missing)")
+                        raise ConfigError(f"data.file: {shown}, row {r}, column {header[j]}: {what}")
                     line.append(v)
                 values.append(line)
         except csv.Error as exc:
@@ -110,9 +120,11 @@ def _npz(f: Path, shown: str) -> dict:
             arrays[k] = a.reshape(-1, 1)  # one column
         elif a.ndim != 2:
             raise ConfigError(f"data.{k}: the array {k!r} of {shown} has {a.ndim} dimensions (expected N rows × columns)")
-        bad = np.argwhere(~np.isfinite(arrays[k].astype(float)))
+        a = arrays[k].astype(float)
+        bad = np.argwhere(np.isinf(a) if k == "y" else ~np.isfinite(a))  # NaN in y: a missing reading
         if bad.size:
-            raise ConfigError(f"data.{k}: {shown}, row {int(bad[0][0])}: not a finite number")
+            raise ConfigError(f"data.{k}: {shown}, row {int(bad[0][0])}: not a finite number"
+                              + (" (a missing reading is NaN)" if k == "y" else " (inputs and states cannot be missing)"))
     return arrays
 
 

@@ -170,7 +170,7 @@ def _build_zonotopic(method):
 
         x0 = zonotopic_initial(job.initial)
         kw = dict(max_generators=int(o["max_generators"]), use_first_measurement=bool(o["use_first_measurement"]),
-                  reduction=str(o["reduction"]))
+                  reduction=str(o["reduction"]), on_inconsistency=str(o["on_inconsistency"]))
         if method == "segment_min":
             return zono.SegmentMinEstimator(job.system, x0, **kw), None
         if method == "volume_min":
@@ -190,10 +190,12 @@ def _beta(v, key):
 
 
 _ELL = {"normalization": "logdet", "beta": None}
-_ZONO = {"max_generators": 20, "use_first_measurement": True, "reduction": "combastel"}
+# on_inconsistency: what an impossible reading does (setbound.measurement); "reset" restarts from
+# the job's initial set.
+_ZONO = {"max_generators": 20, "use_first_measurement": True, "reduction": "combastel", "on_inconsistency": "flag"}
 _ELL_CHECKS = {"normalization": one_of("logdet", "ball", "paper_trace"), "beta": _beta}
 _ZONO_CHECKS = {"max_generators": positive_int(MAX_GENERATORS), "use_first_measurement": boolean,
-                "reduction": one_of("combastel", "girard", "pca")}
+                "reduction": one_of("combastel", "girard", "pca"), "on_inconsistency": one_of("flag", "raise", "reset")}
 
 register_system("linear", {"A", "A_radius", "B", "C", "D", "E", "F", "omega"}, _linear_system, LinearSystem,
                 description="x+ = A x + B u + E w, y = C x + D u + F w (A may be an interval matrix; "

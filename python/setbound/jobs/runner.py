@@ -20,6 +20,9 @@ def _concat(parts):
     t = Trajectory(np.vstack([p.center for p in parts]), np.vstack([p.lower for p in parts]),
                    np.vstack([p.upper for p in parts]), [s for p in parts for s in p.sets],
                    guaranteed=all(p.guaranteed for p in parts))
+    for name in ("status", "margin", "resets"):
+        if all(getattr(p, name) is not None for p in parts):
+            setattr(t, name, np.concatenate([getattr(p, name) for p in parts]))
     if all(hasattr(p, "covariance") for p in parts):
         t.covariance = np.concatenate([p.covariance for p in parts])
     return t
@@ -27,8 +30,9 @@ def _concat(parts):
 
 def run_trajectory(estimator, y, u=None, *, label: str = "", quiet: bool = False, chunk: int | None = None):
     """``estimator.run(y, u)`` with a progress bar (see :mod:`setbound.progress`) when stderr is a
-    terminal: then in chunks (``chunk`` rows, default N/50). Every estimator's ``run`` continues
-    from its current state, so the chunks join into the same trajectory as one call."""
+    terminal: then in chunks (``chunk`` rows, default N/50). The first chunk starts from the
+    initial set and the others continue from the current state (``run(..., reset=False)``), so
+    the chunks join into the same trajectory as one call."""
     from ..progress import Progress
 
     N = len(y)
@@ -40,7 +44,7 @@ def run_trajectory(estimator, y, u=None, *, label: str = "", quiet: bool = False
         parts = []
         for a in range(0, N, chunk):
             b = min(N, a + chunk)
-            parts.append(estimator.run(y[a:b], None if u is None else u[a:b]))
+            parts.append(estimator.run(y[a:b], None if u is None else u[a:b], reset=(a == 0)))
             bar.update(b - a)
     return _concat(parts)
 

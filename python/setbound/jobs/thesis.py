@@ -546,14 +546,17 @@ class _JobRunner:
         self.est, self.nu, self.rho, self.pos = est, nu, rho, 0
         self.run_kw = run_kw or {}
 
-    def run(self, y, u=None):
+    def run(self, y, u=None, *, reset: bool = True):
+        """From the initial set, or (``reset=False``) from where the last chunk stopped."""
         y = np.asarray(y, float)
         T = y.shape[0]
+        if reset:
+            self.pos = 0
         uu = None if u is None or self.nu == 0 else np.asarray(u, float)[:, :self.nu]
         kw = dict(self.run_kw)
         if self.rho is not None:
             kw["rho"] = self.rho[self.pos:self.pos + T]
-        traj = self.est.run(y, uu, **kw)
+        traj = self.est.run(y, uu, reset=reset, **kw)
         self.pos += T
         if len(traj) == T + 1:
             from ..trajectory import Trajectory
@@ -581,9 +584,12 @@ class _NaiveLuenberger:
         self._rec = interval_error_recursion
         self.k = 0
 
-    def run(self, y, u=None):
+    def run(self, y, u=None, *, reset: bool = True):
         from ..trajectory import Trajectory
 
+        if reset:
+            self.k = 0
+            self.obs.reset()
         T = len(y)
         boxes = self._rec(self.Ao, self.E, self.e0, self.w, self.k + T, "naive")[self.k:self.k + T]
         lo, hi, sets = np.empty((T, self.plant.nx)), np.empty((T, self.plant.nx)), []
@@ -741,9 +747,11 @@ class _InvariantTube:
     def __init__(self, design, n: int):
         self.design, self.n, self.k = design, n, 0
 
-    def run(self, y, u=None):
+    def run(self, y, u=None, *, reset: bool = True):
         from ..trajectory import Trajectory
 
+        if reset:
+            self.k = 0
         T = len(y)
         boxes = self.design.boxes
         ks = [min(self.k + j, self.design.k_star) for j in range(T)]

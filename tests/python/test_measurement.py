@@ -1,0 +1,229 @@
+"""Missing and impossible readings through Python (issue 24, setbound.measurement), for the
+zonotopic family (segment minimisation, volume minimisation, P-radius): NaN outputs and
+``step(None)`` are skipped with the truth kept inside, an impossible reading is never used and
+is handled by ``on_inconsistency`` ("flag", "raise", "reset"), ``run()`` starts from the initial
+set, and bad options are refused by name."""
+import pickle
+
+import numpy as np
+import pytest
+
+import setbound
+from setbound import InconsistentMeasurementError, LinearSystem
+from setbound.measurement import INCONSISTENT, MISSING, USED, MeasurementCheck
+from setbound.sets import Zonotope
+from setbound.zonotopic import PRadiusEstimator, SegmentMinEstimator, VolumeMinEstimator, design_pradius, exact_hull
+
+
+def le13():
+    """EX-LE13 (papers §3.5) with a known A and ω = [w; v1; v2]."""
+    A = np.array([[0.0, -0.5], [1.0, 1.0]])
+    E = np.array([[-0.12, 0, 0], [0.02, 0, 0]])
+    F = np.array([[0, 0.2, 0], [0, 0, 0.2]])
+    return LinearSystem(A, [[-2.0, 1.0], [1.0, 1.0]], E=E, F=F)
+
+
+def record(s, N, rng, vertex, x0=(1.0, 1.0), jump=None):
+    """Truth and readings; ``jump = (k, dx)``: the state jumps by dx before step k (a violation of
+    the model, e.g. a hit on the plant)."""
+    draw = (lambda n: rng.choice([-1.0, 1.0], n)) if vertex else (lambda n: rng.uniform(-1, 1, n))
+    xs, ys = [], []
+    x = np.array(x0, float)
+    for k in range(N):
+        if jump is not None and k == jump[0]:
+            x = x + jump[1]
+        w = draw(s.nw)
+        xs.append(x.copy())
+        ys.append(s.C @ x + s.F @ w)
+        x = s.A @ x + s.E @ w
+    return np.array(xs), np.array(ys)
+
+
+X0 = Zonotope([0, 0], 3 * np.eye(2))
+
+
+def make(kind, s, **kw):
+    if kind == "segment":
+        return SegmentMinEstimator(s, X0, **kw)
+    if kind == "volume":
+        return VolumeMinEstimator(s, X0, **kw)
+    return PRadiusEstimator(design_pradius(s, approach=2), X0, **kw)
+
+
+KINDS = ["segment", "volume", "pradius"]
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("vertex", [False, True])
+def test_twenty_percent_missing_keeps_the_truth_and_contains_the_exact_hull(kind, vertex, rng):
+    s = le13()
+    xs, ys = record(s, 80, rng, vertex)
+    mask = rng.random(ys.shape) < 0.2
+    ys[mask] = np.nan
+    traj = make(kind, s).run(ys)
+    assert all(Z.contains(x) for Z, x in zip(traj.sets, xs))
+    np.testing.assert_array_equal(traj.status == MISSING, mask)
+    np.testing.assert_array_equal(traj.status == USED, ~mask)
+    assert not traj.flagged.any()
+    assert np.isnan(traj.margin[mask]).all() and (traj.margin[~mask] <= 0).all()
+    hull = exact_hull(s, ys, x0=X0)  # the exact hull of the data actually used
+    assert np.all(traj.lower <= hull.lower + 1e-6) and np.all(traj.upper >= hull.upper - 1e-6)
+
+
+def test_step_none_is_a_prediction(rng):
+    s = le13()
+    est = SegmentMinEstimator(s, X0)
+    Z = est.step(None)
+    np.testing.assert_allclose(Z.center, [0, 0])
+    np.testing.assert_allclose(np.abs(Z.generators).sum(axis=1), [3, 3])  # x_0's prior, unchanged
+    chk = est.last_check
+    assert isinstance(chk, MeasurementCheck)
+    assert chk.missing.all() and not chk.flagged and np.isnan(chk.margin).all()
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("glitch", [5.0, 1e3, 1e12])
+def test_a_glitch_is_flagged_and_the_truth_stays_inside(kind, glitch, rng):
+    s = le13()
+    xs, ys = record(s, 50, rng, vertex=True)
+    ys[20, 0] += glitch
+    traj = make(kind, s).run(ys)
+    assert np.flatnonzero(traj.flagged).tolist() == [20]
+    assert traj.status[20].tolist() == [INCONSISTENT, USED]
+    assert traj.margin[20, 0] > 0
+    assert all(Z.contains(x) for Z, x in zip(traj.sets, xs))
+    assert np.all(traj.lower <= traj.upper)
+
+
+def test_raise_names_the_step_and_leaves_the_estimator_unchanged(rng):
+    s = le13()
+    xs, ys = record(s, 30, rng, vertex=False)
+    ys[12, 1] -= 50
+    est = SegmentMinEstimator(s, X0, on_inconsistency="raise")
+    for k in range(12):
+        est.step(ys[k])
+    before = est.save_state()
+    with pytest.raises(InconsistentMeasurementError, match=r"step 12: output 1: the reading"):
+        est.step(ys[12])
+    assert est.save_state() == before
+    with pytest.raises(InconsistentMeasurementError):
+        est.run(ys)
+
+
+def test_reset_restarts_from_the_reset_set(rng):
+    # The model is violated (the state jumps at step 15): the prediction no longer holds the
+    # state, the readings are impossible for it. "flag" loses the truth; "reset" restarts from
+    # the wide set, uses the readings of that step, and holds the truth from then on.
+    s = le13()
+    xs, ys = record(s, 40, rng, vertex=True, jump=(15, np.array([6.0, -6.0])))
+    flagged = SegmentMinEstimator(s, X0).run(ys)
+    assert flagged.flagged[15] and not flagged.sets[15].contains(xs[15])
+    wide = Zonotope([0, 0], 20 * np.eye(2))
+    est = SegmentMinEstimator(s, X0, on_inconsistency="reset", reset_set=wide)
+    traj = est.run(ys)
+    assert np.flatnonzero(traj.resets).tolist() == [15]
+    assert traj.flagged[15]
+    assert all(Z.contains(x) for Z, x in zip(traj.sets, xs))
+    # the policy survives pickling (the construction arguments are recorded)
+    clone = pickle.loads(pickle.dumps(est))
+    assert clone.on_inconsistency == "reset"
+    np.testing.assert_array_equal(clone.run(ys).lower, traj.lower)
+
+
+def test_run_twice_gives_the_same_result_and_reset_restarts(rng):
+    s = le13()
+    xs, ys = record(s, 40, rng, vertex=False)
+    est = SegmentMinEstimator(s, X0)
+    a, b = est.run(ys), est.run(ys)
+    np.testing.assert_array_equal(a.lower, b.lower)
+    np.testing.assert_array_equal(a.upper, b.upper)
+    est.reset()
+    np.testing.assert_array_equal(est.step(ys[0]).center, a.sets[0].center)
+
+
+def test_bad_options_and_readings_are_refused_by_name():
+    s = le13()
+    with pytest.raises(setbound.InvalidArgumentError, match="^on_inconsistency"):
+        SegmentMinEstimator(s, X0, on_inconsistency="ignore")
+    with pytest.raises(setbound.InvalidArgumentError, match="^reset_set"):
+        SegmentMinEstimator(s, X0, reset_set=X0)  # only with "reset"
+    with pytest.raises(setbound.DimensionError, match="^reset_set"):
+        SegmentMinEstimator(s, X0, on_inconsistency="reset", reset_set=Zonotope([0, 0, 0], np.eye(3)))
+    with pytest.raises(setbound.InvalidArgumentError, match="reset_set"):
+        SegmentMinEstimator(s, X0, on_inconsistency="reset", reset_set=Zonotope([0, 0], np.ones((2, 500))))
+    est = SegmentMinEstimator(s, X0)
+    with pytest.raises(setbound.NotFiniteError, match="y: entry 1 is inf"):
+        est.step([0.0, np.inf])
+
+
+def test_exact_hull_skips_missing_outputs_and_refuses_infinity(rng):
+    s = le13()
+    xs, ys = record(s, 12, rng, vertex=False)
+    full = exact_hull(s, ys, x0=X0)
+    ys[5:, 1] = np.nan
+    part = exact_hull(s, ys, x0=X0)
+    assert np.all(part.lower <= full.lower + 1e-6) and np.all(part.upper >= full.upper - 1e-6)
+    assert np.all(part.lower <= xs + 1e-6) and np.all(xs <= part.upper + 1e-6)
+    ys[3, 0] = np.inf
+    with pytest.raises(setbound.NotFiniteError, match="y: row 3 has an infinite entry"):
+        exact_hull(s, ys, x0=X0)
+
+
+JOB = """
+[system]
+A = [[0.0, -0.5], [1.0, 1.0]]
+C = [[-2.0, 1.0], [1.0, 1.0]]
+E = [[-0.12, 0, 0], [0.02, 0, 0]]
+F = [[0, 0.2, 0], [0, 0, 0.2]]
+[initial]
+center = [0, 0]
+generators = [[3, 0], [0, 3]]
+[data]
+file = "run.csv"
+[[estimator]]
+method = "segment_min"
+[[estimator]]
+name = "strict"
+method = "segment_min"
+on_inconsistency = "raise"
+[[estimator]]
+method = "offline"
+"""
+
+
+def test_job_file_with_missing_cells_and_a_glitch(tmp_path, rng):
+    """A CSV with empty cells and a glitch: the zonotopic method skips both and keeps the truth,
+    the "raise" one stops with the step named, an ellipsoidal method says it needs every output."""
+    from setbound import config
+    from setbound.report import format_table, summary_rows
+
+    s = le13()
+    xs, ys = record(s, 30, rng, vertex=True)
+    ys[12, 0] += 4.0
+    lines = ["y0,y1,x0,x1"]
+    for k in range(30):
+        cells = [repr(float(v)) for v in ys[k]] + [repr(float(v)) for v in xs[k]]
+        if k in (5, 6):
+            cells[1] = ""  # not measured
+        if k == 7:
+            cells[0] = "nan"
+        lines.append(",".join(cells))
+    (tmp_path / "run.csv").write_text("\n".join(lines) + "\n")
+    (tmp_path / "job.toml").write_text(JOB)
+    job = config.load(tmp_path / "job.toml")
+    assert np.isnan(job.y[5, 1]) and np.isnan(job.y[7, 0])
+    zono, strict, offline = config.run(job, keep_going=True)
+    assert zono.ok and zono.contained
+    assert np.flatnonzero(zono.trajectory.flagged).tolist() == [12]
+    assert not strict.ok and "step 12: output 0" in strict.error
+    assert not offline.ok and "y: row 5, output 1 is NaN" in offline.error
+    rows = summary_rows(job, [zono, strict, offline])
+    assert rows[0]["flagged_steps"] == 1 and rows[0]["first_flagged_step"] == 12
+    assert "at 1 step (first: step 12)" in format_table(rows)
+    # an infinite reading, or a missing input or state, is refused with the file, row and column
+    (tmp_path / "run.csv").write_text("y0,y1,x0,x1\n0,inf,0,0\n")
+    with pytest.raises(config.ConfigError, match=r"run\.csv, row 2, column y1: not a finite number"):
+        config.load(tmp_path / "job.toml")
+    (tmp_path / "run.csv").write_text("y0,y1,x0,x1\n0,1,,0\n")
+    with pytest.raises(config.ConfigError, match=r"run\.csv, row 2, column x0: .* is not a number"):
+        config.load(tmp_path / "job.toml")
