@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <cstring>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -44,6 +45,15 @@ void expect_error_naming(F&& f, const std::string& name) {
   } catch (const std::exception& e) {
     ADD_FAILURE() << "wrong exception type: " << e.what();
   }
+}
+
+/// A disturbance drawn uniformly in the unit box [-1, 1]^n, or at one of its vertices (each
+/// component ±1 with equal probability): the random and worst-case inputs of containment tests.
+inline Eigen::VectorXd draw_disturbance(std::mt19937& gen, Eigen::Index n, bool vertex) {
+  std::uniform_real_distribution<double> unif(-1.0, 1.0);  // stateless: same sequence as one kept
+  Eigen::VectorXd w(n);
+  for (Eigen::Index i = 0; i < n; ++i) w(i) = vertex ? (unif(gen) < 0 ? -1.0 : 1.0) : unif(gen);
+  return w;
 }
 
 }  // namespace setbound::testing

@@ -15,6 +15,7 @@
 #include "setbound/estimators/measurement_check.hpp"
 #include "setbound/estimators/volume_min.hpp"
 #include "setbound/estimators/zonotopic.hpp"
+#include "test_helpers.hpp"
 
 using namespace setbound;
 
@@ -41,12 +42,7 @@ struct Record {
 Record simulate(const LinearSystem& s, const Eigen::VectorXd& x0, int N, bool vertex, unsigned seed,
                 int jump_at = -1, const Eigen::Vector2d& jump = Eigen::Vector2d::Zero()) {
   std::mt19937 gen(seed);
-  std::uniform_real_distribution<double> unif(-1.0, 1.0);
-  auto draw = [&](Eigen::Index n) {
-    Eigen::VectorXd w(n);
-    for (Eigen::Index i = 0; i < n; ++i) w(i) = vertex ? (unif(gen) < 0 ? -1.0 : 1.0) : unif(gen);
-    return w;
-  };
+  auto draw = [&](Eigen::Index n) { return setbound::testing::draw_disturbance(gen, n, vertex); };
   Record r{Eigen::MatrixXd(N, s.nx()), Eigen::MatrixXd(N, s.ny())};
   Eigen::VectorXd x = x0;
   for (int k = 0; k < N; ++k) {

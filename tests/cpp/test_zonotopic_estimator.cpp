@@ -35,12 +35,7 @@ struct RunStats {
 RunStats simulate(const LinearSystem& sys, const Eigen::MatrixXd& A_true, const Eigen::VectorXd& x0,
              const Zonotope& X0, bool vertex, unsigned seed, int N, ZonotopicOptions opt = {}) {
   std::mt19937 gen(seed);
-  std::uniform_real_distribution<double> unif(-1.0, 1.0);
-  auto draw = [&](Eigen::Index n) {
-    Eigen::VectorXd w(n);
-    for (Eigen::Index i = 0; i < n; ++i) w(i) = vertex ? (unif(gen) < 0 ? -1.0 : 1.0) : unif(gen);
-    return w;
-  };
+  auto draw = [&](Eigen::Index n) { return setbound::testing::draw_disturbance(gen, n, vertex); };
   ZonotopicEstimator est(sys, X0, segment_min_gain, opt);
   Eigen::VectorXd x = x0, u = Eigen::VectorXd::Zero(sys.nu());
   RunStats r;
