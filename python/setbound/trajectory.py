@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from ._validate import as_float
+from .measurement import INCONSISTENT
 from .errors import SetboundError
 
 
@@ -46,7 +47,6 @@ class Trajectory:
         """Per step: some reading was impossible (outside the predicted output set), (N,)."""
         if self.status is None:
             return np.zeros(len(self), dtype=bool)
-        from .measurement import INCONSISTENT
         return np.any(self.status == INCONSISTENT, axis=1)
 
     def __len__(self) -> int:

@@ -73,10 +73,9 @@ SETBOUND_INLINE ZonotopicEstimator::ZonotopicEstimator(LinearSystem system, cons
       seen[static_cast<std::size_t>(i)] = true;
     }
   }
-  if (static_cast<int>(opt_.on_inconsistency) < 0 || static_cast<int>(opt_.on_inconsistency) > 2)
-    throw InvalidArgumentError("on_inconsistency: must be Flag, Raise or Reset");
   setup_model();
   allocate(x0.remove_zero_generators().num_generators());
+  set_inconsistency_policy(opt_.on_inconsistency, x0);  // validates the policy; reset set = x0
   load_prior(x0);
   chk_.clear(ny);
   last_check_.clear(ny);
@@ -433,6 +432,7 @@ SETBOUND_INLINE void ZonotopicEstimator::correct_and_reduce(const Eigen::Ref<con
           t_ = c;
           magnitude += ac.dot(wGA_);
         } else {
+          // t_ = Tᵀc, absT_ = |T| and (below) cN_ = Nᵀc stay valid for this strip's update.
           t_.noalias() = Tc_.transpose() * c;
           absT_ = Tc_.cwiseAbs();  // preallocated: no temporary in the steady state
           v_.noalias() = absT_.transpose() * ac;
@@ -469,8 +469,7 @@ SETBOUND_INLINE void ZonotopicEstimator::correct_and_reduce(const Eigen::Ref<con
       if (Tc_identity) {
         v_ = wGA_;
       } else {
-        absT_ = Tc_.cwiseAbs();
-        v_.noalias() = absT_ * wGA_;
+        v_.noalias() = absT_ * wGA_;  // absT_ = |T| from the screening
       }
       e_ += v_ + lam_.cwiseAbs() * ac.dot(v_);
       if (mN > 0) {
@@ -479,17 +478,13 @@ SETBOUND_INLINE void ZonotopicEstimator::correct_and_reduce(const Eigen::Ref<con
       }
       e_ += phi * lam_.cwiseAbs();
       // The box of this step's roundings through κ: |κ| rc, then the new errors.
-      abs_kappa_times(c, rc_, t_);
-      rc_ = g1 * (t_ + g * e_);
-      // The updates.
+      abs_kappa_times(c, rc_, v_);
+      rc_ = g1 * (v_ + g * e_);
+      // The updates (t_ = Tᵀc and cN_ = Nᵀc from the screening).
       pc_ += lam_ * (yi - c.dot(pc_));
-      t_.noalias() = Tc_.transpose() * c;
       Tc_.noalias() -= lam_ * t_.transpose();
       Tc_identity = false;
-      if (mN > 0) {
-        cN_.head(mN).noalias() = Nc_.leftCols(mN).transpose() * c;
-        Nc_.leftCols(mN).noalias() -= lam_ * cN_.head(mN).transpose();
-      }
+      if (mN > 0) Nc_.leftCols(mN).noalias() -= lam_ * cN_.head(mN).transpose();
       if (phi > 0 && lam_.cwiseAbs().maxCoeff() > 0) Nc_.col(mN++) = phi * lam_;
       if (want_S_) {
         // S ← κ S κᵀ + φ² λλᵀ with κ = I − λcᵀ and S c = sc.
@@ -625,10 +620,12 @@ SETBOUND_INLINE Eigen::Index ZonotopicEstimator::explicit_strips(Mat& W, Eigen::
     {
       double radius = ac.dot(rc_), magnitude = ac.dot(pc_.cwiseAbs()) + radius;
       if (m > 0) {
+        // cN_ = Wᵀc and v_ = rs|W| stay valid for this strip's update.
         cN_.resize(std::max(cN_.size(), m));
         cN_.head(m).noalias() = W.leftCols(m).transpose() * c;
         radius += cN_.head(m).cwiseAbs().sum();
-        for (Eigen::Index j = 0; j < m; ++j) magnitude += ac.dot(W.col(j).cwiseAbs());
+        v_ = W.leftCols(m).cwiseAbs().rowwise().sum();
+        magnitude += ac.dot(v_);
       }
       if (!screen_output(i, yi, phi, c.dot(pc_), radius, magnitude, n_ + m + 4, y)) continue;
     }
@@ -640,19 +637,12 @@ SETBOUND_INLINE Eigen::Index ZonotopicEstimator::explicit_strips(Mat& W, Eigen::
                            std::to_string(i));
     const double innov = std::abs(yi) + ac.dot(pc_.cwiseAbs());
     e_ = pc_.cwiseAbs() + lambda.cwiseAbs() * innov + phi * lambda.cwiseAbs();
-    if (m > 0) {
-      v_ = W.leftCols(m).cwiseAbs().rowwise().sum();
-      e_ += v_ + lambda.cwiseAbs() * ac.dot(v_);
-    }
+    if (m > 0) e_ += v_ + lambda.cwiseAbs() * ac.dot(v_);
     lam_ = lambda;
     abs_kappa_times(c, rc_, t_);
     rc_ = g1 * (t_ + g * e_);
     pc_ += lambda * (yi - c.dot(pc_));
-    if (m > 0) {
-      cN_.resize(std::max(cN_.size(), m));
-      cN_.head(m).noalias() = W.leftCols(m).transpose() * c;
-      W.leftCols(m).noalias() -= lambda * cN_.head(m).transpose();
-    }
+    if (m > 0) W.leftCols(m).noalias() -= lambda * cN_.head(m).transpose();
     if (phi > 0 && lambda.cwiseAbs().maxCoeff() > 0) W.col(m++) = phi * lambda;
   }
   return m;
