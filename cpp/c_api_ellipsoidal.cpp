@@ -28,6 +28,7 @@ struct sb_ellipsoidal {
 
   std::variant<EllipsoidalPredictor, ImprovedEstimator, DescriptorEstimator> estimator;
   int method;
+  std::vector<double> initial_state;  // DESCRIPTOR: what sb_ellipsoidal_reset restores
   bool fallback = false;
   double beta = 0.0;
   Eigen::MatrixXd gain;
@@ -202,6 +203,7 @@ int sb_ellipsoidal_create(const sb_ell_design* design, int method, int option, i
       if (!design->descriptor)
         throw InvalidArgumentError("design: the descriptor method needs a design made for a descriptor system");
       *out = new sb_ellipsoidal{DescriptorEstimator(d, descriptor->system, x0), method};
+      (*out)->initial_state = std::get<DescriptorEstimator>((*out)->estimator).save_state();
       return;
     }
     if (design->descriptor)
@@ -319,6 +321,66 @@ int sb_ellipsoidal_online_solves(const sb_ellipsoidal* estimator, int* solves) {
     require_pointer(solves, "solves");
     const auto* pred = std::get_if<EllipsoidalPredictor>(&estimator->estimator);
     *solves = pred != nullptr ? static_cast<int>(pred->online_solves()) : 0;
+  });
+}
+
+int sb_ellipsoidal_set_inconsistency_policy(sb_ellipsoidal* estimator, int policy, const double* P0,
+                                            const double* c0, double rho0) {
+  return guard("sb_ellipsoidal_set_inconsistency_policy", [&] {
+    require_pointer(estimator, "estimator");
+    const OnInconsistency pol = inconsistency_policy_arg(policy);
+    std::visit(
+        [&](auto& est) {
+          using T = std::decay_t<decltype(est)>;
+          if constexpr (std::is_same_v<T, DescriptorEstimator>) {
+            if (pol != OnInconsistency::Flag || P0 != nullptr)
+              throw InvalidArgumentError(
+                  "policy: the descriptor estimator needs every output (papers.md §4.1), it cannot skip or restart "
+                  "on a reading; only SB_ON_INCONSISTENCY_FLAG without a reset set is accepted");
+          } else {
+            if (P0 == nullptr) {
+              est.set_inconsistency_policy(pol);
+              return;
+            }
+            const int nx = static_cast<int>(est.design().system.nx());
+            est.set_inconsistency_policy(pol, Ellipsoid(matrix_arg(P0, nx, nx, "P0"), vector_arg(c0, nx, "c0"), rho0));
+          }
+        },
+        estimator->estimator);
+  });
+}
+
+int sb_ellipsoidal_last_check(const sb_ellipsoidal* estimator, int* status, double* margin, int* reset) {
+  return guard("sb_ellipsoidal_last_check", [&] {
+    require_pointer(estimator, "estimator");
+    std::visit(
+        [&](const auto& est) {
+          using T = std::decay_t<decltype(est)>;
+          if constexpr (std::is_same_v<T, DescriptorEstimator>) {
+            MeasurementCheck c;  // every output is used (or the estimator has not started)
+            c.clear(est.system().ny(), est.steps_taken() > 0 ? OutputStatus::Used : OutputStatus::Unused);
+            check_out(c, status, margin, reset);
+          } else {
+            check_out(est.last_check(), status, margin, reset);
+          }
+        },
+        estimator->estimator);
+  });
+}
+
+int sb_ellipsoidal_reset(sb_ellipsoidal* estimator) {
+  return guard("sb_ellipsoidal_reset", [&] {
+    require_pointer(estimator, "estimator");
+    std::visit(
+        [&](auto& est) {
+          using T = std::decay_t<decltype(est)>;
+          if constexpr (std::is_same_v<T, DescriptorEstimator>) est.restore_state(estimator->initial_state);
+          else est.reset();
+        },
+        estimator->estimator);
+    estimator->fallback = false;
+    estimator->beta = 0.0;
+    estimator->gain.resize(0, 0);
   });
 }
 

@@ -445,7 +445,9 @@ int sb_ellipsoidal_info(const sb_ellipsoidal* estimator, int* is_filter, int* st
 int sb_ellipsoidal_current(const sb_ellipsoidal* estimator, double* P, double* c, double* rho,
                            double* lower, double* upper);
 /* One step with y (ny) and u (nu; NULL when nu = 0); writes the new current set as above.
- * On error (wrong data, NaN) the estimator is unchanged. */
+ * A NaN entry of y is a missing output (DESCRIPTOR: an error, its state is fixed through every
+ * output); readings outside the predicted output set follow the inconsistency policy below. On
+ * error (wrong data, +-inf) the estimator is unchanged. */
 int sb_ellipsoidal_step(sb_ellipsoidal* estimator, const double* y, const double* u, double* P,
                         double* c, double* rho, double* lower, double* upper);
 /* Per-step diagnostics of the last step: beta and gain L (nx x ny) of the prediction (the
@@ -459,10 +461,21 @@ int sb_ellipsoidal_last_step(const sb_ellipsoidal* estimator, double* beta, doub
  * the LMI (0 for the other methods). */
 int sb_ellipsoidal_set_reuse_tolerance(sb_ellipsoidal* estimator, double tol);
 int sb_ellipsoidal_online_solves(const sb_ellipsoidal* estimator, int* solves);
+/* Missing and impossible readings, as for sb_zonotopic (SB_ON_INCONSISTENCY_*, SB_OUTPUT_*):
+ * each present output is tested against the support of the predicted set E(P, c, rho) in
+ * +-C_i; the reset set of SB_ON_INCONSISTENCY_RESET is E(P0, c0, rho0) (P0 nx x nx row-major, c0
+ * nx; P0 NULL: the initial set), converted to the design's shape. DESCRIPTOR: every output is
+ * needed, so only SB_ON_INCONSISTENCY_FLAG is accepted and no reading is tested. */
+int sb_ellipsoidal_set_inconsistency_policy(sb_ellipsoidal* estimator, int policy, const double* P0,
+                                            const double* c0, double rho0);
+int sb_ellipsoidal_last_check(const sb_ellipsoidal* estimator, int* status, double* margin, int* reset);
+/* Back to the state of construction (the initial set, no step taken); options kept. */
+int sb_ellipsoidal_reset(sb_ellipsoidal* estimator);
 
 /* Kalman filter baseline (papers.md §2.3, Joseph form), NOT guaranteed: omega ~ N(0, W)
  * (W nw x nw, NULL = identity), x0 ~ N(mean0, cov0). Step k uses y_k and returns the mean
- * and covariance of x_k given y_0..y_k. */
+ * and covariance of x_k given y_0..y_k; NaN entries of y are missing outputs (the correction
+ * uses the others). */
 int sb_kalman_create(const sb_linear_system* system, const double* mean0, const double* cov0,
                      const double* W, sb_kalman** out);
 int sb_kalman_free(sb_kalman* filter);

@@ -464,6 +464,7 @@ def _run_ellipsoidal(case: Case, res: CaseResult, rng):
         delta = _delta(A_abs, sim.x, system.E, sim.omega, None if name == "ell_interval_A" else s.A)
         traj = est.run(sim.y)
         _check_ellipsoids(traj.sets, sim.x, delta, res)
+        res.false_alarms += int(np.sum(traj.flagged))  # fault-free data: any flag is a bug
 
 
 def _random_descriptor(case: Case, rng):

@@ -11,6 +11,13 @@ Sets are ``E(P, c, ρ) = {x : (x − c)ᵀ P (x − c) ≤ ρ}`` (:class:`setbou
   ``step(y_k, u_k)`` returns the set for ``x_k`` after using ``y_k``.
 * :class:`KalmanFilter` (§2.3) — the contrast, not guaranteed.
 
+Real data (:mod:`setbound.measurement`): NaN entries of ``y`` (``step(None)``) are missing
+outputs; a reading outside the predicted output set (the support of the predicted ellipsoid in
+``±C_i``, widened by the noise bound) is never used and is handled by ``on_inconsistency``
+(``"flag"``, ``"raise"``, ``"reset"`` to ``reset_set``). A step with outputs missing or skipped
+uses the design's gain restricted to the outputs present (or no correction, whichever certified
+level is smaller). The descriptor estimator needs every output (its state is fixed through them).
+
 ``run(y, u=None)`` returns a :class:`~setbound.Trajectory` whose row ``k`` is about ``x_k``
 for every estimator (predictors: row 0 is the initial set and row ``k`` used ``y_0 … y_{k-1}``;
 filters: row ``k`` used ``y_0 … y_k``). After ``run`` a predictor holds the prediction for
@@ -29,6 +36,7 @@ from ._native import as_f64, check, dptr, ffi, lib
 from ._state import MadeByCall, StateMixin, reconstructible, remember_call, run_from_initial_set
 from ._validate import as_bool, as_choice, as_float
 from .errors import DimensionError, InvalidArgumentError
+from .measurement import MeasurementCheck, POLICIES, measurement_or_missing
 from .sets import Ellipsoid
 from .system import as_system, DescriptorSystem, LinearSystem, refuse_missing, run_inputs, step_inputs
 from .trajectory import Trajectory
@@ -132,7 +140,14 @@ class _EllipsoidalEstimator(StateMixin):
     _state_prefix = "sb_ellipsoidal"
     is_filter: bool = False
 
-    def _create(self, design: EllDesign, x0: Ellipsoid, *, option=0, feedback=0, predictor=0, descriptor=None):
+    def _create(self, design: EllDesign, x0: Ellipsoid, *, option=0, feedback=0, predictor=0, descriptor=None,
+                on_inconsistency: str = "flag", reset_set: Ellipsoid | None = None):
+        on_inconsistency = as_choice(on_inconsistency, "on_inconsistency", POLICIES)
+        if reset_set is not None:
+            if on_inconsistency != "reset":
+                raise InvalidArgumentError('reset_set: only used with on_inconsistency="reset"')
+            if not isinstance(reset_set, Ellipsoid):
+                raise InvalidArgumentError(f"reset_set: expected a setbound.Ellipsoid, got {type(reset_set).__name__}")
         if not isinstance(design, EllDesign):
             raise InvalidArgumentError(f"design: expected an EllDesign (from design_offline), got {type(design).__name__}")
         if not isinstance(x0, Ellipsoid):
@@ -146,6 +161,18 @@ class _EllipsoidalEstimator(StateMixin):
                                         descriptor._handle if descriptor is not None else ffi.NULL,
                                         dptr(x0.P), dptr(x0.center), x0.rho, handle))
         self._handle = ffi.gc(handle[0], lib.sb_ellipsoidal_free)
+        if reset_set is not None and reset_set.n != design.nx:
+            raise DimensionError(f"reset_set: expected an ellipsoid of dimension {design.nx}, got {reset_set.n}")
+        if reset_set is None:
+            check(lib.sb_ellipsoidal_set_inconsistency_policy(self._handle, POLICIES[on_inconsistency], ffi.NULL,
+                                                              ffi.NULL, 0.0))
+        else:
+            check(lib.sb_ellipsoidal_set_inconsistency_policy(self._handle, POLICIES[on_inconsistency],
+                                                              dptr(reset_set.P), dptr(reset_set.center),
+                                                              reset_set.rho))
+        self.on_inconsistency = on_inconsistency
+        self._status = ffi.new("int[]", max(design.system.ny, 1))
+        self._reset_flag = ffi.new("int*")
         n = design.nx
         self._P, self._c, self._rho = np.empty((n, n)), np.empty(n), ffi.new("double*")
         self._lo, self._hi = np.empty(n), np.empty(n)
@@ -168,16 +195,37 @@ class _EllipsoidalEstimator(StateMixin):
         return int(s[0])
 
     def _step(self, y, u):
-        y, up = step_inputs(self.system, y, u)
-        refuse_missing(y, type(self).__name__)
+        y, up = step_inputs(self.system, measurement_or_missing(y, self.system.ny), u)
+        if self._method == lib.SB_ELL_DESCRIPTOR:
+            refuse_missing(y, type(self).__name__)
         check(lib.sb_ellipsoidal_step(self._handle, dptr(y), up, dptr(self._P), dptr(self._c), self._rho,
                                       dptr(self._lo), dptr(self._hi)))
 
     def step(self, y, u=None) -> Ellipsoid:
         """Uses ``y_k`` (and ``u_k``). Predictors return the set for ``x_{k+1}``, filters the set
-        for ``x_k``. On error (wrong shape, NaN) the estimator is unchanged."""
+        for ``x_k``. ``y`` None or NaN entries: missing outputs (not for the descriptor estimator);
+        see ``last_check`` for what the step did with each. On error (wrong shape, ±inf, policy
+        ``"raise"``) the estimator is unchanged."""
         self._step(y, u)
         return self._snapshot()[0]
+
+    def _check_into(self, status, margin) -> bool:
+        """Writes the last step's statuses and margins into the given rows; returns the reset flag."""
+        check(lib.sb_ellipsoidal_last_check(self._handle, self._status, dptr(margin), self._reset_flag))
+        status[:] = np.frombuffer(ffi.buffer(self._status, 4 * max(self.system.ny, 1)), dtype=np.intc)[:self.system.ny]
+        return bool(self._reset_flag[0])
+
+    @property
+    def last_check(self) -> MeasurementCheck:
+        """What the last step did with each output of ``y_k`` (:class:`~setbound.measurement.MeasurementCheck`)."""
+        ny = self.system.ny
+        status, margin = np.empty(ny, dtype=np.int8), np.empty(ny)
+        reset = self._check_into(status, margin)
+        return MeasurementCheck(status, margin, reset)
+
+    def reset(self) -> None:
+        """Back to the initial set, no step taken (the options are kept)."""
+        check(lib.sb_ellipsoidal_reset(self._handle))
 
     def last_step(self) -> dict:
         """``beta`` and gain ``L`` of the last prediction, and ``fallback`` (True when the online
@@ -189,14 +237,19 @@ class _EllipsoidalEstimator(StateMixin):
 
     @run_from_initial_set
     def run(self, y, u=None) -> Trajectory:
-        """Processes the rows of ``y`` (N × n_y) and ``u`` (N × n_u); row k of the result is
-        about ``x_k`` (see the module docstring for what each row has used)."""
+        """Processes the rows of ``y`` (N × n_y; NaN entries: missing outputs) and ``u`` (N × n_u)
+        from the initial set; row k of the result is about ``x_k`` (see the module docstring for
+        what each row has used). The trajectory's ``status``, ``margin`` and ``resets`` row k say
+        what the step did with ``y_k``."""
         s = self.system
         y, u = run_inputs(s, y, u)
-        refuse_missing(y, type(self).__name__)
+        if self._method == lib.SB_ELL_DESCRIPTOR:
+            refuse_missing(y, type(self).__name__)
         N = y.shape[0]
         n = self.design.nx
         centers, lows, highs, sets = np.empty((N, n)), np.empty((N, n)), np.empty((N, n)), []
+        status, margin = np.empty((N, s.ny), dtype=np.int8), np.empty((N, s.ny))
+        resets = np.zeros(N, dtype=bool)
         if not self.is_filter and N > 0:
             check(lib.sb_ellipsoidal_current(self._handle, dptr(self._P), dptr(self._c), self._rho,
                                              dptr(self._lo), dptr(self._hi)))
@@ -208,7 +261,8 @@ class _EllipsoidalEstimator(StateMixin):
             sets.append(E)
             if not self.is_filter:
                 self._step(y[k], u[k] if s.nu > 0 else None)
-        return Trajectory(centers, lows, highs, sets)
+            resets[k] = self._check_into(status[k], margin[k])
+        return Trajectory(centers, lows, highs, sets, status=status, margin=margin, resets=resets)
 
 
 @reconstructible
@@ -218,8 +272,9 @@ class OfflineEstimator(_EllipsoidalEstimator):
 
     _method = lib.SB_ELL_OFFLINE
 
-    def __init__(self, design: EllDesign, x0: Ellipsoid):
-        self._create(design, x0)
+    def __init__(self, design: EllDesign, x0: Ellipsoid, *, on_inconsistency: str = "flag",
+                 reset_set: Ellipsoid | None = None):
+        self._create(design, x0, on_inconsistency=on_inconsistency, reset_set=reset_set)
 
 
 @reconstructible
@@ -230,12 +285,13 @@ class OnlineEstimator(_EllipsoidalEstimator):
     of §6.7 is included. A one-step predictor."""
 
     def __init__(self, design: EllDesign, x0: Ellipsoid, scaling: bool = False,
-                 reuse_tolerance: float = 1e-9):
+                 reuse_tolerance: float = 1e-9, *, on_inconsistency: str = "flag",
+                 reset_set: Ellipsoid | None = None):
         scaling = as_bool(scaling, "scaling")
         reuse_tolerance = as_float(reuse_tolerance, "reuse_tolerance", lo=0.0)
         self._method = lib.SB_ELL_ONLINE_SCALED if scaling else lib.SB_ELL_ONLINE_VERTEX
         self.scaling = scaling
-        self._create(design, x0)
+        self._create(design, x0, on_inconsistency=on_inconsistency, reset_set=reset_set)
         self.reuse_tolerance = reuse_tolerance
 
     @property
@@ -278,11 +334,13 @@ class ImprovedEstimator(_EllipsoidalEstimator):
     is_filter = True
 
     def __init__(self, design: EllDesign, x0: Ellipsoid, option: str = "det_normalized", *,
-                 feedback: str = "fixed_shape", predictor: str = "online"):
+                 feedback: str = "fixed_shape", predictor: str = "online", on_inconsistency: str = "flag",
+                 reset_set: Ellipsoid | None = None):
         self.option, self.feedback, self.predictor = option, feedback, predictor
         self._create(design, x0, option=_choice(option, _OPTIONS, "option"),
                      feedback=_choice(feedback, _FEEDBACK, "feedback"),
-                     predictor=_choice(predictor, _PREDICTORS, "predictor"))
+                     predictor=_choice(predictor, _PREDICTORS, "predictor"),
+                     on_inconsistency=on_inconsistency, reset_set=reset_set)
 
 
 @reconstructible
@@ -334,10 +392,10 @@ class KalmanFilter(StateMixin):
         self.mean, self.covariance = m, G
 
     def step(self, y, u=None):
-        """Correction with ``y_k``, then prediction; returns ``(mean, covariance)`` of ``x_k``."""
+        """Correction with ``y_k`` (None or NaN entries: missing outputs, the correction uses the
+        others), then prediction; returns ``(mean, covariance)`` of ``x_k``."""
         s = self.system
-        y, up = step_inputs(s, y, u)
-        refuse_missing(y, type(self).__name__)
+        y, up = step_inputs(s, measurement_or_missing(y, s.ny), u)
         m, G = np.empty(s.nx), np.empty((s.nx, s.nx))
         check(lib.sb_kalman_step(self._handle, dptr(y), up, dptr(m), dptr(G)))
         self.mean, self.covariance = m, G
@@ -349,7 +407,6 @@ class KalmanFilter(StateMixin):
         ``mean ± nsigma·σ`` boxes (``guaranteed = False``) with ``covariance`` (N × n × n); row k uses y_0 … y_k."""
         s = self.system
         y, u = run_inputs(s, y, u)
-        refuse_missing(y, type(self).__name__)
         N = y.shape[0]
         means, covs = np.empty((N, s.nx)), np.empty((N, s.nx, s.nx))
         for k in range(N):

@@ -311,7 +311,7 @@ TEST(EllPredictor, RejectsBadInputAndKeepsItsState) {
     expect_error_naming<DimensionError>([&] { pr.step(VectorXd::Zero(2), VectorXd(0)); }, "y");
     expect_error_naming<DimensionError>([&] { pr.step(VectorXd::Zero(1), VectorXd::Zero(1)); }, "u");
     VectorXd bad(1);
-    bad(0) = std::numeric_limits<double>::quiet_NaN();
+    bad(0) = std::numeric_limits<double>::infinity();  // NaN is a missing output, not an error
     expect_error_naming<NotFiniteError>([&] { pr.step(bad, VectorXd(0)); }, "y");
     EXPECT_EQ(pr.steps_taken(), k);
     EXPECT_EIGEN_NEAR(pr.current().center(), before.center(), 0.0);
@@ -410,10 +410,23 @@ TEST(EllPredictor, IntervalAOnlineContainsTheTruth) {
 // Structure (papers §1.2, §1.3, §1.4, §7).
 
 namespace {
+// y moved into the output set p predicts (95 % of its half-width): a reading the model can
+// produce, so the predictor uses it (an impossible one would be skipped, issue 24).
+VectorXd consistent(const EllipsoidalPredictor& p, VectorXd y) {
+  const LinearSystem& s = p.design().system;
+  for (Eigen::Index i = 0; i < y.size(); ++i) {
+    const double mid = s.C().row(i).dot(p.current().center());
+    const double half = 0.95 * (std::sqrt(p.current().level() * p.output_spread()(i)) + s.output_noise_bound(i));
+    y(i) = std::min(std::max(y(i), mid - half), mid + half);
+  }
+  return y;
+}
+
 // Runs Offline, OnlineVertex and OnlineScaled on the same measurements; returns their levels.
 // The level recursions do not depend on the data (only the tiny centre-rounding enlargement
-// does), so bounded random measurements are used: a real trajectory of an unstable system
-// would grow until rounding dominates.
+// does), so bounded random measurements are used, each moved into the predicted output set of
+// the predictor it goes to: a real trajectory of an unstable system would grow until rounding
+// dominates.
 std::vector<std::vector<double>> levels_of_three(const LinearSystem& sys, const EllDesign& d, const Ellipsoid& x0,
                                                  int steps, unsigned seed) {
   std::vector<EllipsoidalPredictor> prs;
@@ -422,7 +435,8 @@ std::vector<std::vector<double>> levels_of_three(const LinearSystem& sys, const 
   std::mt19937 gen(seed);
   for (int k = 0; k < steps; ++k) {
     const VectorXd y = draw(gen, sys.ny(), false);
-    for (std::size_t mode = 0; mode < 3; ++mode) out[mode].push_back(prs[mode].step(y, VectorXd(0)).level());
+    for (std::size_t mode = 0; mode < 3; ++mode)
+      out[mode].push_back(prs[mode].step(consistent(prs[mode], y), VectorXd(0)).level());
   }
   for (std::size_t mode = 1; mode < 3; ++mode) EXPECT_EQ(prs[mode].fallback_steps(), 0) << "mode " << mode;
   return out;
@@ -499,8 +513,8 @@ TEST(EllPredictor, OfflineFollowsTheRecursionAndReportsItsGain) {
   EXPECT_EQ(pr.steps_taken(), 0);
   double rho = pr.current().level();
   VectorXd c = pr.current().center();
-  const VectorXd y = VectorXd::Constant(1, 0.7);
   for (int k = 0; k < 5; ++k) {
+    const VectorXd y = consistent(pr, VectorXd::Constant(1, 0.7));
     const Ellipsoid e = pr.step(y, VectorXd(0));
     rho = d.beta * rho + d.sigma;
     c = sys.A() * c + d.L * (y - sys.C() * c);

@@ -64,10 +64,11 @@ TEST(EllipsoidalCApi, DesignAndEveryPredictorAndFilter) {
     ASSERT_EQ(sb_ellipsoidal_step(e, y, nullptr, Pk, c, &rho, lo, hi), SB_OK) << last();
     EXPECT_GT(rho, 0.0);
     for (int i = 0; i < 2; ++i) EXPECT_LE(lo[i], hi[i]);
-    // A NaN measurement is refused by name and the estimator keeps its state.
+    // An infinite measurement is refused by name and the estimator keeps its state (NaN means
+    // a missing output, tests/cpp/test_measurement_ellipsoidal.cpp).
     double c_before[2], rho_before = 0;
     ASSERT_EQ(sb_ellipsoidal_current(e, nullptr, c_before, &rho_before, nullptr, nullptr), SB_OK);
-    const double bad[1] = {std::numeric_limits<double>::quiet_NaN()};
+    const double bad[1] = {std::numeric_limits<double>::infinity()};
     EXPECT_EQ(sb_ellipsoidal_step(e, bad, nullptr, Pk, c, &rho, lo, hi), SB_ERR_NOT_FINITE);
     EXPECT_TRUE(names("y")) << last();
     double c_after[2], rho_after = 0;

@@ -365,8 +365,8 @@ TEST(Kalman, BadInput) {
   const Eigen::VectorXd x_before = kf.mean(), xp_before = kf.predicted_mean();
   const Eigen::MatrixXd G_before = kf.covariance();
   expect_error_naming<DimensionError>([&] { kf.step(Eigen::VectorXd::Ones(2), Eigen::VectorXd()); }, "y");
-  Eigen::VectorXd ynan(1);
-  ynan << std::nan("");
+  Eigen::VectorXd ynan(1);  // ±inf: NaN is a missing output (test_measurement_ellipsoidal.cpp)
+  ynan << -std::numeric_limits<double>::infinity();
   expect_error_naming<NotFiniteError>([&] { kf.step(ynan, Eigen::VectorXd()); }, "y");
   expect_error_naming<DimensionError>([&] { kf.step(y, Eigen::VectorXd::Ones(1)); }, "u");
   expect_error_naming<InvalidArgumentError>([&] { (void)kf.box(0.0); }, "nsigma");

@@ -424,17 +424,21 @@ def test_ellipsoidal(seed, nx, ny, nw, nu, scale, stable, vertex, method, beta):
            "improved": lambda: ellipsoidal.ImprovedEstimator(design, x0set)}[method]
     est = cls()
     x0 = sample_ellipsoid(x0set, rng, 1)[0]
-    xs, ys, us = simulate(rng, A, B, C, E, F, x0, 6, vertex, nu=nu)
-    for k in range(6):
+    xs, ys, us = simulate(rng, A, B, C, E, F, x0, 7, vertex, nu=nu)
+    ys[2] = ys[2].copy()
+    ys[2][0] = np.nan  # one output missing
+    ys[5] = np.full(ny, np.nan)  # nothing measured: a certified pure prediction
+    for k in range(7):
         Ek = est.step(ys[k], us[k])
         assert_psd(Ek.P)
         assert np.isfinite(Ek.rho)
         target = xs[k] if est.is_filter else xs[k + 1]
         assert Ek.contains(target, rel_tol=CONTAIN_TOL), (method, k)
+        assert not est.last_check.flagged, (method, k)  # fault-free data: no alarm
     count("ellipsoidal-contained")
-    # a step with bad data raises and leaves the estimator unchanged
+    # a step with bad data (±inf; NaN is a missing output) raises and leaves the estimator unchanged
     before = est.current
-    bad, err = attempt(est.step, np.full(ny, np.nan), us[0])
+    bad, err = attempt(est.step, np.full(ny, np.inf), us[0])
     assert bad is None
     np.testing.assert_array_equal(est.current.P, before.P)
 
@@ -734,9 +738,12 @@ from setbound import interval as sbinterval, invariant, plotting, simulation, sy
 OPTIONS: dict[str, dict[str, str]] = {
     # ellipsoidal
     "setbound.ellipsoidal.design_offline": {"normalization": "choice", "beta": "float?"},
-    "setbound.ellipsoidal.OnlineEstimator.__init__": {"scaling": "bool", "reuse_tolerance": "float"},
+    "setbound.ellipsoidal.OfflineEstimator.__init__": {"on_inconsistency": "choice", "reset_set": "data"},
+    "setbound.ellipsoidal.OnlineEstimator.__init__": {"scaling": "bool", "reuse_tolerance": "float",
+                                                      "on_inconsistency": "choice", "reset_set": "data"},
     "setbound.ellipsoidal.ImprovedEstimator.__init__": {"option": "choice", "feedback": "choice",
-                                                        "predictor": "choice"},
+                                                        "predictor": "choice", "on_inconsistency": "choice",
+                                                        "reset_set": "data"},
     "setbound.ellipsoidal.KalmanFilter.__init__": {"omega_cov": "data", "nsigma": "float"},
     "setbound.ellipsoidal.KalmanFilter.step": {"u": "data"},
     "setbound.ellipsoidal.KalmanFilter.run": {"u": "data"},
@@ -956,6 +963,7 @@ _TMP = Path(tempfile.mkdtemp(prefix="setbound-options-"))
 CALLS = {
     "setbound.ellipsoidal.design_offline": lambda c, **kw: ellipsoidal.design_offline(c["S"], **kw),
     "setbound.ellipsoidal.OnlineEstimator.__init__": lambda c, **kw: ellipsoidal.OnlineEstimator(c["d"], c["E"], **kw),
+    "setbound.ellipsoidal.OfflineEstimator.__init__": lambda c, **kw: ellipsoidal.OfflineEstimator(c["d"], c["E"], **kw),
     "setbound.ellipsoidal.ImprovedEstimator.__init__":
         lambda c, **kw: ellipsoidal.ImprovedEstimator(c["d"], c["E"], **kw),
     "setbound.ellipsoidal.KalmanFilter.__init__":

@@ -1,5 +1,6 @@
 """Missing and impossible readings through Python (issue 24, setbound.measurement), for the
-zonotopic family (segment minimisation, volume minimisation, P-radius): NaN outputs and
+zonotopic family (segment minimisation, volume minimisation, P-radius) and the ellipsoidal
+family (offline, online, scaled predictors, the improved filter; Kalman): NaN outputs and
 ``step(None)`` are skipped with the truth kept inside, an impossible reading is never used and
 is handled by ``on_inconsistency`` ("flag", "raise", "reset"), ``run()`` starts from the initial
 set, and bad options are refused by name."""
@@ -11,7 +12,9 @@ import pytest
 import setbound
 from setbound import InconsistentMeasurementError, LinearSystem
 from setbound.measurement import INCONSISTENT, MISSING, USED, MeasurementCheck
-from setbound.sets import Zonotope
+from setbound.ellipsoidal import (DescriptorEstimator, ImprovedEstimator, KalmanFilter, OfflineEstimator,
+                                  OnlineEstimator, design_offline)
+from setbound.sets import Ellipsoid, Zonotope
 from setbound.zonotopic import PRadiusEstimator, SegmentMinEstimator, VolumeMinEstimator, design_pradius, exact_hull
 
 
@@ -40,6 +43,15 @@ def record(s, N, rng, vertex, x0=(1.0, 1.0), jump=None):
 
 
 X0 = Zonotope([0, 0], 3 * np.eye(2))
+E0 = Ellipsoid(np.eye(2), [0, 0], 18.0)  # the ball around the box X0: contains it
+_DESIGNS = {}
+
+
+def ell_design(s):
+    key = id(s)
+    if key not in _DESIGNS:
+        _DESIGNS[key] = (s, design_offline(s))
+    return _DESIGNS[key][1]
 
 
 def make(kind, s, **kw):
@@ -47,10 +59,24 @@ def make(kind, s, **kw):
         return SegmentMinEstimator(s, X0, **kw)
     if kind == "volume":
         return VolumeMinEstimator(s, X0, **kw)
-    return PRadiusEstimator(design_pradius(s, approach=2), X0, **kw)
+    if kind == "pradius":
+        return PRadiusEstimator(design_pradius(s, approach=2), X0, **kw)
+    if "reset_set" in kw and isinstance(kw["reset_set"], Zonotope):
+        Z = kw["reset_set"]
+        kw["reset_set"] = Ellipsoid(np.eye(2), Z.center, float(np.sum(np.abs(Z.generators)) ** 2))
+    d = ell_design(s)
+    if kind == "offline":
+        return OfflineEstimator(d, E0, **kw)
+    if kind == "online":
+        return OnlineEstimator(d, E0, **kw)
+    if kind == "scaled":
+        return OnlineEstimator(d, E0, scaling=True, **kw)
+    return ImprovedEstimator(d, E0, **kw)
 
 
-KINDS = ["segment", "volume", "pradius"]
+ZONOTOPIC = ["segment", "volume", "pradius"]
+ELLIPSOIDAL = ["offline", "online", "scaled", "improved"]
+KINDS = ZONOTOPIC + ELLIPSOIDAL
 
 
 @pytest.mark.parametrize("kind", KINDS)
@@ -61,7 +87,7 @@ def test_twenty_percent_missing_keeps_the_truth_and_contains_the_exact_hull(kind
     mask = rng.random(ys.shape) < 0.2
     ys[mask] = np.nan
     traj = make(kind, s).run(ys)
-    assert all(Z.contains(x) for Z, x in zip(traj.sets, xs))
+    assert all(Z.contains(x, 1e-9) for Z, x in zip(traj.sets, xs))
     np.testing.assert_array_equal(traj.status == MISSING, mask)
     np.testing.assert_array_equal(traj.status == USED, ~mask)
     assert not traj.flagged.any()
@@ -91,15 +117,16 @@ def test_a_glitch_is_flagged_and_the_truth_stays_inside(kind, glitch, rng):
     assert np.flatnonzero(traj.flagged).tolist() == [20]
     assert traj.status[20].tolist() == [INCONSISTENT, USED]
     assert traj.margin[20, 0] > 0
-    assert all(Z.contains(x) for Z, x in zip(traj.sets, xs))
+    assert all(Z.contains(x, 1e-9) for Z, x in zip(traj.sets, xs))
     assert np.all(traj.lower <= traj.upper)
 
 
-def test_raise_names_the_step_and_leaves_the_estimator_unchanged(rng):
+@pytest.mark.parametrize("kind", ["segment", "online", "improved"])
+def test_raise_names_the_step_and_leaves_the_estimator_unchanged(kind, rng):
     s = le13()
     xs, ys = record(s, 30, rng, vertex=False)
     ys[12, 1] -= 50
-    est = SegmentMinEstimator(s, X0, on_inconsistency="raise")
+    est = make(kind, s, on_inconsistency="raise")
     for k in range(12):
         est.step(ys[k])
     before = est.save_state()
@@ -110,35 +137,76 @@ def test_raise_names_the_step_and_leaves_the_estimator_unchanged(rng):
         est.run(ys)
 
 
-def test_reset_restarts_from_the_reset_set(rng):
+@pytest.mark.parametrize("kind", ["segment", "improved"])
+def test_reset_restarts_from_the_reset_set(kind, rng):
     # The model is violated (the state jumps at step 15): the prediction no longer holds the
     # state, the readings are impossible for it. "flag" loses the truth; "reset" restarts from
     # the wide set, uses the readings of that step, and holds the truth from then on.
     s = le13()
     xs, ys = record(s, 40, rng, vertex=True, jump=(15, np.array([6.0, -6.0])))
-    flagged = SegmentMinEstimator(s, X0).run(ys)
+    flagged = make(kind, s).run(ys)
     assert flagged.flagged[15] and not flagged.sets[15].contains(xs[15])
     wide = Zonotope([0, 0], 20 * np.eye(2))
-    est = SegmentMinEstimator(s, X0, on_inconsistency="reset", reset_set=wide)
+    est = make(kind, s, on_inconsistency="reset", reset_set=wide)
     traj = est.run(ys)
     assert np.flatnonzero(traj.resets).tolist() == [15]
     assert traj.flagged[15]
-    assert all(Z.contains(x) for Z, x in zip(traj.sets, xs))
+    assert all(Z.contains(x, 1e-9) for Z, x in zip(traj.sets, xs))
     # the policy survives pickling (the construction arguments are recorded)
     clone = pickle.loads(pickle.dumps(est))
     assert clone.on_inconsistency == "reset"
     np.testing.assert_array_equal(clone.run(ys).lower, traj.lower)
 
 
-def test_run_twice_gives_the_same_result_and_reset_restarts(rng):
+@pytest.mark.parametrize("kind", ["segment", "online", "improved"])
+def test_run_twice_gives_the_same_result_and_reset_restarts(kind, rng):
     s = le13()
     xs, ys = record(s, 40, rng, vertex=False)
-    est = SegmentMinEstimator(s, X0)
+    ys[5, 0] = np.nan
+    est = make(kind, s)
     a, b = est.run(ys), est.run(ys)
     np.testing.assert_array_equal(a.lower, b.lower)
     np.testing.assert_array_equal(a.upper, b.upper)
     est.reset()
-    np.testing.assert_array_equal(est.step(ys[0]).center, a.sets[0].center)
+    first = est.step(ys[0])
+    row = 0 if kind in ZONOTOPIC or kind == "improved" else 1  # a predictor's step gives x_1
+    np.testing.assert_array_equal(first.center, a.sets[row].center)
+
+
+def test_ellipsoidal_options_are_refused_by_name():
+    s = le13()
+    d = ell_design(s)
+    with pytest.raises(setbound.InvalidArgumentError, match="^on_inconsistency"):
+        OnlineEstimator(d, E0, on_inconsistency="ignore")
+    with pytest.raises(setbound.InvalidArgumentError, match="^reset_set"):
+        ImprovedEstimator(d, E0, reset_set=E0)
+    with pytest.raises(setbound.InvalidArgumentError, match="^reset_set"):
+        OfflineEstimator(d, E0, on_inconsistency="reset", reset_set=X0)
+    with pytest.raises(setbound.DimensionError, match="^reset_set"):
+        OfflineEstimator(d, E0, on_inconsistency="reset", reset_set=Ellipsoid(np.eye(3), [0, 0, 0], 1.0))
+    with pytest.raises(setbound.NotFiniteError, match="y: entry 0 is inf"):
+        OfflineEstimator(d, E0).step([np.inf, 0.0])
+
+
+def test_kalman_filter_corrects_with_the_outputs_present(rng):
+    s = le13()
+    xs, ys = record(s, 30, rng, vertex=False)
+    ys[rng.random(ys.shape) < 0.2] = np.nan
+    kf = KalmanFilter(s, [0.0, 0.0], np.eye(2))
+    traj = kf.run(ys)
+    assert np.isfinite(traj.center).all()
+    kf.reset()
+    m, G = kf.step(None)  # nothing measured: the prior, unchanged
+    np.testing.assert_array_equal(m, [0.0, 0.0])
+    np.testing.assert_array_equal(G, np.eye(2))
+
+
+def test_descriptor_estimator_refuses_missing_readings_and_says_why():
+    Ed = np.array([[1.0, 0.0], [0.0, 0.0]])
+    ds = setbound.DescriptorSystem(Ed, [[0.5, 0.1], [0.2, -1.0]], [[0.0, 1.0]], D=[[0.1], [0.0]], F=[[0.1]])
+    est = DescriptorEstimator(design_offline(ds), Ellipsoid(np.eye(2), [0, 0], 9.0))
+    with pytest.raises(setbound.NotFiniteError, match="row 1, output 0 is NaN .*DescriptorEstimator needs every output"):
+        est.run(np.array([[0.1], [np.nan]]))
 
 
 def test_bad_options_and_readings_are_refused_by_name():
@@ -192,8 +260,8 @@ method = "offline"
 
 
 def test_job_file_with_missing_cells_and_a_glitch(tmp_path, rng):
-    """A CSV with empty cells and a glitch: the zonotopic method skips both and keeps the truth,
-    the "raise" one stops with the step named, an ellipsoidal method says it needs every output."""
+    """A CSV with empty cells and a glitch: the zonotopic and the ellipsoidal method skip both and
+    keep the truth, the "raise" one stops with the step named."""
     from setbound import config
     from setbound.report import format_table, summary_rows
 
@@ -216,7 +284,9 @@ def test_job_file_with_missing_cells_and_a_glitch(tmp_path, rng):
     assert zono.ok and zono.contained
     assert np.flatnonzero(zono.trajectory.flagged).tolist() == [12]
     assert not strict.ok and "step 12: output 0" in strict.error
-    assert not offline.ok and "y: row 5, output 1 is NaN" in offline.error
+    assert offline.ok and offline.contained
+    assert np.flatnonzero(offline.trajectory.flagged).tolist() == [12]
+    assert offline.trajectory.status[5, 1] == MISSING
     rows = summary_rows(job, [zono, strict, offline])
     assert rows[0]["flagged_steps"] == 1 and rows[0]["first_flagged_step"] == 12
     assert "at 1 step (first: step 12)" in format_table(rows)

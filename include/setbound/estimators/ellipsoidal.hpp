@@ -44,6 +44,17 @@
 // enlarged for the rounding of the centre. An online step whose solve fails or whose result
 // cannot be certified falls back to the design's certified (β, L, σ) (interval A: the design's
 // (β, L) with the σ_k its blocks need), so a step never loses the guarantee.
+//
+// Real measurement data (issue 24, measurement_check.hpp). Before a step, every present output
+// is tested against the support of E(P, x̄_k, ρ_k) in ±C_i: C_i x̄_k + D_i u ± (√(ρ_k q_i) + φ_i),
+// with q_i ≥ C_i P⁻¹ C_iᵀ certified once (Schur complement [P, C_iᵀ; C_i, q_i] ⪰ 0). A missing
+// (NaN) or impossible output is not used: the gain and the certificate above are for the full
+// C, so such a step is a *partial step*: a gain with zero columns on the outputs not used (the
+// design's L restricted to the outputs used, or L = 0: pure prediction), whichever certified
+// level is smaller, with β and σ found for that fixed gain (β on a grid above the gain's
+// contraction factor a² = max_j λ_max(P⁻¹ A_Ljᵀ P A_Lj), σ the least value the vertex blocks
+// need at that β, certified by ell_interval_sigma). β may then exceed 1 (an unstable A
+// without correction): the set grows, and stays guaranteed.
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -65,6 +76,7 @@
 #include "setbound/core/state.hpp"
 #include "setbound/core/validate.hpp"
 #include "setbound/estimators/ellipsoidal_common.hpp"
+#include "setbound/estimators/measurement_check.hpp"
 #include "setbound/lmi/classes.hpp"
 #include "setbound/lmi/model.hpp"
 #include "setbound/lmi/scalar_search.hpp"
@@ -251,7 +263,7 @@ struct EllOnlineProblem {
 class EllipsoidalPredictor {
  public:
   EllipsoidalPredictor(EllDesign design, const Ellipsoid& x0, EllPredictorMode mode)
-      : d_(std::move(design)), mode_(mode), data_(d_.system), cur_(check_x0(d_, x0)) {
+      : d_(std::move(design)), mode_(mode), data_(d_.system), cur_(check_x0(d_, x0)), x0_(cur_), reset_set_(cur_) {
     init();
   }
   EllipsoidalPredictor(const EllipsoidalPredictor& o);
@@ -286,8 +298,38 @@ class EllipsoidalPredictor {
   void set_reuse_tolerance(double tol);
   double reuse_tolerance() const { return reuse_tol_; }
 
-  /// Uses y_k, u_k; computes, stores and returns the set for x_{k+1}. Unchanged on error.
+  /// Uses y_k, u_k; computes, stores and returns the set for x_{k+1}. A NaN entry of y is a
+  /// missing output; a present output outside the predicted output set is handled by the
+  /// inconsistency policy (last_check() reports both). Unchanged on error.
   Ellipsoid step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u);
+
+  /// The consistency test of the readings y (NaN = missing) against the set X of x_k (shape P):
+  /// per output Used / Missing / Inconsistent and its margin (measurement_check.hpp). Does not
+  /// look at the policy and changes nothing.
+  MeasurementCheck screen(const Ellipsoid& X, const Eigen::Ref<const Eigen::VectorXd>& y,
+                          const Eigen::Ref<const Eigen::VectorXd>& u) const;
+  /// Policy Raise: throws the InconsistentMeasurementError of the first inconsistent output of
+  /// `chk` (a screening of X); does nothing when chk is not flagged.
+  void raise_if_inconsistent(const MeasurementCheck& chk, const Ellipsoid& X, const Eigen::Ref<const Eigen::VectorXd>& y,
+                             const Eigen::Ref<const Eigen::VectorXd>& u) const;
+  /// The step from the current set with the outputs that `chk` marks Used (no screening: the
+  /// caller screened, e.g. ImprovedEstimator); records chk as last_check(). Unchanged on error.
+  Ellipsoid advance(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u,
+                    const MeasurementCheck& chk);
+
+  /// What a reading outside the predicted output set does (measurement_check.hpp); default
+  /// Flag. `reset_set` (policy Reset; default: x0) is converted to shape P. Not part of the
+  /// saved state (an option).
+  void set_inconsistency_policy(OnInconsistency policy);
+  void set_inconsistency_policy(OnInconsistency policy, const Ellipsoid& reset_set);
+  OnInconsistency inconsistency_policy() const { return policy_; }
+  /// The set policy Reset restarts from (shape P).
+  const Ellipsoid& reset_set() const { return reset_set_; }
+  /// The screening of the last step (before the first step: every output Unused).
+  const MeasurementCheck& last_check() const { return last_check_; }
+  /// Back to the initial set and the state right after construction (counters, working set,
+  /// reuse point); the options and the policy are kept.
+  void reset();
 
   /// The full mutable state (core/state.hpp): the current set, the step counter, the last β
   /// and gain, the fallback counter, the online working set, the online solve counter and the
@@ -327,6 +369,10 @@ class EllipsoidalPredictor {
   /// Replace the current set (e.g. by a corrected one); converted to shape P with with_shape.
   void reset(const Ellipsoid& x);
 
+  /// Upper bounds q_i ≥ C_i P⁻¹ C_iᵀ (certified; +inf when certification failed: that output
+  /// is then never declared inconsistent).
+  const Eigen::VectorXd& output_spread() const { return q_; }
+
  private:
   enum class OnlineOutcome { Used, NotBetter, Failed };
   struct Choice {
@@ -347,6 +393,13 @@ class EllipsoidalPredictor {
   Choice design_choice(double rho, const Eigen::VectorXd& c) const;
 
   void build_online();
+
+  /// A partial step (some outputs not used, `use`): the better of the design's gain restricted
+  /// to the outputs used and no correction, with (β, σ) certified for that gain (file comment).
+  Choice partial_choice(double rho, const Eigen::VectorXd& c, const std::vector<bool>& use) const;
+
+  /// The predicted interval of output i from X: centre C_i c, radius √(ρ q_i) (before D u, φ).
+  void output_interval(const Ellipsoid& X, Eigen::Index i, double& center, double& radius, double& magnitude) const;
 
   /// Solves the online problem at (ρ_k, x̄_k); on success writes the certified choice into `ch`
   /// (OnlineVertex: only when its level is below the design's, which is feasible for the same
@@ -372,6 +425,12 @@ class EllipsoidalPredictor {
   std::vector<Eigen::VectorXd> halved_, full_;
   std::unique_ptr<detail::EllGainTerms> design_terms_;
   std::unique_ptr<detail::EllOnlineProblem> on_;
+  // Real measurement data: certified C_i P⁻¹ C_iᵀ bounds, noise bounds φ_i, the initial set
+  // (reset()), the policy and its reset set, the last step's screening.
+  Eigen::VectorXd q_, phi_;
+  Ellipsoid x0_, reset_set_;
+  OnInconsistency policy_ = OnInconsistency::Flag;
+  MeasurementCheck last_check_;
 };
 
 }  // namespace setbound

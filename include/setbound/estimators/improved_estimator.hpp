@@ -17,10 +17,19 @@
 //                     costs a second, linear, LMI solve per step).
 // The reported bounds are the intersection of the interval hulls of the corrected and the
 // predicted sets (both contain x_k).
+//
+// Real measurement data (issue 24): the readings are screened against the predicted set (the
+// predictor's test, measurement_check.hpp); the correction uses the outputs present and
+// consistent (a corrector per subset of outputs met, built on the sub-system of those rows), and
+// so does the prediction (EllipsoidalPredictor::advance). Readings that are each possible can
+// still be jointly impossible: then the corrected and predicted hulls do not meet, and the step
+// is treated as inconsistent in all its used outputs (never a row with lower > upper).
 #pragma once
 
 #include <Eigen/Core>
+#include <map>
 #include <memory>
+#include <string>
 #include <utility>
 
 #include "setbound/core/error.hpp"
@@ -43,7 +52,9 @@ class ImprovedEstimator {
         feedback_(feedback),
         current_(pred_.current()),
         lower_(pred_.current().bounding_box().lo),
-        upper_(pred_.current().bounding_box().hi) {}
+        upper_(pred_.current().bounding_box().hi) {
+    last_check_.clear(design.system.ny());
+  }
 
   const EllDesign& design() const { return pred_.design(); }
   /// The corrected set for x_k returned by the last step (before the first step: x0 in shape P).
@@ -58,8 +69,21 @@ class ImprovedEstimator {
   /// True when the last correction could not be solved and certified (the prediction was kept).
   bool last_correction_failed() const { return last_failed_; }
 
-  /// Uses y_k and u_k: returns the corrected set for x_k, then predicts x_{k+1}. Unchanged on error.
+  /// Uses y_k and u_k: returns the corrected set for x_k, then predicts x_{k+1}. NaN entries of
+  /// y are missing outputs; impossible readings follow the inconsistency policy. Unchanged on
+  /// error.
   Ellipsoid step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u);
+
+  /// The inconsistency policy (kept by the predictor; reset set converted to shape P).
+  void set_inconsistency_policy(OnInconsistency policy) { pred_.set_inconsistency_policy(policy); }
+  void set_inconsistency_policy(OnInconsistency policy, const Ellipsoid& reset_set) {
+    pred_.set_inconsistency_policy(policy, reset_set);
+  }
+  OnInconsistency inconsistency_policy() const { return pred_.inconsistency_policy(); }
+  /// The screening of the last step (the test that triggered a reset, with reset = true).
+  const MeasurementCheck& last_check() const { return last_check_; }
+  /// Back to the initial set and the state right after construction; options are kept.
+  void reset();
 
   /// Full mutable state (core/state.hpp): the predictor's state, the corrected set, the
   /// reported bounds, the step counter and the last correction's status.
@@ -71,6 +95,9 @@ class ImprovedEstimator {
 
  private:
   static ImprovedCorrectionOptions corrector_options(ImprovedFeedback feedback);
+  /// The correction of `predicted` with the outputs `use` marks Used.
+  CorrectionResult correct_with(const Ellipsoid& predicted, const Eigen::Ref<const Eigen::VectorXd>& y,
+                                const Eigen::Ref<const Eigen::VectorXd>& u, const MeasurementCheck& use);
 
   EllipsoidalPredictor pred_;
   ImprovedCorrector corrector_;
@@ -79,6 +106,8 @@ class ImprovedEstimator {
   Eigen::VectorXd lower_, upper_;
   Eigen::Index k_ = 0;
   bool last_failed_ = false;
+  MeasurementCheck last_check_;
+  std::map<std::string, ImprovedCorrector> subset_correctors_;  // key: '1' per output used
 };
 
 }  // namespace setbound

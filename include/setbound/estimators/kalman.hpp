@@ -28,6 +28,10 @@
 // and covariance() are then x̂_{k|k}, G_{k|k}, the estimate of x_k from y_0..y_k — and predicts
 // to k+1 with u_k (predicted_mean() / predicted_covariance()). Before the first step mean() and
 // covariance() are the prior x̂_{0|−1}, G_{0|−1}.
+//
+// Missing outputs (NaN entries of y, issue 24): the correction uses the rows present (C_S,
+// R_SS) and the prediction decorrelates with those rows only (J_S = E W F_Sᵀ R_SS⁻¹); with no
+// output the step is a pure prediction. ±inf is an error.
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -36,11 +40,13 @@
 #include <cmath>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "setbound/core/error.hpp"
 #include "setbound/core/linear_system.hpp"
 #include "setbound/core/state.hpp"
 #include "setbound/core/validate.hpp"
+#include "setbound/estimators/measurement_check.hpp"
 #include "setbound/sets/ellipsoid.hpp"
 
 namespace setbound {
@@ -66,8 +72,8 @@ class KalmanFilter {
   /// Restarts from x̂_{0|−1} = mean0, G_{0|−1} = cov0 (validated; on error nothing changes).
   void reset(Eigen::VectorXd mean0, Eigen::MatrixXd cov0);
 
-  /// Correction with y_k, then prediction to k+1 with u_k (see the file comment). On error the
-  /// filter is unchanged.
+  /// Correction with y_k (NaN entries: missing outputs), then prediction to k+1 with u_k (see
+  /// the file comment). On error the filter is unchanged.
   void step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u);
 
   /// x̂_{k|k} and G_{k|k} after step(y_k, u_k) (the prior before the first step).

@@ -137,14 +137,16 @@ def _build_ellipsoidal(method):
                                       lambda: ell.design_offline(job.system, normalization=o["normalization"],
                                                                  beta=o["beta"]))
         x0 = ellipsoidal_initial(job.initial, job.system.nx)
+        kw = {"on_inconsistency": str(o.get("on_inconsistency", "flag"))}
         if method == "offline":
-            est = ell.OfflineEstimator(design, x0)
+            est = ell.OfflineEstimator(design, x0, **kw)
         elif method == "online":
-            est = ell.OnlineEstimator(design, x0)
+            est = ell.OnlineEstimator(design, x0, **kw)
         elif method == "scaled":
-            est = ell.OnlineEstimator(design, x0, scaling=True)
+            est = ell.OnlineEstimator(design, x0, scaling=True, **kw)
         elif method == "improved":
-            est = ell.ImprovedEstimator(design, x0, o["option"], feedback=o["feedback"], predictor=o["predictor"])
+            est = ell.ImprovedEstimator(design, x0, o["option"], feedback=o["feedback"], predictor=o["predictor"],
+                                        **kw)
         else:
             est = ell.DescriptorEstimator(design, x0)
         return est, design
@@ -191,7 +193,9 @@ def _beta(v, key):
 
 _ELL = {"normalization": "logdet", "beta": None}
 # on_inconsistency: what an impossible reading does (setbound.measurement); "reset" restarts from
-# the job's initial set.
+# the job's initial set. Not for the descriptor estimator (it needs every output).
+_POLICY = {"on_inconsistency": "flag"}
+_POLICY_CHECKS = {"on_inconsistency": one_of("flag", "raise", "reset")}
 _ZONO = {"max_generators": 20, "use_first_measurement": True, "reduction": "combastel", "on_inconsistency": "flag"}
 _ELL_CHECKS = {"normalization": one_of("logdet", "ball", "paper_trace"), "beta": _beta}
 _ZONO_CHECKS = {"max_generators": positive_int(MAX_GENERATORS), "use_first_measurement": boolean,
@@ -202,17 +206,19 @@ register_system("linear", {"A", "A_radius", "B", "C", "D", "E", "F", "omega"}, _
                             "w in the unit box or in the [system.omega] box/zonotope)")
 register_system("descriptor", {"E", "A", "B", "C", "D", "F"}, _descriptor_system, DescriptorSystem,
                 description="E x+ = A x + B u + D w, y = C x + F w (papers.md §4)")
-register_estimator("offline", "ellipsoidal", _ELL, _build_ellipsoidal("offline"), steady_volume=_rho_inf_volume,
-                   checks=_ELL_CHECKS,
+register_estimator("offline", "ellipsoidal", {**_ELL, **_POLICY}, _build_ellipsoidal("offline"),
+                   steady_volume=_rho_inf_volume, checks={**_ELL_CHECKS, **_POLICY_CHECKS},
                    description="[BenChabane2014] offline gain (papers.md §1.1)")
-register_estimator("online", "ellipsoidal", _ELL, _build_ellipsoidal("online"), checks=_ELL_CHECKS,
+register_estimator("online", "ellipsoidal", {**_ELL, **_POLICY}, _build_ellipsoidal("online"),
+                   checks={**_ELL_CHECKS, **_POLICY_CHECKS},
                    description="[BenChabane2014] online LMI per step (papers.md §1.2)")
-register_estimator("scaled", "ellipsoidal", _ELL, _build_ellipsoidal("scaled"), checks=_ELL_CHECKS,
+register_estimator("scaled", "ellipsoidal", {**_ELL, **_POLICY}, _build_ellipsoidal("scaled"),
+                   checks={**_ELL_CHECKS, **_POLICY_CHECKS},
                    description="[BenChabane2014] online with scaling (papers.md §1.3)")
 register_estimator("improved", "ellipsoidal",
-                   {**_ELL, "option": "det_normalized", "feedback": "fixed_shape", "predictor": "online"},
+                   {**_ELL, **_POLICY, "option": "det_normalized", "feedback": "fixed_shape", "predictor": "online"},
                    _build_ellipsoidal("improved"),
-                   checks={**_ELL_CHECKS, "option": one_of("det_normalized", "fixed_shape", "ball_normalized"),
+                   checks={**_ELL_CHECKS, **_POLICY_CHECKS, "option": one_of("det_normalized", "fixed_shape", "ball_normalized"),
                            "feedback": one_of("fixed_shape", "outer_bound", "none"),
                            "predictor": one_of("online", "scaled", "offline")},
                    description="[Merhy2017] improved measurement correction (papers.md §2.2, §6)")

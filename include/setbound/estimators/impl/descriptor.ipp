@@ -124,6 +124,11 @@ SETBOUND_INLINE Ellipsoid DescriptorEstimator::step(const Eigen::Ref<const Eigen
   using ell_rounding::gamma;
   using ell_rounding::round_up;
   detail::require_length(y.size(), sys_.ny(), "y");
+  for (Eigen::Index i = 0; i < y.size(); ++i)
+    if (std::isnan(y(i)))
+      throw NotFiniteError("y: entry " + std::to_string(i) +
+                           " is NaN (a missing reading): the descriptor estimator needs every output, the state "
+                           "of a descriptor system is fixed through N y_k (papers.md §4.1); use an explicit model");
   require_finite(y, "y");
   if (!(u.size() == sys_.nu() || (u.size() == 0 && sys_.nu() == 0)))
     detail::require_length(u.size(), sys_.nu(), "u");

@@ -472,8 +472,10 @@ SETBOUND_INLINE auto EllOnlineProblem::sub(const std::string& key) -> Sub& {
 namespace setbound {
 
 SETBOUND_INLINE EllipsoidalPredictor::EllipsoidalPredictor(const EllipsoidalPredictor& o)
-    : d_(o.d_), mode_(o.mode_), data_(d_.system), cur_(o.cur_) {
+    : d_(o.d_), mode_(o.mode_), data_(d_.system), cur_(o.cur_), x0_(o.x0_), reset_set_(o.reset_set_) {
   init();
+  policy_ = o.policy_;
+  last_check_ = o.last_check_;
   if (on_ && o.on_) on_->working = o.on_->working;  // same next solve as the original
   if (on_ && o.on_) set_online_solver_options(o.on_->options);
   k_ = o.k_;
@@ -498,22 +500,115 @@ SETBOUND_INLINE void EllipsoidalPredictor::set_reuse_tolerance(double tol) {
 SETBOUND_INLINE Ellipsoid EllipsoidalPredictor::step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u) {
   const LinearSystem& sys = d_.system;
   detail::require_length(y.size(), sys.ny(), "y");
-  require_finite(y, "y");
+  require_no_infinity(y, "y");
   if (!(u.size() == sys.nu() || (u.size() == 0 && sys.nu() == 0)))
     detail::require_length(u.size(), sys.nu(), "u");
   require_finite(u, "u");
-  const Eigen::VectorXd yv = y, uv = u;
+  MeasurementCheck chk = screen(cur_, y, u);
+  if (!chk.flagged()) return advance(y, u, chk);
+  if (policy_ == OnInconsistency::Raise) raise_if_inconsistent(chk, cur_, y, u);
+  if (policy_ == OnInconsistency::Flag) return advance(y, u, chk);
+  // Reset: restart from the reset set and use the outputs consistent with it; the report keeps
+  // the test that triggered the reset.
+  const MeasurementCheck again = screen(reset_set_, y, u);
+  const Ellipsoid before = cur_;
+  cur_ = reset_set_;
+  try {
+    advance(y, u, again);
+  } catch (...) {
+    cur_ = before;
+    throw;
+  }
+  last_check_ = chk;
+  last_check_.reset = true;
+  return cur_;
+}
+
+SETBOUND_INLINE void EllipsoidalPredictor::output_interval(const Ellipsoid& X, Eigen::Index i, double& center,
+                                                           double& radius, double& magnitude) const {
+  const Eigen::VectorXd& c = X.center();
+  const auto Ci = d_.system.C().row(i);
+  center = Ci.dot(c);
+  radius = std::isfinite(q_(i)) ? ell_rounding::round_up(std::sqrt(ell_rounding::round_up(X.level() * q_(i))))
+                                : std::numeric_limits<double>::infinity();
+  magnitude = Ci.cwiseAbs().dot(c.cwiseAbs()) + (std::isfinite(radius) ? radius : 0.0);
+}
+
+SETBOUND_INLINE MeasurementCheck EllipsoidalPredictor::screen(const Ellipsoid& X, const Eigen::Ref<const Eigen::VectorXd>& y,
+                                                              const Eigen::Ref<const Eigen::VectorXd>& u) const {
+  const LinearSystem& sys = d_.system;
+  const Eigen::Index ny = sys.ny(), nu = sys.nu();
+  MeasurementCheck chk;
+  chk.clear(ny, OutputStatus::Used);
+  for (Eigen::Index i = 0; i < ny; ++i) {
+    if (std::isnan(y(i))) {
+      chk.status[static_cast<std::size_t>(i)] = OutputStatus::Missing;
+      continue;
+    }
+    double center = 0, radius = 0, magnitude = 0;
+    output_interval(X, i, center, radius, magnitude);
+    double yi = y(i);
+    if (nu > 0) {
+      yi -= sys.D().row(i).dot(u);
+      magnitude += sys.D().row(i).cwiseAbs().dot(u.cwiseAbs());
+    }
+    if (!std::isfinite(radius)) continue;  // no certified spread: never declared inconsistent
+    const OutputTest t = test_output(yi, center, radius, phi_(i), magnitude, sys.nx() + nu + 4);
+    chk.margin(i) = t.margin;
+    if (t.inconsistent) chk.status[static_cast<std::size_t>(i)] = OutputStatus::Inconsistent;
+  }
+  return chk;
+}
+
+SETBOUND_INLINE void EllipsoidalPredictor::raise_if_inconsistent(const MeasurementCheck& chk, const Ellipsoid& X,
+                                                                 const Eigen::Ref<const Eigen::VectorXd>& y,
+                                                                 const Eigen::Ref<const Eigen::VectorXd>& u) const {
+  const Eigen::Index i = chk.first_inconsistent();
+  if (i < 0) return;
+  double center = 0, radius = 0, magnitude = 0;
+  output_interval(X, i, center, radius, magnitude);
+  if (d_.system.nu() > 0) center += d_.system.D().row(i).dot(u);
+  throw_inconsistent(k_, i, y(i), center, radius, phi_(i), chk.margin(i));
+}
+
+SETBOUND_INLINE Ellipsoid EllipsoidalPredictor::advance(const Eigen::Ref<const Eigen::VectorXd>& y,
+                                                        const Eigen::Ref<const Eigen::VectorXd>& u,
+                                                        const MeasurementCheck& chk) {
+  const LinearSystem& sys = d_.system;
+  const Eigen::Index ny = sys.ny();
+  detail::require_length(y.size(), ny, "y");
+  if (!(u.size() == sys.nu() || (u.size() == 0 && sys.nu() == 0)))
+    detail::require_length(u.size(), sys.nu(), "u");
+  if (static_cast<Eigen::Index>(chk.status.size()) != ny || chk.margin.size() != ny)
+    throw DimensionError("chk: expected the screening of " + std::to_string(ny) + " outputs");
+  std::vector<bool> use(static_cast<std::size_t>(ny));
+  bool all = true;
+  Eigen::VectorXd yv = y;
+  for (Eigen::Index i = 0; i < ny; ++i) {
+    const bool used = chk.status[static_cast<std::size_t>(i)] == OutputStatus::Used;
+    use[static_cast<std::size_t>(i)] = used;
+    all = all && used;
+    if (!used) yv(i) = 0.0;  // its gain column is zero: the value never enters
+    else if (!std::isfinite(yv(i))) throw NotFiniteError("y: entry " + std::to_string(i) + " is used and not finite");
+  }
+  require_finite(u, "u");
+  const Eigen::VectorXd uv = u;
   const Eigen::VectorXd& c = cur_.center();
   const double rho = cur_.level();
 
-  Choice ch = design_choice(rho, c);
+  Choice ch{0.0, Eigen::MatrixXd(), 0.0, 0.0};
   bool failed = false;
-  if (mode_ != EllPredictorMode::Offline) {
-    try {
-      failed = online_choice(rho, c, ch) == OnlineOutcome::Failed;
-    } catch (const std::exception&) {
-      failed = true;  // a numerical failure of the solver: the design step is always valid
+  if (all) {
+    ch = design_choice(rho, c);
+    if (mode_ != EllPredictorMode::Offline) {
+      try {
+        failed = online_choice(rho, c, ch) == OnlineOutcome::Failed;
+      } catch (const std::exception&) {
+        failed = true;  // a numerical failure of the solver: the design step is always valid
+      }
     }
+  } else {
+    ch = partial_choice(rho, c, use);
   }
   // Centre and level.
   const Eigen::VectorXd cn = sys.A() * c + sys.B() * uv + ch.L * (yv - sys.C() * c - sys.D() * uv);
@@ -524,8 +619,102 @@ SETBOUND_INLINE Ellipsoid EllipsoidalPredictor::step(const Eigen::Ref<const Eige
   ++k_;
   last_beta_ = ch.beta;
   last_L_ = ch.L;
+  last_check_ = chk;
   if (failed) ++fallbacks_;
   return next;
+}
+
+SETBOUND_INLINE auto EllipsoidalPredictor::partial_choice(double rho, const Eigen::VectorXd& c,
+                                                          const std::vector<bool>& use) const -> Choice {
+  using ell_rounding::round_up;
+  const Eigen::Index n = d_.system.nx();
+  Eigen::MatrixXd Ls = d_.L;
+  bool any = false;
+  for (std::size_t i = 0; i < use.size(); ++i) {
+    if (use[i]) any = true;
+    else Ls.col(static_cast<Eigen::Index>(i)).setZero();
+  }
+  std::vector<Eigen::MatrixXd> gains{Ls};
+  if (any) gains.push_back(Eigen::MatrixXd::Zero(n, d_.L.cols()));
+  const std::vector<Eigen::VectorXd>& omegas = data_.interval ? full_ : halved_;
+  const detail::EllCentreTerms ct(d_.P, data_, c);
+  const Eigen::LLT<Eigen::MatrixXd> pllt(d_.P);
+  Choice best{1.0, Ls, 0.0, std::numeric_limits<double>::infinity()};
+  static constexpr double kEta[] = {1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0, 3.0, 10.0, 100.0};
+  for (const Eigen::MatrixXd& L : gains) {
+    const detail::EllGainTerms t(d_.P, L, data_, data_.Et, data_.Ft);
+    // a² = max_j λ_max(P⁻¹ A_Ljᵀ P A_Lj) = max_j ‖R A_Lj R⁻¹‖₂² with P = RᵀR, and
+    // R A_L R⁻¹ = R⁻ᵀ (P A_L) R⁻¹ (only a starting point for β: σ is certified below).
+    double a2 = 0;
+    for (const Eigen::MatrixXd& PAL : t.PAL) {
+      const Eigen::MatrixXd Y = pllt.matrixL().solve(PAL);                                  // R⁻ᵀ PAL
+      const Eigen::MatrixXd M = pllt.matrixL().solve(Y.transpose()).transpose();            // R⁻ᵀ PAL R⁻¹
+      a2 = std::max(a2, Eigen::JacobiSVD<Eigen::MatrixXd>(M).singularValues()(0));
+    }
+    a2 *= a2;
+    // σ(β) needed at each β of the grid (uncertified, cheap); then certify in order of level.
+    std::vector<std::pair<double, double>> cand;  // (level, β)
+    for (double eta : kEta) {
+      const double beta = std::max(a2 * (1.0 + eta), eta * 1e-9);
+      double need = 0;
+      bool ok = true;
+      for (std::size_t j = 0; j < t.PAL.size() && ok; ++j) {
+        Eigen::MatrixXd K(2 * n, 2 * n);
+        K << beta * d_.P, t.PAL[j].transpose(), t.PAL[j], d_.P;
+        const Eigen::LLT<Eigen::MatrixXd> llt(K);
+        if (llt.info() != Eigen::Success) {
+          ok = false;
+          break;
+        }
+        for (const Eigen::VectorXd& w : omegas) {
+          Eigen::VectorXd v = Eigen::VectorXd::Zero(2 * n);
+          v.tail(n) = (t.PEL.cols() > 0 ? Eigen::VectorXd(t.PEL * w) : Eigen::VectorXd::Zero(n)) + ct.Ph[j];
+          need = std::max(need, llt.matrixL().solve(v).squaredNorm());
+        }
+      }
+      if (ok && std::isfinite(need)) cand.emplace_back(beta * rho + need, beta);
+    }
+    std::sort(cand.begin(), cand.end());
+    for (const auto& [level, beta] : cand) {
+      if (!(level < best.rho_next)) break;
+      const double sigma = detail::ell_interval_sigma(d_.P, t, ct, omegas, beta);
+      if (!std::isfinite(sigma)) continue;
+      const double r = round_up(round_up(beta * rho) + sigma);
+      if (r < best.rho_next) best = {beta, L, sigma, r};
+      break;
+    }
+  }
+  if (!std::isfinite(best.rho_next))
+    throw NumericalError("y: the prediction with the outputs present could not be certified (P is too badly "
+                         "conditioned for the gain restricted to them)");
+  return best;
+}
+
+SETBOUND_INLINE void EllipsoidalPredictor::set_inconsistency_policy(OnInconsistency policy) {
+  set_inconsistency_policy(policy, x0_);
+}
+
+SETBOUND_INLINE void EllipsoidalPredictor::set_inconsistency_policy(OnInconsistency policy, const Ellipsoid& reset_set) {
+  if (static_cast<int>(policy) < 0 || static_cast<int>(policy) > 2)
+    throw InvalidArgumentError("on_inconsistency: must be Flag, Raise or Reset");
+  if (reset_set.dimension() != d_.system.nx())
+    throw DimensionError("reset_set: expected an ellipsoid of dimension " + std::to_string(d_.system.nx()) + ", got " +
+                         std::to_string(reset_set.dimension()));
+  Ellipsoid r = reset_set.with_shape(d_.P);
+  policy_ = policy;
+  reset_set_ = std::move(r);
+}
+
+SETBOUND_INLINE void EllipsoidalPredictor::reset() {
+  cur_ = x0_;
+  k_ = 0;
+  fallbacks_ = 0;
+  solves_ = 0;
+  reuse_ = Reuse{};
+  last_beta_ = d_.beta;
+  last_L_ = d_.L;
+  if (on_) on_->working.assign(on_->blocks.size(), '1');
+  last_check_.clear(d_.system.ny());
 }
 
 SETBOUND_INLINE std::vector<double> EllipsoidalPredictor::save_state() const {
@@ -566,7 +755,7 @@ SETBOUND_INLINE auto EllipsoidalPredictor::parse_state(const std::vector<double>
   }
   p.solves = static_cast<Eigen::Index>(sv);
   if (fb > k) r.fail("fallback_steps exceeds steps");
-  if (!(p.beta > 0 && p.beta < 1)) r.fail("last_beta is not in (0, 1)");
+  if (!(p.beta > 0) || !std::isfinite(p.beta)) r.fail("last_beta is not positive and finite");
   const std::size_t nb = on_ ? on_->blocks.size() : 0;
   if (p.working.size() != nb || p.working.find_first_not_of("01") != std::string::npos)
     r.fail("working_set does not match the online problem of this predictor");
@@ -659,6 +848,37 @@ SETBOUND_INLINE void EllipsoidalPredictor::init() {
   last_beta_ = d_.beta;
   last_L_ = d_.L;
   if (mode_ != EllPredictorMode::Offline) build_online();
+  // Consistency test data: φ_i and certified q_i ≥ C_i P⁻¹ C_iᵀ. The Schur complement
+  // [P, f C_iᵀ; f C_i, f² q_i] ⪰ 0 (f a power of two bringing f² q_i to the size of P's
+  // diagonal: an exact congruence) proves the bound in exact arithmetic.
+  const Eigen::Index ny = sys.ny();
+  phi_.resize(ny);
+  q_.resize(ny);
+  const Eigen::LLT<Eigen::MatrixXd> pllt(d_.P);
+  for (Eigen::Index i = 0; i < ny; ++i) {
+    phi_(i) = sys.output_noise_bound(i);
+    const Eigen::VectorXd ci = sys.C().row(i).transpose();
+    if ((ci.array() == 0.0).all()) {
+      q_(i) = 0.0;
+      continue;
+    }
+    const double q = pllt.matrixL().solve(ci).squaredNorm();
+    q_(i) = std::numeric_limits<double>::infinity();
+    for (double bump : {1e-12, 1e-9, 1e-6, 1e-3, 1e-1, 1.0, 10.0}) {
+      const double qb = q * (1.0 + bump) + std::numeric_limits<double>::min();
+      const double f = detail::ell_pow2_scale(qb, d_.P.diagonal().maxCoeff());
+      Eigen::MatrixXd M(n + 1, n + 1);
+      M.topLeftCorner(n, n) = d_.P;
+      M.block(0, n, n, 1) = f * ci;
+      M.block(n, 0, 1, n) = f * ci.transpose();
+      M(n, n) = qb * f * f;
+      if (certify_psd(M)) {
+        q_(i) = qb;
+        break;
+      }
+    }
+  }
+  last_check_.clear(ny);
 }
 
 SETBOUND_INLINE auto EllipsoidalPredictor::design_choice(double rho, const Eigen::VectorXd& c) const -> Choice {

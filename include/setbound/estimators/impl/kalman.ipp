@@ -81,28 +81,66 @@ SETBOUND_INLINE void KalmanFilter::reset(Eigen::VectorXd mean0, Eigen::MatrixXd 
 }
 
 SETBOUND_INLINE void KalmanFilter::step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u) {
-  const Eigen::Index n = sys_.nx();
-  detail::require_length(y.size(), sys_.ny(), "y");
-  require_finite(y, "y");
+  const Eigen::Index n = sys_.nx(), ny = sys_.ny();
+  detail::require_length(y.size(), ny, "y");
+  require_no_infinity(y, "y");
   detail::require_length(u.size(), sys_.nu(), "u");
   require_finite(u, "u");
-  const Eigen::MatrixXd& C = sys_.C();
+  // Missing outputs (NaN): the textbook answer, the correction with the rows present, and the
+  // decorrelation of the prediction (J) with those rows only (J_S = E W F_Sᵀ R_SS⁻¹).
+  std::vector<Eigen::Index> rows;
+  for (Eigen::Index i = 0; i < ny; ++i)
+    if (!std::isnan(y(i))) rows.push_back(i);
+  const Eigen::Index m = static_cast<Eigen::Index>(rows.size());
+  const bool all = m == ny;
+  auto pick_rows = [&](const Eigen::MatrixXd& M) {
+    Eigen::MatrixXd out(m, M.cols());
+    for (Eigen::Index j = 0; j < m; ++j) out.row(j) = M.row(rows[static_cast<std::size_t>(j)]);
+    return out;
+  };
+  const Eigen::MatrixXd C = all ? sys_.C() : pick_rows(sys_.C());
+  Eigen::MatrixXd R = R_;
+  if (!all) {
+    const Eigen::MatrixXd Rt = pick_rows(R_).transpose();
+    R = pick_rows(Rt);  // R_SS (R is symmetric)
+  }
+  Eigen::VectorXd ys(m);
+  for (Eigen::Index j = 0; j < m; ++j) ys(j) = y(rows[static_cast<std::size_t>(j)]);
+  const Eigen::MatrixXd D = sys_.nu() > 0 ? (all ? sys_.D() : pick_rows(sys_.D())) : Eigen::MatrixXd(m, 0);
   // Correction.
-  const Eigen::MatrixXd GCt = Gp_ * C.transpose();
-  const Eigen::MatrixXd S = detail::kalman_symmetrized(C * GCt + R_);
-  Eigen::LLT<Eigen::MatrixXd> sllt(S);
-  if (sllt.info() != Eigen::Success)
-    throw NumericalError("y: the innovation covariance C G C^T + F W F^T lost positive definiteness");
-  Eigen::MatrixXd K = sllt.solve(GCt.transpose()).transpose();  // G Cᵀ S⁻¹
-  Eigen::VectorXd innov = y - C * xp_;
-  if (sys_.nu() > 0) innov -= sys_.D() * u;
-  Eigen::VectorXd x = xp_ + K * innov;
-  const Eigen::MatrixXd IKC = Eigen::MatrixXd::Identity(n, n) - K * C;
-  Eigen::MatrixXd G = detail::kalman_symmetrized(IKC * Gp_ * IKC.transpose() + K * R_ * K.transpose());
+  Eigen::VectorXd x = xp_;
+  Eigen::MatrixXd G = Gp_, K = Eigen::MatrixXd::Zero(n, ny);
+  if (m > 0) {
+    const Eigen::MatrixXd GCt = Gp_ * C.transpose();
+    const Eigen::MatrixXd S = detail::kalman_symmetrized(C * GCt + R);
+    Eigen::LLT<Eigen::MatrixXd> sllt(S);
+    if (sllt.info() != Eigen::Success)
+      throw NumericalError("y: the innovation covariance C G C^T + F W F^T lost positive definiteness");
+    const Eigen::MatrixXd Ks = sllt.solve(GCt.transpose()).transpose();  // G Cᵀ S⁻¹
+    Eigen::VectorXd innov = ys - C * xp_;
+    if (sys_.nu() > 0) innov -= D * u;
+    x = xp_ + Ks * innov;
+    const Eigen::MatrixXd IKC = Eigen::MatrixXd::Identity(n, n) - Ks * C;
+    G = detail::kalman_symmetrized(IKC * Gp_ * IKC.transpose() + Ks * R * Ks.transpose());
+    for (Eigen::Index j = 0; j < m; ++j) K.col(rows[static_cast<std::size_t>(j)]) = Ks.col(j);
+  }
   // Prediction.
-  Eigen::VectorXd xp = Abar_ * x + J_ * y;
-  if (sys_.nu() > 0) xp += Bbar_ * u;
-  Eigen::MatrixXd Gp = detail::kalman_symmetrized(Abar_ * G * Abar_.transpose() + Qbar_);
+  Eigen::VectorXd xp;
+  Eigen::MatrixXd Gp;
+  if (all) {
+    xp = Abar_ * x + J_ * y;
+    if (sys_.nu() > 0) xp += Bbar_ * u;
+    Gp = detail::kalman_symmetrized(Abar_ * G * Abar_.transpose() + Qbar_);
+  } else {
+    const Eigen::MatrixXd Fs = pick_rows(sys_.F());
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(n, m);
+    if (correlated_ && m > 0) J = R.llt().solve((sys_.E() * W_ * Fs.transpose()).transpose()).transpose();
+    const Eigen::MatrixXd Abar = sys_.A() - J * C;
+    const Eigen::MatrixXd Ebar = sys_.E() - J * Fs;
+    xp = Abar * x + J * ys;
+    if (sys_.nu() > 0) xp += (sys_.B() - J * D) * u;
+    Gp = detail::kalman_symmetrized(Abar * G * Abar.transpose() + detail::kalman_symmetrized(Ebar * W_ * Ebar.transpose()));
+  }
   if (!x.allFinite() || !G.allFinite() || !xp.allFinite() || !Gp.allFinite())
     throw NumericalError("y: the Kalman recursion produced a non-finite value (overflow)");
   x_ = std::move(x);
