@@ -38,6 +38,7 @@ import numpy as np
 from . import jobs
 from .errors import SetboundError
 from .progress import set_quiet
+from .jobs.faults import fault_lines
 from .report import format_table, leaked, summary_rows, user_message, write_plots, write_results
 
 __all__ = ["main", "summary_rows", "format_table", "write_results", "write_plots", "load_compare"]
@@ -47,6 +48,8 @@ def _report(job, results, out, *, plots: bool, extra=None) -> int:
     rows = summary_rows(job, results)
     print(f"{job.title} ({len(job.y)} steps)")
     print(format_table(rows))
+    for line in fault_lines(job):
+        print(line)
     if out is not None:
         write_results(out, job, results, rows, extra=extra)
         if plots and job.plots.enabled:

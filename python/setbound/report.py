@@ -73,6 +73,12 @@ def summary_rows(job, results) -> list[dict]:
                 "first_flagged_step": (None if t.status is None or not t.flagged.any()
                                        else int(np.flatnonzero(t.flagged)[0])),
             })
+            start = getattr(job, "fault_start", None)
+            if start is not None and t.status is not None:  # a detector of the injected fault
+                after = np.flatnonzero(t.flagged[start:])
+                row["alarm_step"] = int(start + after[0]) if after.size else None
+                row["detection_delay"] = int(after[0]) if after.size else None
+                row["alarms_before_fault"] = int(np.count_nonzero(t.flagged[:start]))
         else:
             row.update({"guaranteed": ESTIMATORS[r.method].guaranteed, "contains_truth": None,
                         "design_time_s": r.design_time})
@@ -112,6 +118,10 @@ def format_table(rows) -> str:
             lines.append(f"! {r['name']}: readings no state of the model can produce at {r['flagged_steps']} step"
                          f"{'s' if r['flagged_steps'] != 1 else ''} (first: step {r['first_flagged_step']}); they were "
                          f"not used (status and margin in {r['name']}.npz)")
+    for r in rows:
+        if r["ok"] and "detection_delay" in r:
+            lines.append(f"alarm: {r['name']}: " + ("no alarm" if r["alarm_step"] is None else
+                                                   f"step {r['alarm_step']} (delay {r['detection_delay']})"))
     return "\n".join(lines)
 
 
@@ -142,6 +152,13 @@ def write_results(out: Path, job, results, rows, *, extra: dict | None = None) -
                 wr.writerow([k] + [repr(float(v)) for v in np.concatenate([t.center[k], t.lower[k], t.upper[k]])])
         written += [out / f"{r.name}.npz", out / f"{r.name}.csv"]
     doc = {"title": job.title, "source": job.source, "steps": int(len(job.y)), "estimators": rows}
+    if getattr(job, "faults", None):
+        doc["faults"] = [{"kind": f.kind, "start": f.start, "output": f.output, "input": f.input,
+                          "magnitude": f.magnitude} for f in job.faults]
+    iso = getattr(job, "isolation", None)
+    if iso is not None:
+        doc["isolation"] = {"hypotheses": iso.names, "rejected_at": iso.rejected_at,
+                            "consistent_at_end": iso.consistent_at_end}
     doc.update(extra or {})
     with open(out / "summary.json", "w") as fh:
         json.dump(doc, fh, indent=2)
@@ -152,7 +169,8 @@ def write_results(out: Path, job, results, rows, *, extra: dict | None = None) -
 def write_plots(out: Path, job, results, *, prefix: str = "") -> list[Path]:
     """Writes the plots of the results that ran: ``bounds.png``, ``widths.png``,
     ``widths_relative.png`` (to ``[plots] reference`` or the first guaranteed estimator; only
-    with two or more estimators), ``volume.png`` (when some result has sets) and
+    with two or more estimators), ``volume.png`` (when some result has sets), ``margins.png``
+    (the detectors' margins and alarms, when a fault is injected or a reading was flagged) and
     ``projections.png`` (n_x ≥ 2)."""
     from . import plotting
 
@@ -172,6 +190,11 @@ def write_plots(out: Path, job, results, *, prefix: str = "") -> list[Path]:
                                        out / f"{prefix}widths_relative.png"))
     if any(r.trajectory.sets for r in ok):
         paths.append(plotting.save_png(plotting.plot_volume(trajs, t=job.t), out / f"{prefix}volume.png"))
+    detectors = [r for r in ok if r.trajectory.status is not None]
+    if detectors and (getattr(job, "faults", None) or any(r.trajectory.flagged.any() for r in detectors)):
+        paths.append(plotting.save_png(plotting.plot_margins({r.name: r.trajectory for r in detectors},
+                                                             fault_start=job.fault_start, title=title),
+                                       out / f"{prefix}margins.png"))
     N, n = ok[0].trajectory.center.shape
     if n >= 2:
         steps = job.plots.steps or sorted({0, N // 2, N - 1})

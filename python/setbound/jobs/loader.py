@@ -17,6 +17,7 @@ import numpy as np
 from ..errors import SetboundError
 from .data import check_shapes, read_data_file
 from .expressions import eval_expression
+from .faults import parse_faults, parse_hypotheses
 from .model import EstimatorSpec, Job, PlotSpec
 from .registry import ESTIMATORS, SYSTEMS, BuiltSystem, check_option, unknown_method
 from .schema import (MAX_DEPTH, ConfigError, as_choice, as_float, as_int, check_document, check_keys, closest,
@@ -332,7 +333,8 @@ def from_dict(doc: dict, *, base=Path("."), source: str = "", simulate: bool = T
     under ``base``. Raises ConfigError naming the key on any problem. ``simulate=False``:
     validate only, the job has no data (see the module docstring)."""
     check_document(doc)
-    check_keys(doc, {"title", "system", "initial", "simulation", "data", "estimator", "plots"}, "job")
+    check_keys(doc, {"title", "system", "initial", "simulation", "data", "estimator", "plots", "fault", "hypothesis"},
+               "job")
     system_kind, system, constant_input = _system(require(doc, "system", "job"))
     nu = system.nu - (1 if constant_input else 0)  # the inputs the user gives
     n = system.nx
@@ -345,6 +347,8 @@ def from_dict(doc: dict, *, base=Path("."), source: str = "", simulate: bool = T
     if ("simulation" in doc) == ("data" in doc):
         raise ConfigError("job: exactly one of [simulation] and [data] is required")
     estimators = _estimators(doc.get("estimator"), system_kind, system)
+    job.faults = parse_faults(doc.get("fault"), system, system_kind, "simulation" in doc)
+    job.hypotheses = parse_hypotheses(doc.get("hypothesis"), system, system_kind, initial)
     if "simulation" in doc:
         _simulation(job, doc["simulation"], estimators, nu, simulate)
     else:
@@ -399,7 +403,8 @@ def _simulation(job: Job, sim, estimators, nu: int, simulate: bool) -> None:
     u = _with_constant(u, steps, job.constant_input)
     try:
         with np.errstate(over="ignore", invalid="ignore"):  # overflow is checked (and reported) below
-            s = _simulate(custom, run_simulation, system, sim, initial, steps, t, u, x0, seed, kind, a_choice)
+            s = _simulate(custom, run_simulation, system, sim, initial, steps, t, u, x0, seed, kind, a_choice,
+                          job.faults)
     except ConfigError:
         raise
     except SetboundError as exc:
@@ -417,7 +422,12 @@ def _simulation(job: Job, sim, estimators, nu: int, simulate: bool) -> None:
         job.extra = extra
 
 
-def _simulate(custom, run_simulation, system, sim, initial, steps, t, u, x0, seed, kind, a_choice):
+def _simulate(custom, run_simulation, system, sim, initial, steps, t, u, x0, seed, kind, a_choice, faults=()):
+    if faults:  # the plant with its faults (setbound.fault); the estimators see the faulty readings
+        from ..fault import simulate_faulty
+
+        return simulate_faulty(system, _sampling_set(initial) if isinstance(x0, str) else x0, steps, faults,
+                               disturbance=kind, rng=seed, u=u)
     if custom is not None:
         # x_true, y and the extra per-step data (e.g. the LPV scheduling signal) from the system
         return custom(sim, initial, steps, t[:steps], u, x0, seed)

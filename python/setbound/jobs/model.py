@@ -59,6 +59,17 @@ class Job:
     horizon: int = 0
     #: the estimated peak memory of ``run`` in bytes (see :func:`setbound.jobs.loader.memory_estimate`)
     memory_estimate: int = 0
+    #: ``[[fault]]``: faults injected into the simulated plant (:class:`setbound.fault.Fault`)
+    faults: list = field(default_factory=list)
+    #: ``[[hypothesis]]``: the isolation bank's models (:class:`setbound.fault.Hypothesis`)
+    hypotheses: list = field(default_factory=list)
+    #: the bank's :class:`setbound.fault.Isolation` after :func:`setbound.jobs.run`
+    isolation: Any = None
+
+    @property
+    def fault_start(self) -> int | None:
+        """The first step of an injected fault (None: fault-free)."""
+        return min((f.start for f in self.faults), default=None)
 
     def cached_design(self, key, make):
         """``make()`` once per ``key`` and system: estimators with the same design options share
