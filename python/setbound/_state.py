@@ -31,7 +31,7 @@ import threading
 import numpy as np
 
 from ._native import check, dptr, ffi, lib
-from .errors import InvalidArgumentError
+from .errors import DimensionError, InvalidArgumentError
 
 __all__ = ["reconstructible", "remember_call", "run_from_initial_set", "StateMixin", "ThreadSafe"]
 
@@ -56,8 +56,19 @@ def _ctor_of(obj):
     return ctor
 
 
+def _picklable(value):
+    """A construction argument as pickle can store it: a python-control ``StateSpace`` (whose
+    instances hold local lambdas) becomes the :class:`~setbound.LinearSystem` the estimator made
+    of it (the same model, so the rebuilt estimator is the same)."""
+    from .system import _is_statespace, as_system
+
+    return as_system(value) if _is_statespace(value) else value
+
+
 def _reduce(self):
     args, kwargs = _ctor_of(self)
+    args = tuple(_picklable(a) for a in args)
+    kwargs = {k: _picklable(v) for k, v in kwargs.items()}
     state = self.save_state() if isinstance(self, StateMixin) else None
     return (_rebuild, (type(self), args, kwargs, state))
 
@@ -94,21 +105,70 @@ def reconstructible(cls):
     return cls
 
 
+def _is_time_response(obj) -> bool:
+    return all(hasattr(obj, a) for a in ("time", "outputs", "inputs")) and not isinstance(obj, np.ndarray)
+
+
+def _from_time_response(self, resp, u):
+    """``(y, u, t)`` of a python-control ``TimeResponseData`` (signals on the last axis): the
+    outputs, the known inputs (the inputs whose label does not start with ``w``: those are the
+    disturbances, the convention of :func:`setbound.system.as_system`) unless ``u`` is given,
+    and the time."""
+    t = np.asarray(resp.time, dtype=float).ravel()
+    y = np.asarray(resp.outputs, dtype=float)
+    y = y.reshape(1, -1) if y.ndim == 1 else y.reshape(y.shape[0], -1)
+    y = y.T
+    system = getattr(self, "system", None)
+    nu = getattr(system, "nu", 0) or 0
+    if u is None and nu:
+        ins = np.asarray(resp.inputs, dtype=float)
+        ins = (ins.reshape(1, -1) if ins.ndim == 1 else ins.reshape(ins.shape[0], -1)).T
+        labels = list(getattr(resp, "input_labels", None) or [])
+        known = [i for i, name in enumerate(labels) if not str(name).startswith("w")] if labels else \
+            list(range(ins.shape[1]))
+        if len(known) != nu:
+            raise InvalidArgumentError(f"y: the TimeResponseData has {len(known)} known inputs (inputs not labelled "
+                                       f"'w…'), the system {nu}; pass u= explicitly")
+        u = ins[:, known]
+    return y, u, t
+
+
 def run_from_initial_set(run):
     """Decorator of an estimator's ``run``: adds the keyword ``reset`` (default True: start from
     the initial set, so the same record always gives the same result; False: continue from the
     current state, to process a record in pieces) and makes the call atomic: when it fails, the
-    estimator is left as it was before the call."""
+    estimator is left as it was before the call. ``y`` may be a python-control
+    ``TimeResponseData`` (outputs, known inputs and time taken from it); ``t=`` gives the time of
+    the rows. The trajectory's ``t`` is that time, else ``k·dt`` with the system's sampling
+    time, else the step index."""
     @functools.wraps(run)
-    def wrapper(self, *args, reset: bool = True, **kwargs):
+    def wrapper(self, y=None, u=None, *args, reset: bool = True, t=None, **kwargs):
+        if _is_time_response(y):
+            y, u, t_resp = _from_time_response(self, y, u)
+            t = t_resp if t is None else t
         before = self.save_state()
         if reset:
             self.reset()
         try:
-            return run(self, *args, **kwargs)
+            traj = run(self, y, u, *args, **kwargs)
         except BaseException:
             self.restore_state(before)
             raise
+        if hasattr(traj, "center") and hasattr(traj, "t"):
+            if getattr(traj, "filter", None) is None and hasattr(self, "is_filter"):
+                traj.filter = bool(self.is_filter)  # whether row k used y_k
+            N = len(traj.center)
+            if t is not None:
+                t = np.asarray(t, dtype=float).ravel()
+                if t.shape != (N,):
+                    self.restore_state(before)
+                    raise DimensionError(f"t: expected {N} time values (one per row), got {t.shape[0]}")
+                traj.t = t
+            elif traj.t is None:
+                system = getattr(self, "system", None) or getattr(self, "plant", None)
+                dt = getattr(system, "dt", None)
+                traj.t = np.arange(N, dtype=float) * (dt if dt else 1.0)
+        return traj
     return wrapper
 
 

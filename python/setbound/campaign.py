@@ -238,7 +238,7 @@ class RandomSystem:
 
     def plant(self) -> Plant:
         """The system as a thesis :class:`~setbound.Plant` (``F = Fd``, ``Z``)."""
-        return Plant(self.A, self.C, F=self.Fd, Z=self.Z)
+        return Plant(self.A, self.C, Fd=self.Fd, Z=self.Z)
 
 
 def random_system(rng, max_nx: int = 8, *, min_nx: int = 1, family: str | None = None,
@@ -580,7 +580,7 @@ def _run_thesis(case: Case, res: CaseResult, rng):
         Av = [s.A + d for d in dA]
         nvtx = len(Av)
         theta = np.eye(nvtx)[:, : nvtx - 1] if nvtx > 1 else np.zeros((1, 1))
-        lpv = hinf.LpvPlant(Av, s.C, theta, F=[s.Fd] * nvtx, Z=s.Z)
+        lpv = hinf.LpvPlant(Av, s.C, theta, Fd=[s.Fd] * nvtx, Z=s.Z)
         design = hinf.design_ellipsoidal_sm_observer_lpv(lpv, wbar)
         alphas = rng.dirichlet(np.ones(nvtx), size=case.N)
         if case.disturbance == "vertex":
@@ -609,7 +609,7 @@ def _run_thesis(case: Case, res: CaseResult, rng):
     elif name == "interval_nonlinear":
         # x⁺ = A x + h_k + Fd d with the state disturbance folded into the box of h (F = I)
         hr = case.options["h_rad"] + np.abs(s.Fd).sum(axis=1)
-        plant = Plant(s.A, s.C, F=np.eye(s.nx), Z=s.Z)
+        plant = Plant(s.A, s.C, Fd=np.eye(s.nx), Z=s.Z)
         case_h = Case(case.estimator, case.seed, RandomSystem(s.A, s.C, np.zeros((s.nx, 0)), s.Z, s.T, s.family,
                                                               s.nx, s.ny), case.disturbance, case.N)
         (lo, hi), x, y, delta = _sim_plant(case_h, rng, h=hr)

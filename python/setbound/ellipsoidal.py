@@ -37,7 +37,7 @@ from ._state import MadeByCall, StateMixin, reconstructible, remember_call, run_
 from ._validate import as_bool, as_choice, as_float
 from .errors import DimensionError, InvalidArgumentError
 from .measurement import MeasurementCheck, POLICIES, measurement_or_missing
-from .sets import Ellipsoid
+from .sets import Ellipsoid, as_ellipsoid
 from .system import as_system, DescriptorSystem, LinearSystem, refuse_missing, run_inputs, step_inputs
 from .trajectory import Trajectory
 
@@ -146,12 +146,10 @@ class _EllipsoidalEstimator(StateMixin):
         if reset_set is not None:
             if on_inconsistency != "reset":
                 raise InvalidArgumentError('reset_set: only used with on_inconsistency="reset"')
-            if not isinstance(reset_set, Ellipsoid):
-                raise InvalidArgumentError(f"reset_set: expected a setbound.Ellipsoid, got {type(reset_set).__name__}")
+            reset_set = as_ellipsoid(reset_set, "reset_set")
         if not isinstance(design, EllDesign):
             raise InvalidArgumentError(f"design: expected an EllDesign (from design_offline), got {type(design).__name__}")
-        if not isinstance(x0, Ellipsoid):
-            raise InvalidArgumentError(f"x0: expected a setbound.Ellipsoid, got {type(x0).__name__}")
+        x0 = as_ellipsoid(x0, "x0")  # a box or a zonotope: the ellipsoid through its hull's corners
         if x0.n != design.nx:
             raise DimensionError(f"x0: expected an ellipsoid of dimension {design.nx}, got {x0.n}")
         self.design = design
@@ -367,6 +365,9 @@ class KalmanFilter(StateMixin):
     ``run`` returns a Trajectory with ``guaranteed = False``, ``center`` the mean, ``lower`` /
     ``upper`` the ``mean ∓ nsigma·σ`` box, and ``covariance`` (N × n × n); row k uses y_0 … y_k.
     """
+
+    #: row k of a trajectory used y_k (Trajectory.filter)
+    is_filter = True
 
     def __init__(self, system: LinearSystem, mean0, cov0, omega_cov=None, *, nsigma: float = 3.0):
         system = as_system(system)

@@ -38,10 +38,9 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ._validate import as_choice, as_float, as_int
+from ._validate import as_choice, as_float, as_int, as_str
 from .errors import DimensionError, InvalidArgumentError
-from .interval import Box
-from .sets import Zonotope
+from .sets import Zonotope, as_zonotope
 from .simulation import Simulation, _inputs, _rng, disturbances, sample_in
 from .system import LinearSystem, as_system
 
@@ -112,6 +111,9 @@ def simulate_faulty(system, x0, N: int, faults: Sequence[Fault] = (), *, disturb
     if s.uncertain_A:
         raise InvalidArgumentError("system: fault injection needs a known A (the simulated plant)")
     N = as_int(N, "N", lo=1, hi=10**8)
+    disturbance = as_choice(disturbance, "disturbance", ("uniform", "vertex", "gaussian", "zero"))
+    if isinstance(faults, (str, bytes)) or not hasattr(faults, "__iter__"):
+        raise InvalidArgumentError(f"faults: expected a list of setbound.fault.Fault, got {type(faults).__name__}")
     faults = list(faults)
     for f in faults:
         if not isinstance(f, Fault):
@@ -166,6 +168,8 @@ class Detection:
     def plot(self, ax=None, *, fault_start: int | None = None, title: str | None = None):
         """The margin over time with the alarm (and the fault's start when given): a margin above 0
         is a reading no state of the model can produce."""
+        fault_start = None if fault_start is None else as_int(fault_start, "fault_start", lo=0)
+        title = None if title is None else as_str(title, "title")
         if ax is None:
             from matplotlib.figure import Figure
 
@@ -214,13 +218,7 @@ def detect(estimator, y, u=None) -> Detection:
 
 # ------------------------------------------------------------------------------------ isolation
 def _zonotope(x0, n: int, name: str = "x0") -> Zonotope:
-    if isinstance(x0, Zonotope):
-        Z = x0
-    elif isinstance(x0, Box):
-        lo, hi = np.asarray(x0.lo, float), np.asarray(x0.hi, float)
-        Z = Zonotope((hi + lo) / 2, np.diag((hi - lo) / 2))
-    else:
-        raise InvalidArgumentError(f"{name}: expected a setbound.sets.Zonotope or setbound.Box, got {type(x0).__name__}")
+    Z = as_zonotope(x0, name)  # a box exactly, an ellipsoid by its bounding box
     if Z.n != n:
         raise DimensionError(f"{name}: expected a set of dimension {n}, got {Z.n}")
     return Z
@@ -249,6 +247,7 @@ class Hypothesis:
 
 def nominal(system, x0, name: str = "nominal") -> Hypothesis:
     """No fault."""
+    name = as_str(name, "name")
     s = as_system(system)
     return Hypothesis(name, s, _zonotope(x0, s.nx))
 
@@ -259,6 +258,7 @@ def sensor_bias(system, x0, output: int, bound: float, name: str | None = None) 
     bias within the bound, whenever it starts). A constant bias as an augmented state
     (``b⁺ = b``) would be tighter, but it cannot explain a bias that appears mid-record, which
     is what a fault does."""
+    name = None if name is None else as_str(name, "name")
     s = as_system(system)
     i = as_int(output, "output", lo=0, hi=s.ny - 1)
     bound = as_float(bound, "bound", lo=0.0, lo_open=True)
@@ -274,6 +274,7 @@ def sensor_bias(system, x0, output: int, bound: float, name: str | None = None) 
 def stuck_sensor(system, x0, output: int, name: str | None = None) -> Hypothesis:
     """Output ``output`` reads nothing about the state (stuck, dead or drifting): its readings
     are not explained, the others are."""
+    name = None if name is None else as_str(name, "name")
     s = as_system(system)
     i = as_int(output, "output", lo=0, hi=s.ny - 1)
     return Hypothesis(name or f"stuck_sensor[y{i}]", s, _zonotope(x0, s.nx), ignore_outputs=(i,))
@@ -283,6 +284,7 @@ def actuator_loss(system, x0, input: int, max_loss: float, u_max: float, name: s
     """Input ``input`` loses up to ``max_loss`` (in [0, 1]) of its effectiveness: the plant sees
     ``θ u_j`` with ``θ ∈ [1 − max_loss, 1]``. With ``|u_j| ≤ u_max`` the difference
     ``(θ − 1) u_j`` is an extra disturbance column ``B_j · max_loss · u_max`` (an outer model)."""
+    name = None if name is None else as_str(name, "name")
     s = as_system(system)
     if s.nu == 0:
         raise InvalidArgumentError("input: the system has no input")
@@ -298,6 +300,7 @@ def actuator_loss(system, x0, input: int, max_loss: float, u_max: float, name: s
 
 def parameter_change(system, x0, A, name: str = "parameter_change") -> Hypothesis:
     """The plant's ``A`` changed to ``A`` (a matrix or an interval matrix)."""
+    name = as_str(name, "name")
     s = as_system(system)
     changed = LinearSystem(A, s.C, B=s.B if s.nu else None, D=s.D if s.nu else None, E=s.E, F=s.F)
     if changed.nx != s.nx:
@@ -356,6 +359,8 @@ class FaultBank:
         if len(set(names)) != len(names):
             raise InvalidArgumentError("hypotheses: the names must be distinct")
         self.hypotheses = hyps
+        if estimator is not None and not callable(estimator):
+            raise InvalidArgumentError("estimator: expected a callable (system, x0) -> estimator")
         self._make = estimator or _segment_min
         self.x0 = x0
 

@@ -26,8 +26,8 @@ from ._state import MadeByCall, StateMixin, reconstructible, remember_call, run_
 from ._validate import as_choice, as_float, as_int
 from .errors import DimensionError, InvalidArgumentError
 from .interval import Box
-from .plant import Plant
-from .system import refuse_missing
+from .plant import Plant, as_plant
+from .system import refuse_infinite, refuse_missing
 from .trajectory import Trajectory
 
 __all__ = [
@@ -53,10 +53,16 @@ MAX_PASSES = lib.SB_HINF_MAX_PASSES  # 100, the C library refuses more too
 
 class LpvPlant:
     """Polytopic LPV plant (3.5): ``x⁺ = A(ρ)x + B(ρ)u + F(ρ)d``, ``y = Cx + Zv`` with
-    ``M(ρ) = Σ α_i(ρ) M_i`` and ``ρ ∈ conv{θ_i}``. ``A``, ``B``, ``F`` are lists of vertex
-    matrices (one per row θ_i of ``theta``, in the same order); ``C`` and ``Z`` are common."""
+    ``M(ρ) = Σ α_i(ρ) M_i`` and ``ρ ∈ conv{θ_i}``. ``A``, ``B``, ``Fd`` (the thesis's ``F``) are
+    lists of vertex matrices (one per row θ_i of ``theta``, in the same order); ``C`` and ``Z``
+    are common."""
 
-    def __init__(self, A, C, theta, *, B=None, F=None, Z=None):
+    def __init__(self, A, C, theta, *, B=None, Fd=None, Z=None, **wrong):
+        if "F" in wrong:
+            raise InvalidArgumentError("F: the vertex state-disturbance matrices are passed as Fd= (as for Plant)")
+        if wrong:
+            raise TypeError(f"LpvPlant() got unexpected keyword arguments {sorted(wrong)}")
+        F = Fd
         A = [as_f64(a, f"A[{i}]", ndim=2) for i, a in enumerate(A)]
         if not A:
             raise DimensionError("A: at least one vertex matrix is required")
@@ -72,7 +78,7 @@ class LpvPlant:
             raise DimensionError(f"B: expected {N} vertex matrices, got {len(B)}")
         if len(F) != N:
             raise DimensionError(f"F: expected {N} vertex matrices, got {len(F)}")
-        self.vertices = [Plant(A[i], C, B=B[i], F=F[i], Z=Z) for i in range(N)]
+        self.vertices = [Plant(A[i], C, B=B[i], Fd=F[i], Z=Z) for i in range(N)]
         for i, p in enumerate(self.vertices):
             for name, M, M0 in (("A", p.A, self.vertices[0].A), ("B", p.B, self.vertices[0].B),
                                 ("F", p.F, self.vertices[0].F)):
@@ -102,7 +108,7 @@ class LpvPlant:
         a = self.weights(rho)
         return Plant(sum(w * p.A for w, p in zip(a, self.vertices)), self.C,
                      B=sum(w * p.B for w, p in zip(a, self.vertices)),
-                     F=sum(w * p.F for w, p in zip(a, self.vertices)), Z=self.Z)
+                     Fd=sum(w * p.F for w, p in zip(a, self.vertices)), Z=self.Z)
 
     def __repr__(self) -> str:
         return f"LpvPlant(N={self.N}, n_rho={self.n_rho}, n_x={self.nx}, n_u={self.nu}, n_y={self.ny})"
@@ -113,11 +119,10 @@ def _stack(ms, rows, cols) -> np.ndarray:
 
 
 def _vertex_data(plant):
-    if isinstance(plant, Plant):
-        return 1, plant, [plant.A], [plant.F]
     if isinstance(plant, LpvPlant):
         return plant.N, plant.vertices[0], plant.A, plant.F
-    raise InvalidArgumentError(f"plant: expected a setbound.Plant or a setbound.hinf.LpvPlant, got {type(plant).__name__}")
+    plant = as_plant(plant)  # a Plant, or a LinearSystem / StateSpace converted (unit-box d, v)
+    return 1, plant, [plant.A], [plant.F]
 
 
 @dataclass
@@ -140,7 +145,7 @@ def hinf_observer_gain(plant, Q=None) -> HinfGain:
     gam, g = ffi.new("double*"), ffi.new("double*")
     check(lib.sb_hinf_observer_gain(N, n, ny, p0.nd, p0.nv, dptr(A), dptr(p0.C), dptr(F), dptr(p0.Z),
                                     dptr(Qa) if Qa is not None else ffi.NULL, dptr(P), dptr(U), dptr(L), gam, g))
-    if N == 1 and isinstance(plant, Plant):
+    if N == 1 and not isinstance(plant, LpvPlant):
         U, L = U[0], L[0]
     return HinfGain(P, U, L, np.eye(n) if Qa is None else Qa.copy(), gam[0], g[0])
 
@@ -284,10 +289,12 @@ def _design(plant, wbar, W, lambda_route, passes, lpv: bool) -> EllipsoidalSMDes
     # checked first: the C ABI reads passes <= 0 as "2" and would run any large count
     passes = as_int(passes, "passes", lo=1, hi=MAX_PASSES)
     route = _route(lambda_route)
+    if not lpv:
+        plant = as_plant(plant)
     N, p0, As, Fs = _vertex_data(plant)
     n, nu, ny, nd, nv = p0.nx, p0.nu, p0.ny, p0.nd, p0.nv
     m = nd + nv
-    wbar = as_f64(wbar, "wbar", shape=(m,))
+    wbar = np.ones(m) if wbar is None else as_f64(wbar, "wbar", shape=(m,))
     Wa = None if W is None else as_f64(W, "W", shape=(m, m))
     A, F = _stack(As, n, n), _stack(Fs, n, nd)
     if lpv:
@@ -315,13 +322,16 @@ def _design(plant, wbar, W, lambda_route, passes, lpv: bool) -> EllipsoidalSMDes
                          _design, plant, wbar, W, lambda_route, passes, lpv)
 
 
-def design_ellipsoidal_sm_observer(plant: Plant, wbar, *, W=None, lambda_route=None, passes: int = 2):
-    """Algorithm 2 (two passes). ``wbar``: half-widths of the centred box of w = (d, v).
+def design_ellipsoidal_sm_observer(plant: Plant, wbar=None, *, W=None, lambda_route=None, passes: int = 2):
+    """Algorithm 2 (two passes). ``plant``: a :class:`~setbound.Plant`, or a
+    :class:`~setbound.LinearSystem` / ``StateSpace`` (converted by :func:`setbound.plant.as_plant`).
+    ``wbar``: half-widths of the centred box of w = (d, v) (default: ones, the unit box of a
+    converted LinearSystem).
     ``W``: covariance of w for (2.44) (default uniform on [−w̄, w̄]). ``lambda_route``:
     "logdet" (default, as printed), "direct", "input_or_logdet" or "largest". ``passes``: an
     integer in [1, ``MAX_PASSES``] (100; the thesis uses 2, each pass solves the LMIs again)."""
-    if not isinstance(plant, Plant):
-        raise InvalidArgumentError("plant: expected a setbound.Plant (use design_ellipsoidal_sm_observer_lpv for LPV)")
+    if isinstance(plant, LpvPlant):
+        raise InvalidArgumentError("plant: an LpvPlant needs design_ellipsoidal_sm_observer_lpv")
     return _design(plant, wbar, W, lambda_route, passes, False)
 
 
@@ -369,12 +379,26 @@ def box_corners(lo, hi) -> np.ndarray:
 
 class _Observer(StateMixin):
     _lpv = False
+    #: row k of a trajectory used y_0 … y_{k−1} only (Trajectory.filter)
+    is_filter = False
     _state_prefix = "sb_hinf_observer"
     _state_handle_attr = "_h"
 
-    def __init__(self, design: EllipsoidalSMDesign, xhat0, mu0: float):
+    def __init__(self, design: EllipsoidalSMDesign, xhat0, mu0: float | None = None):
         if not isinstance(design, EllipsoidalSMDesign):
             raise InvalidArgumentError("design: expected an EllipsoidalSMDesign")
+        from .interval import Box as _Box
+        from .sets import Ellipsoid as _Ell, Zonotope as _Zono, as_box
+
+        if isinstance(xhat0, (_Box, _Zono, _Ell)):  # an initial set: x̂0 its hull's centre, μ0 from the hull
+            hull = as_box(xhat0, "xhat0")
+            lo, hi = np.asarray(hull.lo, dtype=float), np.asarray(hull.hi, dtype=float)
+            xhat0 = 0.5 * (lo + hi)
+            if mu0 is None:  # e0 = x0 − x̂0 lies in the centred box of the hull's half-widths
+                mu0 = mu0_from_box(design, lo - xhat0, hi - xhat0)
+        elif mu0 is None:
+            raise InvalidArgumentError("mu0: give mu0 with a point xhat0, or an initial set (Box, Zonotope, "
+                                       "Ellipsoid) as xhat0")
         if isinstance(design.plant, LpvPlant) != self._lpv:
             raise InvalidArgumentError("design: " + ("an LPV design needs LPVEllipsoidalSMObserver" if not self._lpv
                                                      else "LPVEllipsoidalSMObserver needs an LPV design"))
@@ -427,6 +451,7 @@ class _Observer(StateMixin):
             y = y.reshape(-1, 1)
         y = as_f64(y, "y", shape=(None, self.ny))
         refuse_missing(y, type(self).__name__)
+        refuse_infinite(y)
         T = y.shape[0]
         if u is None:
             if self.nu:
@@ -459,6 +484,8 @@ class _Observer(StateMixin):
 @reconstructible
 class EllipsoidalSMObserver(_Observer):
     """Online observer (2.68–2.71): x̂⁺ = (A − LC)x̂ + Bu + Ly, μ⁺ = (1 − λ)μ + λ, box x̂ ± ē∞√μ.
+    ``EllipsoidalSMObserver(design, xhat0, mu0)``, or ``(design, x0)`` with an initial set
+    (Box, Zonotope, Ellipsoid): x̂0 its hull's centre and μ0 from the hull (:func:`mu0_from_box`).
     ``step(y_k, u_k)`` returns the box of x_{k+1}; ``run(y, u)`` returns a Trajectory with
     N rows (row k = x_k having used y_0 … y_{k−1}; row 0 = the initial box) and ``traj.mu``."""
 

@@ -30,8 +30,8 @@ from ._state import _reduce as _state_reduce
 from ._validate import INT_MAX, as_float, as_int, check_memory
 from .errors import DimensionError, InvalidArgumentError
 from .interval import Box
-from .plant import Plant
-from .system import refuse_missing
+from .plant import Plant, as_plant
+from .system import refuse_infinite, refuse_missing
 from .trajectory import Trajectory
 
 __all__ = [
@@ -63,7 +63,12 @@ def _variant(v: str, allow_naive: bool = True) -> int:
 
 
 def _box(b, n: int, name: str) -> Box:
-    """A Box of n components (a Box, or a (lo, hi) pair)."""
+    """A Box of n components: a Box, a (lo, hi) pair, or the interval hull of a zonotope or an
+    ellipsoid (a guaranteed enclosure; setbound.sets.as_box)."""
+    from .sets import Ellipsoid, Zonotope, as_box
+
+    if isinstance(b, (Zonotope, Ellipsoid)):
+        b = as_box(b, name)
     if not isinstance(b, Box):
         try:
             lo, hi = b
@@ -82,9 +87,7 @@ def _lohi(b: Box):
 
 
 def _plant(plant) -> Plant:
-    if not isinstance(plant, Plant):
-        raise InvalidArgumentError("plant: expected a setbound.Plant")
-    return plant
+    return as_plant(plant)  # a Plant, or a LinearSystem / StateSpace converted (unit-box d, v)
 
 
 def _plant_args(p: Plant):
@@ -134,6 +137,8 @@ class _OnlineObserver(StateMixin):
     """Shared step/run logic (one-step predictors)."""
 
     _prefix = ""
+    #: row k of a trajectory used y_0 … y_{k−1} only (Trajectory.filter)
+    is_filter = False
 
     @property
     def _state_prefix(self) -> str:
@@ -177,6 +182,7 @@ class _OnlineObserver(StateMixin):
         if y.shape[1] != p.ny:
             raise DimensionError(f"y: expected shape (N, {p.ny}), got {y.shape}")
         refuse_missing(y, type(self).__name__)
+        refuse_infinite(y)
         if p.nu > 0:
             u = as_f64(u, "u", shape=(N, p.nu))
         elif u is not None and np.size(u) != 0:
@@ -194,16 +200,19 @@ class _OnlineObserver(StateMixin):
 class IntervalLuenbergerObserver(_OnlineObserver):
     """§6.2: ``x̂⁺ = A x̂ + B u + L (y − C x̂)`` (4.9) and ``[x_k] = x̂_k + [e_k]`` (4.12) with the
     tight (default) or wrapped error recursion. ``L=None``: the H∞ gain of LMI (4.13)
-    (then ``gamma`` and ``P`` are the design's). ``x0`` box, ``xhat0`` in it, ``d``/``v`` the
-    disturbance boxes (``setbound.Box`` or ``(lo, hi)``)."""
+    (then ``gamma`` and ``P`` are the design's). ``plant``: a :class:`~setbound.Plant` or a
+    :class:`~setbound.LinearSystem`; ``x0`` a box (or a zonotope or ellipsoid: its interval
+    hull), ``xhat0`` in it (default its centre), ``d``/``v`` the disturbance boxes
+    (``setbound.Box`` or ``(lo, hi)``; default the unit box)."""
 
     _prefix = "sb_interval_luenberger"
 
-    def __init__(self, plant: Plant, x0, xhat0, d=None, v=None, *, L=None, variant: str = "tight"):
+    def __init__(self, plant: Plant, x0, xhat0=None, d=None, v=None, *, L=None, variant: str = "tight"):
         p = self.plant = _plant(plant)
         x0 = _box(x0, p.nx, "x0")
-        d = _box(d if d is not None else (np.zeros(0), np.zeros(0)), p.nd, "d")
-        v = _box(v if v is not None else (np.zeros(0), np.zeros(0)), p.nv, "v")
+        xhat0 = 0.5 * (np.asarray(x0.lo) + np.asarray(x0.hi)) if xhat0 is None else xhat0
+        d = _box(d if d is not None else (-np.ones(p.nd), np.ones(p.nd)), p.nd, "d")
+        v = _box(v if v is not None else (-np.ones(p.nv), np.ones(p.nv)), p.nv, "v")
         xh = as_f64(xhat0, "xhat0", shape=(p.nx,))
         Lp = ffi.NULL
         if L is not None:
@@ -269,7 +278,7 @@ class NonlinearIntervalObserver(_OnlineObserver):
             raise InvalidArgumentError("plant.F: the nonlinear observer needs F = I (h enters the state directly, "
                                        "E = [I, -L Z], thesis.md §6.6)")
         x0 = _box(x0, p.nx, "x0")
-        v = _box(v if v is not None else (np.zeros(0), np.zeros(0)), p.nv, "v")
+        v = _box(v if v is not None else (-np.ones(p.nv), np.ones(p.nv)), p.nv, "v")
         xh = as_f64(xhat0, "xhat0", shape=(p.nx,))
         if h is not None and not isinstance(h, Box) and not callable(h):
             raise InvalidArgumentError("h: expected a setbound.Box or a callable (x_box, k) -> Box")
@@ -394,8 +403,8 @@ def offline_error_sequence(plant: Plant, x0, xhat0, d=None, v=None, *, L=None, P
     variant_code = _variant(variant, False)
     p = _plant(plant)
     x0 = _box(x0, p.nx, "x0")
-    d = _box(d if d is not None else (np.zeros(0), np.zeros(0)), p.nd, "d")
-    v = _box(v if v is not None else (np.zeros(0), np.zeros(0)), p.nv, "v")
+    d = _box(d if d is not None else (-np.ones(p.nd), np.ones(p.nd)), p.nd, "d")
+    v = _box(v if v is not None else (-np.ones(p.nv), np.ones(p.nv)), p.nv, "v")
     xh = as_f64(xhat0, "xhat0", shape=(p.nx,)).copy()
     Lp = Pp = ffi.NULL
     g = float("nan")

@@ -1,21 +1,24 @@
 """The plant of the thesis methods (thesis.md §2), in the thesis's own letters.
 
-``x⁺ = A x + B u + F d``, ``y = C x + Z v``, ``w = (d, v)`` with ``m = n_d + n_v``.
+``x⁺ = A x + B u + F d``, ``y = C x + Z v``, ``w = (d, v)`` with ``m = n_d + n_v``. The
+thesis's ``F`` (state disturbance) is passed as ``Fd=`` so it cannot be confused with
+:class:`~setbound.LinearSystem`'s ``F`` (output noise); ``plant.F`` reads it back.
 The disturbances are bounded by boxes ``d ∈ [d]``, ``v ∈ [v]`` (Ch. 4) or by the 2-norm
 bound ``wᵀw ≤ w̄ᵀw̄`` (Ch. 1–3, ``w̄`` the vector of box half-widths). The error of a
 Luenberger observer with gain ``L`` obeys ``e⁺ = (A − LC) e + E w`` with ``E = [F, −LZ]``.
 
-This is deliberately not :class:`~setbound.LinearSystem` (the papers' letters, one unit-box
-``ω`` shared by state and output): the thesis designs are defined for unscaled, independent
-``d`` and ``v``. :meth:`Plant.from_linear_system` converts when ``E`` and ``F`` act on
-separate disturbance components.
+This is the advanced form: every thesis function and observer also takes the library's
+:class:`~setbound.LinearSystem` (or a python-control ``StateSpace``) and converts it with
+:func:`as_plant` (``d`` = the ω components that drive the state, ``v`` = those that drive the
+outputs, each in the unit box), with an error naming the reason when it cannot be converted (a
+component that drives both, a ``D`` term, an interval ``A``).
 """
 from __future__ import annotations
 
 import numpy as np
 
 from ._native import as_f64
-from .errors import DimensionError, NotFiniteError
+from .errors import DimensionError, InvalidArgumentError, NotFiniteError
 
 
 def _finite(a: np.ndarray, name: str) -> np.ndarray:
@@ -27,10 +30,19 @@ def _finite(a: np.ndarray, name: str) -> np.ndarray:
 
 
 class Plant:
-    """``x⁺ = A x + B u + F d``, ``y = C x + Z v`` (thesis.md §2). ``B``, ``F`` or ``Z`` may be
-    omitted (no input, no state disturbance, no measurement noise)."""
+    """``x⁺ = A x + B u + F d``, ``y = C x + Z v`` (thesis.md §2), with the thesis's ``F`` given
+    as ``Fd=``. ``B``, ``Fd`` or ``Z`` may be omitted (no input, no state disturbance, no
+    measurement noise)."""
 
-    def __init__(self, A, C, *, B=None, F=None, Z=None):
+    def __init__(self, A, C, *, B=None, Fd=None, Z=None, **wrong):
+        if "F" in wrong:
+            raise InvalidArgumentError(
+                "F: a Plant's state-disturbance matrix is passed as Fd= (x+ = A x + B u + Fd d); F is the "
+                "output-noise matrix of setbound.LinearSystem. To use a LinearSystem, pass it directly or "
+                "convert it with Plant.from_linear_system")
+        if wrong:
+            raise TypeError(f"Plant() got unexpected keyword arguments {sorted(wrong)}")
+        F = Fd
         A = _finite(as_f64(A, "A", ndim=2), "A")
         n = A.shape[0]
         if n == 0 or A.shape != (n, n):
@@ -44,7 +56,9 @@ class Plant:
         Z = np.zeros((ny, 0)) if Z is None else _finite(as_f64(Z, "Z", shape=(ny, None)), "Z")
         if F.shape[1] + Z.shape[1] == 0:
             raise DimensionError("F, Z: the plant has no disturbance (n_d + n_v = 0)")
-        self.A, self.B, self.C, self.F, self.Z = A, B, C, F, Z
+        self.A, self.B, self.C, self.Fd, self.Z = A, B, C, F, Z
+
+    F = property(lambda self: self.Fd, doc="The thesis's F: the state-disturbance matrix (given as Fd=).")
 
     nx = property(lambda self: self.A.shape[0], doc="State dimension.")
     nu = property(lambda self: self.B.shape[1], doc="Number of known inputs.")
@@ -74,7 +88,37 @@ class Plant:
         if both.size:
             raise DimensionError(f"system: disturbance components {both.tolist()} drive both the state and "
                                  "the output; the thesis plant needs independent d and v")
-        return cls(system.A, system.C, B=system.B, F=E[:, state], Z=Fo[:, output & ~state])
+        return cls(system.A, system.C, B=system.B if system.nu else None, Fd=E[:, state], Z=Fo[:, output & ~state])
+
+    def unit_boxes(self):
+        """The boxes ``[d] = [−1, 1]^{n_d}`` and ``[v] = [−1, 1]^{n_v}`` of a plant made from a
+        :class:`~setbound.LinearSystem` (its ω is the unit box)."""
+        from .interval import Box
+
+        return Box(-np.ones(self.nd), np.ones(self.nd)), Box(-np.ones(self.nv), np.ones(self.nv))
 
     def __repr__(self) -> str:
         return f"Plant(n_x={self.nx}, n_u={self.nu}, n_y={self.ny}, n_d={self.nd}, n_v={self.nv})"
+
+
+def as_plant(system) -> Plant:
+    """The thesis plant of ``system``: a :class:`Plant` unchanged; a :class:`~setbound.LinearSystem`
+    or a python-control ``StateSpace`` (see :func:`setbound.system.as_system`) converted by
+    :meth:`Plant.from_linear_system` (unit-box ``d`` and ``v``); anything else, or a system that
+    cannot be converted, is an error naming the argument (``plant``) and the reason."""
+    name = "plant"
+    if isinstance(system, Plant):
+        return system
+    from .system import LinearSystem, _is_statespace, as_system
+
+    if _is_statespace(system):
+        system = as_system(system)
+    if isinstance(system, LinearSystem):
+        try:
+            return Plant.from_linear_system(system)
+        except DimensionError as exc:
+            msg = str(exc)
+            raise DimensionError(f"{name}: cannot use this LinearSystem with the thesis methods: "
+                                 f"{msg.split(': ', 1)[1] if msg.startswith('system: ') else msg}") from None
+    raise InvalidArgumentError(f"{name}: expected a setbound.Plant, a setbound.LinearSystem or a discrete-time "
+                               f"control.StateSpace, got {type(system).__name__}")

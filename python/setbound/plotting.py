@@ -16,8 +16,10 @@ notebooks). :func:`save_png` writes one to a PNG of exactly ``figsize × dpi`` p
   boxes for box-only results such as the Kalman filter's ``mean ± 3σ``), with the true state
   and the measurement strips of that step.
 
-Time axis: ``t`` (one value per row) or the step index ``k``. Row ``k`` of a trajectory is
-about ``x_k`` for every estimator (see :mod:`setbound.trajectory`).
+Time axis: ``t`` (one value per row; by default the first trajectory's own ``t``) or the step
+index ``k``. Row ``k`` of a trajectory is about ``x_k`` for every estimator (see
+:mod:`setbound.trajectory`). States are named 0-based, ``x_0 … x_{n−1}``, as in Python and the
+command line's files.
 """
 from __future__ import annotations
 
@@ -36,6 +38,7 @@ except ImportError as _exc:  # pragma: no cover - matplotlib is a dependency of 
 from ._validate import as_bool, as_float, as_int, as_str, check_memory
 from .errors import InvalidArgumentError
 from .interval import Box
+from .measurement import USED
 from .sets import Ellipsoid, Zonotope
 
 #: Largest figure side in inches and largest ``dpi`` (a figure is drawn as a w·dpi × h·dpi raster).
@@ -177,7 +180,7 @@ def plot_bounds(trajectories, names=None, *, x_true=None, t=None, components=Non
     items = _items(trajectories, names)
     N, n = items[0][1].center.shape
     comps = _components(components, n)
-    tt, tlabel = _time(t, N)
+    tt, tlabel = _time(t if t is not None else getattr(items[0][1], "t", None), N)
     rows, cols = _grid(len(comps))
     fig, axes = _new_figure(rows, cols, figsize=figsize)
     colors = _colors(len(items))
@@ -199,8 +202,8 @@ def plot_bounds(trajectories, names=None, *, x_true=None, t=None, components=Non
             x = np.asarray(x_true, dtype=float)
             ax.plot(tt[:x.shape[0]], x[:N, i], "k.-", ms=2.5, lw=0.7, label="true state")
         ax.set_xlabel(tlabel)
-        ax.set_ylabel(f"$x_{{{i + 1}}}$")
-        ax.set_title(f"bounds of $x_{{{i + 1}}}$", fontsize=10)
+        ax.set_ylabel(f"$x_{{{i}}}$")
+        ax.set_title(f"bounds of $x_{{{i}}}$", fontsize=10)
         ax.grid(alpha=0.3)
     _finish_grid(fig, axes, len(comps), rows, cols)
     if title:
@@ -219,7 +222,7 @@ def plot_widths(trajectories, names=None, *, reference=None, t=None, components=
     items = _items(trajectories, names)
     N, n = items[0][1].center.shape
     comps = _components(components, n)
-    tt, tlabel = _time(t, N)
+    tt, tlabel = _time(t if t is not None else getattr(items[0][1], "t", None), N)
     ref = None
     if reference is not None:
         d = dict(items)
@@ -241,9 +244,9 @@ def plot_widths(trajectories, names=None, *, reference=None, t=None, components=
                     lw=1.2, label=name + ("" if tr.guaranteed else " (not guaranteed)"))
         if ref is not None:
             ax.axhline(1.0, color="0.4", lw=0.6)
-            ax.set_ylabel(f"width of $x_{{{i + 1}}}$ / {reference}")
+            ax.set_ylabel(f"width of $x_{{{i}}}$ / {reference}")
         else:
-            ax.set_ylabel(f"width of $x_{{{i + 1}}}$")
+            ax.set_ylabel(f"width of $x_{{{i}}}$")
             if log is None or log:
                 ax.set_yscale("log")
                 _quiet_minor_labels(ax)
@@ -265,7 +268,7 @@ def plot_volume(trajectories, names=None, *, t=None, log=True, title=None, figsi
     log = as_bool(log, "log")
     items = _items(trajectories, names)
     N = items[0][1].center.shape[0]
-    tt, tlabel = _time(t, N)
+    tt, tlabel = _time(t if t is not None else getattr(items[0][1], "t", None), N)
     fig, axes = _new_figure(1, 1, figsize=figsize)
     ax = axes[0][0]
     colors = _colors(len(items))
@@ -384,8 +387,10 @@ def plot_projections(trajectories, names=None, *, steps, dims=(0, 1), x_true=Non
     panel per step): ellipses, exact zonotope polygons, boxes (from ``lower``/``upper`` when a
     trajectory has no sets). With ``system`` and ``y`` the measurement strips of ``y_k`` are
     drawn (for n_x > 2, their section by the plane through the true state ``x_k`` when
-    ``x_true`` is given, else through the first set's centre); with ``x_true`` the true state
-    ``x_k`` is marked."""
+    ``x_true`` is given, else through the first set's centre) when a set of the panel used them:
+    only filters' sets of ``x_k`` did (``Trajectory.filter``; a predictor's set of ``x_k`` used
+    ``y_0 … y_{k−1}``), and only the outputs they used (not a missing or impossible reading); the
+    legend names the sets that used them. With ``x_true`` the true state ``x_k`` is marked."""
     title, figsize = _title(title), _figsize(figsize)
     dims = _index_pair(dims)
     if isinstance(steps, (str, bytes)) or not hasattr(steps, "__iter__"):
@@ -425,21 +430,28 @@ def plot_projections(trajectories, names=None, *, steps, dims=(0, 1), x_true=Non
         lo, hi = pts.min(axis=0), pts.max(axis=0)
         pad = 0.15 * np.maximum(hi - lo, 1e-9)
         xl, yl = (lo[0] - pad[0], hi[0] + pad[0]), (lo[1] - pad[1], hi[1] + pad[1])
-        if system is not None and y is not None:
+        users = [(name, tr) for name, tr in items if getattr(tr, "filter", None)]
+        if system is not None and y is not None and users:
             yk = np.asarray(y, float)[k]
+            used = np.isfinite(yk)
+            for _, tr in users:  # an output some filter used at step k (not missing, not impossible)
+                if tr.status is not None:
+                    used &= np.any([t.status[k] == USED for _, t in users if t.status is not None], axis=0)
+                    break
             uk = None if u is None else np.asarray(u, float)[k]
-            C, slo, shi = measurement_strips(system, yk, uk)
+            C, slo, shi = measurement_strips(system, np.where(np.isfinite(yk), yk, 0.0), uk)
             ref = np.asarray(x_true, float)[k] if x_true is not None else items[0][1].center[k]
             others = [i for i in range(n) if i not in dims]
-            for i in range(C.shape[0]):
+            label = "strips of y_k (used by " + ", ".join(nm for nm, _ in users) + ")"
+            for i in np.flatnonzero(used):
                 a, b = C[i, dims[0]], C[i, dims[1]]
                 rest = float(C[i, others] @ ref[others]) if others else 0.0
-                _draw_strip(ax, a, b, slo[i] - rest, shi[i] - rest, xl, yl, label="measurement strips" if i == 0
-                            else None)
+                _draw_strip(ax, a, b, slo[i] - rest, shi[i] - rest, xl, yl, label=label)
+                label = None
         ax.set_xlim(*xl)
         ax.set_ylim(*yl)
-        ax.set_xlabel(f"$x_{{{dims[0] + 1}}}$")
-        ax.set_ylabel(f"$x_{{{dims[1] + 1}}}$")
+        ax.set_xlabel(f"$x_{{{dims[0]}}}$")
+        ax.set_ylabel(f"$x_{{{dims[1]}}}$")
         ax.set_title(f"k = {k}", fontsize=10)
         ax.grid(alpha=0.3)
     _finish_grid(fig, axes, len(steps), rows, cols, fontsize=7)

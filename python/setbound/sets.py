@@ -18,10 +18,10 @@ from __future__ import annotations
 import numpy as np
 
 from ._native import as_f64, check, dptr, ffi, lib
-from ._validate import INT_MAX, as_bool, as_choice, as_float, as_int
+from ._validate import INT_MAX, as_bool, as_choice, as_float, as_int, as_str
 from .errors import DimensionError, InvalidArgumentError
 
-__all__ = ["Ellipsoid", "Zonotope", "Strip", "interval_linear_map"]
+__all__ = ["Ellipsoid", "Zonotope", "Strip", "interval_linear_map", "as_box", "as_zonotope", "as_ellipsoid"]
 
 #: Reduction methods accepted by :meth:`Zonotope.reduce`.
 REDUCTION_METHODS = {"combastel": lib.SB_REDUCE_COMBASTEL, "girard": lib.SB_REDUCE_GIRARD,
@@ -329,3 +329,58 @@ def interval_linear_map(mid, rad, Z: Zonotope) -> Zonotope:
                                               dptr(Z.generators), dptr(p_out), dptr(H_out)))
     return Zonotope(p_out, H_out)
 
+
+
+# ---------------------------------------------------------------- conversions between set types
+# Every estimator accepts any initial set (issue 24): the set it needs is a guaranteed enclosure
+# of the one given (outward-rounded hulls; the ellipsoid through the corners of the hull with a
+# relative margin that covers the rounding of its shape).
+
+def _hull(X, name: str):
+    from .interval import Box
+
+    if isinstance(X, Box):
+        return np.asarray(X.lo, dtype=float), np.asarray(X.hi, dtype=float)
+    if isinstance(X, Zonotope):
+        return X.interval_hull()
+    if isinstance(X, Ellipsoid):
+        return X.bounding_box()
+    raise InvalidArgumentError(f"{name}: expected a setbound.Box, Zonotope or Ellipsoid, got {type(X).__name__}")
+
+
+def as_box(X, name: str = "x0"):
+    """``X`` as a :class:`~setbound.Box`: a box unchanged, else its interval hull (outward rounded)."""
+    name = as_str(name, "name")
+    from .interval import Box
+
+    if isinstance(X, Box):
+        return X
+    lo, hi = _hull(X, name)
+    return Box(lo, hi, name=name)
+
+
+def as_zonotope(X, name: str = "x0") -> Zonotope:
+    """``X`` as a :class:`Zonotope`: a zonotope unchanged, a box exactly, an ellipsoid by its
+    bounding box."""
+    name = as_str(name, "name")
+    if isinstance(X, Zonotope):
+        return X
+    lo, hi = _hull(X, name)
+    return Zonotope((lo + hi) / 2, np.diag((hi - lo) / 2))
+
+
+def as_ellipsoid(X, name: str = "x0") -> Ellipsoid:
+    """``X`` as an :class:`Ellipsoid`: an ellipsoid unchanged, a box or a zonotope by the ellipsoid
+    through the corners of its interval hull, ``Σ (x_i − c_i)² / (n r_i²) ≤ 1`` (which contains the
+    hull: each term is at most 1/n there). A flat coordinate (r_i = 0) gets a radius of 1e-9 of the
+    hull's scale, so the shape stays positive definite."""
+    name = as_str(name, "name")
+    if isinstance(X, Ellipsoid):
+        return X
+    lo, hi = _hull(X, name)
+    n = lo.size
+    c = (lo + hi) / 2
+    r = (hi - lo) / 2 * (1 + 1e-12)
+    scale = max(float(np.max(np.abs(np.concatenate([lo, hi])))), 1.0)
+    r = np.maximum(r, 1e-9 * scale)
+    return Ellipsoid(np.diag(1.0 / (n * r ** 2)), c, 1.0 + 1e-9)

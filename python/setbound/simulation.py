@@ -70,9 +70,14 @@ def disturbances(kind: str, N: int, n: int, rng: np.random.Generator) -> np.ndar
 
 
 def sample_in(x0, rng: np.random.Generator, *, boundary: bool = False) -> np.ndarray:
-    """A point of the set ``x0`` (Ellipsoid or Zonotope; an array is returned as it is):
-    uniform inside, or on the boundary with ``boundary=True`` (a bool)."""
+    """A point of the set ``x0`` (Ellipsoid, Zonotope or Box; an array is returned as it is):
+    uniform inside, or on the boundary with ``boundary=True`` (a bool; a box: a corner)."""
+    from .interval import Box
+
     boundary = as_bool(boundary, "boundary")
+    if isinstance(x0, Box):
+        lo, hi = np.asarray(x0.lo, dtype=float), np.asarray(x0.hi, dtype=float)
+        x0 = Zonotope((lo + hi) / 2, np.diag((hi - lo) / 2))
     if isinstance(x0, Ellipsoid):
         n = x0.n
         d = rng.standard_normal(n)

@@ -31,6 +31,16 @@ def refuse_missing(y, who: str) -> None:
                          "zonotopic estimators accept missing readings (docs/user_guide.md, \"Real measurement data\")")
 
 
+def refuse_infinite(y) -> None:
+    """Raises NotFiniteError naming the row and output of the first ±inf reading of ``y`` (N × n_y;
+    NaN is a missing reading and passes)."""
+    bad = np.argwhere(np.isinf(y))
+    if bad.size:
+        r, i = (int(v) for v in bad[0])
+        raise NotFiniteError(f"y: row {r}, output {i} is {y[r, i]}; a reading must be finite (NaN marks a "
+                             "missing one)")
+
+
 def step_inputs(system, y, u):
     """One measurement ``y`` (n_y) and input ``u`` (n_u, or None without inputs), checked against
     ``system``; returns ``(y, u_ptr)`` with ``u_ptr`` a C pointer or NULL."""
@@ -49,6 +59,7 @@ def run_inputs(system, y, u):
     """Measurements ``y`` (N × n_y) and inputs ``u`` (N × n_u, or None without inputs) for a run;
     returns ``(y, u)`` with ``u`` None when the system has no input."""
     y = as_f64(y, "y", shape=(None, system.ny))
+    refuse_infinite(y)
     if system.nu > 0:
         return y, as_f64(u, "u", shape=(y.shape[0], system.nu))
     if u is not None and np.size(u) != 0:
@@ -58,9 +69,14 @@ def run_inputs(system, y, u):
 
 @reconstructible
 class LinearSystem:
-    """A discrete-time linear model with unit-box disturbances (validated by the C library)."""
+    """A discrete-time linear model with unit-box disturbances (validated by the C library).
 
-    def __init__(self, A, C, *, B=None, D=None, E, F):
+    ``dt``: the sampling time (a number > 0; None: unspecified, results are indexed by step),
+    used for the time of each trajectory row."""
+
+    def __init__(self, A, C, *, B=None, D=None, E, F, dt=None):
+        if dt is not None:
+            dt = as_float(dt, "dt", lo=0.0, lo_open=True)
         if isinstance(A, IntervalMatrix):
             A_mid = as_f64(A.mid, "A", ndim=2)
             A_rad = as_f64(A.rad, "A", shape=A_mid.shape)
@@ -97,6 +113,7 @@ class LinearSystem:
         self.D = D if D is not None else np.zeros((ny, nu))
         for a in (self.A, self.A_rad, self.B, self.C, self.D, self.E, self.F):
             a.flags.writeable = False  # the C library holds its own copy; keep both in step
+        self.dt = dt
 
     @property
     def nx(self) -> int:
@@ -254,9 +271,10 @@ def from_statespace(ss, *, E=None, F=None, disturbance_inputs=None, output_noise
     if Ew.shape[1] == 0:
         raise InvalidArgumentError("ss: no disturbance given; pass disturbance_inputs, E/F or output_noise "
                                    "(a state-space model does not say which signals are bounded)")
+    T = None if isinstance(dt, bool) else float(dt)  # dt = True: discrete, sampling time unspecified
     if known:
-        return LinearSystem(A, C, B=B[:, known], D=D[:, known], E=Ew, F=Fw)
-    return LinearSystem(A, C, E=Ew, F=Fw)
+        return LinearSystem(A, C, B=B[:, known], D=D[:, known], E=Ew, F=Fw, dt=T)
+    return LinearSystem(A, C, E=Ew, F=Fw, dt=T)
 
 
 def _is_statespace(obj) -> bool:

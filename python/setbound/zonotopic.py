@@ -21,20 +21,21 @@ from ._state import StateMixin, reconstructible, remember_call, run_from_initial
 from ._validate import as_bool, as_choice, as_float, as_int, check_memory
 from .errors import DimensionError, InvalidArgumentError
 from .measurement import MeasurementCheck, POLICIES, measurement_or_missing
-from .sets import Zonotope
+from .sets import Zonotope, as_zonotope
 from .system import as_system, LinearSystem, run_inputs, step_inputs
 from .trajectory import Trajectory
 
 
-def _check_system_and_x0(system, x0) -> None:
-    """The system must be a LinearSystem and x0 a Zonotope of its state dimension (the C ABI
-    takes the dimension from the system and cannot check the caller's arrays)."""
+def _check_system_and_x0(system, x0, name: str = "x0") -> Zonotope:
+    """The system must be a LinearSystem; ``x0`` a set of its state dimension, returned as a
+    Zonotope (a box exactly, an ellipsoid by its bounding box: setbound.sets.as_zonotope; the C
+    ABI takes the dimension from the system and cannot check the caller's arrays)."""
     if not isinstance(system, LinearSystem):
         raise InvalidArgumentError(f"system: expected a setbound.LinearSystem, got {type(system).__name__}")
-    if not isinstance(x0, Zonotope):
-        raise InvalidArgumentError(f"x0: expected a setbound.sets.Zonotope, got {type(x0).__name__}")
+    x0 = as_zonotope(x0, name)
     if x0.n != system.nx:
-        raise DimensionError(f"x0: expected a zonotope of dimension {system.nx}, got {x0.n}")
+        raise DimensionError(f"{name}: expected a zonotope of dimension {system.nx}, got {x0.n}")
+    return x0
 
 
 #: Order reductions of the zonotopic estimators (keyword ``reduction``).
@@ -64,6 +65,8 @@ class _ZonotopicEstimator(StateMixin):
     trajectory's ``status`` and ``margin`` report what each step did with each output."""
 
     _gain: int
+    #: row k of a trajectory used y_k (Trajectory.filter)
+    is_filter = True
     _lambdas = None
     _state_prefix = "sb_zonotopic"
 
@@ -71,7 +74,7 @@ class _ZonotopicEstimator(StateMixin):
                  use_first_measurement: bool = True, strip_order=None, reduction: str = "combastel",
                  on_inconsistency: str = "flag", reset_set: Zonotope | None = None):
         system = as_system(system)
-        _check_system_and_x0(system, x0)
+        x0 = _check_system_and_x0(system, x0)
         max_generators = as_int(max_generators, "max_generators", lo=1, hi=MAX_GENERATORS)
         # two n_x × (max_generators + ...) generator matrices and the reduction's workspace
         check_memory("max_generators", max_generators,
@@ -82,8 +85,7 @@ class _ZonotopicEstimator(StateMixin):
         if reset_set is not None:
             if on_inconsistency != "reset":
                 raise InvalidArgumentError('reset_set: only used with on_inconsistency="reset"')
-            if not isinstance(reset_set, Zonotope):
-                raise InvalidArgumentError(f"reset_set: expected a setbound.sets.Zonotope, got {type(reset_set).__name__}")
+            reset_set = as_zonotope(reset_set, "reset_set")
             if reset_set.n != system.nx:
                 raise DimensionError(f"reset_set: expected a zonotope of dimension {system.nx}, got {reset_set.n}")
         self.system = system
@@ -212,7 +214,7 @@ def exact_hull(system: LinearSystem, y, u=None, *, x0: Zonotope, use_first_measu
     ``use_first_measurement``: a bool."""
     use_first_measurement = as_bool(use_first_measurement, "use_first_measurement")
     system = as_system(system)
-    _check_system_and_x0(system, x0)
+    x0 = _check_system_and_x0(system, x0)
     y = as_f64(y, "y", shape=(None, system.ny))
     N = y.shape[0]
     if system.nu > 0:

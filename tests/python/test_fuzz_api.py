@@ -570,7 +570,7 @@ def test_interval_observers(seed, nx, ny, nd, nv, nu, scale, vertex, kind):
         Fm = np.eye(nx)
     if nd + nv == 0:
         Fm, nd = np.eye(nx) * 0.1, nx
-    p = Plant(A, C, B=B, F=Fm, Z=Zm)
+    p = Plant(A, C, B=B, Fd=Fm, Z=Zm)
     x0 = Box(-np.ones(nx), np.ones(nx))
     dbar, vbar = np.full(nd, 0.1 * scale), np.full(nv, 0.1 * scale)
     dbox = Box(-dbar, dbar) if nd else None
@@ -734,6 +734,7 @@ import math
 import time
 
 from setbound import interval as sbinterval, invariant, plotting, simulation, system as sbsystem, trajectory
+from setbound import fault as sbfault, sets as sbsets
 
 OPTIONS: dict[str, dict[str, str]] = {
     # ellipsoidal
@@ -761,12 +762,13 @@ OPTIONS: dict[str, dict[str, str]] = {
     "setbound.zonotopic._ZonotopicEstimator.step": {"u": "data"},
     "setbound.zonotopic._ZonotopicEstimator.run": {"u": "data"},
     # hinf
-    "setbound.hinf.LpvPlant.__init__": {"B": "data", "F": "data", "Z": "data"},
+    "setbound.hinf.LpvPlant.__init__": {"B": "data", "Fd": "data", "Z": "data"},
     "setbound.hinf.hinf_observer_gain": {"Q": "data"},
     "setbound.hinf.ellipsoidal_error_rpi": {"g": "float"},
     "setbound.hinf.refine_dissipation_matrix": {"route": "choice", "g": "float"},
     "setbound.hinf.chebyshev_error_ellipsoid": {"t": "float"},
-    "setbound.hinf.design_ellipsoidal_sm_observer": {"W": "data", "lambda_route": "choice?", "passes": "int"},
+    "setbound.hinf.design_ellipsoidal_sm_observer": {"wbar": "data", "W": "data", "lambda_route": "choice?",
+                                                     "passes": "int"},
     "setbound.hinf.design_ellipsoidal_sm_observer_lpv": {"W": "data", "lambda_route": "choice?", "passes": "int"},
     "setbound.hinf.mu0_from_ball": {"radius": "float"},
     "setbound.hinf._Observer.__init__": {"mu0": "float"},
@@ -785,8 +787,8 @@ OPTIONS: dict[str, dict[str, str]] = {
     # interval observers
     "setbound.interval_observers.interval_error_recursion": {"steps": "int", "variant": "choice"},
     "setbound.interval_observers.interval_error_limit": {"variant": "choice"},
-    "setbound.interval_observers.IntervalLuenbergerObserver.__init__": {"d": "data", "v": "data", "L": "data",
-                                                                        "variant": "choice"},
+    "setbound.interval_observers.IntervalLuenbergerObserver.__init__": {"xhat0": "data", "d": "data", "v": "data",
+                                                                        "L": "data", "variant": "choice"},
     "setbound.interval_observers.NonlinearIntervalObserver.__init__": {"v": "data", "h": "data", "L": "data",
                                                                        "window": "int"},
     "setbound.interval_observers.NonlinearIntervalObserver.step": {"u": "data", "h": "data"},
@@ -828,17 +830,35 @@ OPTIONS: dict[str, dict[str, str]] = {
     "setbound.sets.Zonotope.contains": {"rel_tol": "float"},
     "setbound.sets.Zonotope.reduce": {"limit": "int*", "method": "choice"},
     # systems, plants, simulation, trajectories
-    "setbound.system.LinearSystem.__init__": {"B": "data", "D": "data", "E": "data", "F": "data"},
+    "setbound.system.LinearSystem.__init__": {"B": "data", "D": "data", "E": "data", "F": "data", "dt": "float?"},
     "setbound.system.DescriptorSystem.__init__": {"B": "data", "D": "data", "F": "data"},
     "setbound.system.from_statespace": {"E": "data", "F": "data", "disturbance_inputs": "list",
                                         "output_noise": "floats?"},
-    "setbound.plant.Plant.__init__": {"B": "data", "F": "data", "Z": "data"},
+    "setbound.plant.Plant.__init__": {"B": "data", "Fd": "data", "Z": "data"},
+    "setbound.sets.as_box": {"name": "str"},
+    "setbound.sets.as_zonotope": {"name": "str"},
+    "setbound.sets.as_ellipsoid": {"name": "str"},
     "setbound.simulation.disturbances": {"kind": "choice", "N": "int", "n": "int"},
     "setbound.simulation.sample_in": {"boundary": "bool"},
     "setbound.simulation.simulate": {"N": "int", "disturbance": "choice", "rng": "seed?", "u": "data",
                                      "A_choice": "choice", "boundary_start": "bool?"},
     "setbound.trajectory.Trajectory.contains": {"tol": "float"},
+    "setbound.trajectory.Trajectory.in_bounds": {"tol": "float"},
     "setbound.trajectory.Trajectory.to_dataframe": {"t": "data"},
+    "setbound.trajectory.Trajectory.to_pandas": {"names": "data"},
+    "setbound.trajectory.Trajectory.plot": {"x_true": "data", "name": "str", "components": "list?", "title": "str?",
+                                            "figsize": "pair?"},
+    # fault detection
+    "setbound.fault.simulate_faulty": {"faults": "data", "disturbance": "choice", "rng": "seed?", "u": "data"},
+    "setbound.fault.Detection.plot": {"ax": "data", "fault_start": "int?", "title": "str?"},
+    "setbound.fault.detect": {"u": "data"},
+    "setbound.fault.nominal": {"name": "str"},
+    "setbound.fault.sensor_bias": {"name": "str?"},
+    "setbound.fault.stuck_sensor": {"name": "str?"},
+    "setbound.fault.actuator_loss": {"name": "str?"},
+    "setbound.fault.parameter_change": {"name": "str"},
+    "setbound.fault.FaultBank.__init__": {"estimator": "data"},
+    "setbound.fault.FaultBank.run": {"u": "data"},
     # plotting
     "setbound.plotting.plot_bounds": {"names": "data", "x_true": "data", "t": "data", "components": "list?",
                                       "title": "str?", "figsize": "pair?"},
@@ -857,7 +877,7 @@ OPTIONS: dict[str, dict[str, str]] = {
 #: The modules whose public functions the table must cover (the API modules; the job-file modules
 #: config, campaign, cli, demo and thesis_jobs validate their own values).
 API_MODULES = ("ellipsoidal", "zonotopic", "hinf", "interval", "interval_observers", "invariant", "inclusion", "lmi",
-               "sets", "system", "simulation", "plant", "trajectory", "plotting", "benchmarks")
+               "sets", "system", "simulation", "plant", "trajectory", "plotting", "benchmarks", "fault")
 
 
 def _public_callables():
@@ -918,10 +938,10 @@ def _ctx():
     rng = np.random.default_rng(11)
     S = LinearSystem([[0.5, 0.1], [0.0, 0.6]], [[1.0, 0.0]], E=0.1 * np.eye(2), F=[[0.1, 0.0]])
     d = ellipsoidal.design_offline(S, beta=0.8)
-    p = Plant([[0.2, 0.2], [0, 0.5]], [[1, 0]], B=[[1], [1]], F=[[0], [0.1]], Z=[[0.1]])
-    nlp = Plant([[0.5, 0.1], [0.0, 0.4]], [[1.0, 0.0]], F=np.eye(2), Z=[[0.1]])
+    p = Plant([[0.2, 0.2], [0, 0.5]], [[1, 0]], B=[[1], [1]], Fd=[[0], [0.1]], Z=[[0.1]])
+    nlp = Plant([[0.5, 0.1], [0.0, 0.4]], [[1.0, 0.0]], Fd=np.eye(2), Z=[[0.1]])
     lpv = hinf.LpvPlant([[[1, r], [0, 1]] for r in (0.05, 0.1)], [[1, 0]], [[0.05], [0.1]],
-                        B=[[[0], [r]] for r in (0.05, 0.1)], F=[[[0], [r]] for r in (0.05, 0.1)], Z=[[0.01]])
+                        B=[[[0], [r]] for r in (0.05, 0.1)], Fd=[[[0], [r]] for r in (0.05, 0.1)], Z=[[0.01]])
     hd = hinf.design_ellipsoidal_sm_observer(p, [1.0, 1.0])
     hl = hinf.design_ellipsoidal_sm_observer_lpv(lpv, [1.0, 1.0])
     x0b = Box([-1, -1], [1, 1])
@@ -933,7 +953,8 @@ def _ctx():
     X0 = Zonotope(np.zeros(2), np.eye(2))
     traj = zonotopic.SegmentMinEstimator(S, X0).run(np.zeros((3, 1)))
     ell_traj = ellipsoidal.OnlineEstimator(d, E).run(np.zeros((3, 1)))
-    return dict(S=S, d=d, p=p, nlp=nlp, lpv=lpv, hd=hd, hl=hl, x0b=x0b, inv=inv, pr=pr, poly=poly, Z=Z, E=E,
+    Su = LinearSystem([[0.5, 0.1], [0.0, 0.6]], [[1.0, 0.0]], B=[[1.0], [0.0]], E=0.1 * np.eye(2), F=[[0.1, 0.0]])
+    return dict(S=S, Su=Su, d=d, p=p, nlp=nlp, lpv=lpv, hd=hd, hl=hl, x0b=x0b, inv=inv, pr=pr, poly=poly, Z=Z, E=E,
                 X0=X0, traj=traj, ell_traj=ell_traj)
 
 
@@ -1040,6 +1061,22 @@ CALLS = {
     "setbound.simulation.sample_in": lambda c, **kw: simulation.sample_in(c["E"], np.random.default_rng(0), **kw),
     "setbound.simulation.simulate": lambda c, **kw: simulation.simulate(c["S"], c["E"], **{"N": 4, **kw}),
     "setbound.trajectory.Trajectory.contains": lambda c, **kw: c["traj"].contains(np.zeros((3, 2)), **kw),
+    "setbound.trajectory.Trajectory.in_bounds": lambda c, **kw: c["traj"].in_bounds(np.zeros((3, 2)), **kw),
+    "setbound.trajectory.Trajectory.plot": lambda c, **kw: c["traj"].plot(**kw),
+    "setbound.sets.as_box": lambda c, **kw: sbsets.as_box(c["E"], **kw),
+    "setbound.sets.as_zonotope": lambda c, **kw: sbsets.as_zonotope(c["E"], **kw),
+    "setbound.sets.as_ellipsoid": lambda c, **kw: sbsets.as_ellipsoid(c["Z"], **kw),
+    "setbound.system.LinearSystem.__init__": lambda c, **kw: LinearSystem([[0.5]], [[1.0]], **{"E": [[0.1, 0]],
+                                                                                              "F": [[0, 0.1]], **kw}),
+    "setbound.fault.simulate_faulty": lambda c, **kw: sbfault.simulate_faulty(c["S"], c["X0"], 4, **kw),
+    "setbound.fault.Detection.plot": lambda c, **kw: sbfault.detect(zonotopic.SegmentMinEstimator(c["S"], c["X0"]),
+                                                                   np.zeros((3, 1))).plot(**kw),
+    "setbound.fault.nominal": lambda c, **kw: sbfault.nominal(c["S"], c["X0"], **kw),
+    "setbound.fault.sensor_bias": lambda c, **kw: sbfault.sensor_bias(c["S"], c["X0"], 0, 1.0, **kw),
+    "setbound.fault.stuck_sensor": lambda c, **kw: sbfault.stuck_sensor(c["S"], c["X0"], 0, **kw),
+    "setbound.fault.actuator_loss": lambda c, **kw: sbfault.actuator_loss(c["Su"], c["X0"], 0, 0.5, 1.0, **kw),
+    "setbound.fault.parameter_change": lambda c, **kw: sbfault.parameter_change(c["S"], c["X0"], np.eye(2) * 0.5,
+                                                                                **kw),
     "setbound.plotting.plot_bounds": lambda c, **kw: plotting.plot_bounds(c["traj"], **kw),
     "setbound.plotting.plot_widths": lambda c, **kw: plotting.plot_widths(c["traj"], **kw),
     "setbound.plotting.plot_volume": lambda c, **kw: plotting.plot_volume(c["traj"], **kw),

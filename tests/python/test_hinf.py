@@ -76,13 +76,13 @@ def lam_min(Q, P):
 # ----------------------------------------------------------------------------- examples
 
 def ch2_plant():
-    return Plant([[0.2, 0.2], [0, 0.5]], [[1, 0]], B=[[1], [1]], F=[[0], [0.1]], Z=[[0.1]])
+    return Plant([[0.2, 0.2], [0, 0.5]], [[1, 0]], B=[[1], [1]], Fd=[[0], [0.1]], Z=[[0.1]])
 
 
 def ch3_ex1():
     A = [[[1, r], [0, 1]] for r in (0.05, 0.1)]
     B = [[[0], [r]] for r in (0.05, 0.1)]
-    return hinf.LpvPlant(A, [[1, 0]], [[0.05], [0.1]], B=B, F=B, Z=[[0.01]])
+    return hinf.LpvPlant(A, [[1, 0]], [[0.05], [0.1]], B=B, Fd=B, Z=[[0.01]])
 
 
 TS, SIG, ETA = 0.08, 1.0, 10.0
@@ -96,14 +96,14 @@ def ch3_ex2():
     theta = np.array([[-1, 9], [-1, 11], [1, 9], [1, 11]], float)
     A = [lorenz_A(*t) for t in theta]
     B = [np.array([[0], [TS * t[0]], [0]]) for t in theta]
-    return hinf.LpvPlant(A, [[1, 0, 0]], theta, B=B, F=B, Z=[[0.0]])
+    return hinf.LpvPlant(A, [[1, 0, 0]], theta, B=B, Fd=B, Z=[[0.0]])
 
 
 def random_plant(rng, n, ny):
     A = rng.standard_normal((n, n))
     A *= rng.uniform(0.5, 1.2) / max(abs(np.linalg.eigvals(A)))
     return Plant(A, rng.standard_normal((ny, n)), B=rng.standard_normal((n, 1)),
-                 F=0.3 * rng.standard_normal((n, 1)), Z=0.1 * np.eye(ny))
+                 Fd=0.3 * rng.standard_normal((n, 1)), Z=0.1 * np.eye(ny))
 
 
 # ----------------------------------------------------------------------------- LMIs vs CVXPY
@@ -231,7 +231,7 @@ def test_lpv_gain_random_against_cvxpy():
         A0 = rng.standard_normal((n, n)) * 0.4
         A1 = rng.standard_normal((n, n)) * 0.1
         C = np.array([[1.0, 0.0]])
-        lp = hinf.LpvPlant([A0 - A1, A0 + A1], C, [[-1], [1]], F=[0.2 * np.eye(n)[:, :1]] * 2, Z=[[0.1]])
+        lp = hinf.LpvPlant([A0 - A1, A0 + A1], C, [[-1], [1]], Fd=[0.2 * np.eye(n)[:, :1]] * 2, Z=[[0.1]])
         try:
             h = hinf.hinf_observer_gain(lp)
         except (setbound.NotDetectableError, setbound.InfeasibleError):
@@ -380,7 +380,7 @@ def test_containment_random_lpv_20_systems():
         B = [rng.standard_normal((n, 1))] * N
         F = [0.3 * rng.standard_normal((n, 1))] * N
         C = rng.standard_normal((1, n))
-        lp = hinf.LpvPlant(A, C, theta, B=B, F=F, Z=[[0.1]])
+        lp = hinf.LpvPlant(A, C, theta, B=B, Fd=F, Z=[[0.1]])
         wbar = np.array([0.5, 0.5])
         try:
             d = design_with_wbar(hinf.design_ellipsoidal_sm_observer_lpv, lp, wbar)
@@ -402,7 +402,7 @@ def test_containment_random_lpv_20_systems():
 # ----------------------------------------------------------------------------- bad input
 
 def test_bad_input_messages():
-    bad = Plant([[0.2, 0], [0, 1.2]], [[1, 0]], B=[[1], [1]], F=[[0], [0.1]], Z=[[0.1]])
+    bad = Plant([[0.2, 0], [0, 1.2]], [[1, 0]], B=[[1], [1]], Fd=[[0], [0.1]], Z=[[0.1]])
     with pytest.raises(setbound.NotDetectableError, match=r"A, C: the pair \(A, C\) is not detectable"):
         hinf.hinf_observer_gain(bad)
     with pytest.raises(setbound.NotDetectableError):

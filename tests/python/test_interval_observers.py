@@ -25,7 +25,7 @@ TOL = 1e-12
 def ex451() -> Plant:
     A = [[-1.1267, -1.3503], [1.1095, 1.2673]]
     B = [[0.0951, -0.1977], [-0.2894, 0.1099]]
-    return Plant(A, [[-0.2512, 0.1723]], B=B, F=[[-0.1606], [0.1254]], Z=[[-0.1542]])
+    return Plant(A, [[-0.2512, 0.1723]], B=B, Fd=[[-0.1606], [0.1254]], Z=[[-0.1542]])
 
 
 def ex452() -> Plant:
@@ -33,11 +33,11 @@ def ex452() -> Plant:
          [-0.0871, 0.4465, -0.0722, -0.3125], [0.0804, 0.2929, -0.1056, -0.0631]]
     B = [[0.2598], [-0.6342], [0.3125], [-0.7458]]
     F = [[0.1264, 0, 0, -0.1267], [0, 0.09321, 0, 0], [0.0958, 0, 0.1325, 0], [0.1052, 0, 0, 0.2189]]
-    return Plant(A, [[0.3502, 0, 0.9298, 0.2398]], B=B, F=F, Z=[[0.2905]])
+    return Plant(A, [[0.3502, 0, 0.9298, 0.2398]], B=B, Fd=F, Z=[[0.2905]])
 
 
 def ex463() -> Plant:
-    return Plant([[0.3, -0.7], [0.6, -0.5]], [[1.0, 0.0]], B=np.eye(2), F=np.eye(2), Z=[[1.0]])
+    return Plant([[0.3, -0.7], [0.6, -0.5]], [[1.0, 0.0]], B=np.eye(2), Fd=np.eye(2), Z=[[1.0]])
 
 
 def sym(n, r):
@@ -227,7 +227,7 @@ def test_luenberger_random_systems():
         Ao = rng.normal(size=(n, n))
         Ao *= (0.3 + 0.6 * rng.random()) / np.max(np.abs(np.linalg.eigvals(Ao)))
         L, C = rng.normal(size=(n, ny)), rng.normal(size=(ny, n))
-        p = Plant(Ao + L @ C, C, B=rng.normal(size=(n, 1)), F=0.5 * rng.normal(size=(n, 1)),
+        p = Plant(Ao + L @ C, C, B=rng.normal(size=(n, 1)), Fd=0.5 * rng.normal(size=(n, 1)),
                   Z=0.2 * rng.normal(size=(ny, ny)))
         d = Box.from_center_radius([0.2 * rng.normal()], [0.5 + rng.random()])
         v = Box.from_center_radius(0.1 * rng.normal(size=ny), 0.2 + rng.random(ny))
@@ -360,7 +360,7 @@ def test_invariant_observer_random_systems():
         Ao = rng.normal(size=(n, n))
         Ao *= 0.6 / np.max(np.abs(np.linalg.eigvals(Ao)))
         L0, C = rng.normal(size=(n, 1)), rng.normal(size=(1, n))
-        p = Plant(Ao + L0 @ C, C, B=rng.normal(size=(n, 1)), F=0.3 * rng.normal(size=(n, 1)), Z=[[0.2]])
+        p = Plant(Ao + L0 @ C, C, B=rng.normal(size=(n, 1)), Fd=0.3 * rng.normal(size=(n, 1)), Z=[[0.2]])
         d = Box.from_center_radius([0.3 * rng.normal()], [0.5 + rng.random()])
         v = Box.from_center_radius([0.1 * rng.normal()], [0.5])
         x0 = sym(n, 1.5)
@@ -411,7 +411,7 @@ def test_bad_input_messages():
     with pytest.raises(setbound.InvalidArgumentError, match=r"Ao: A_o = A - L C is not Schur"):
         interval_error_recursion(np.eye(2) * 1.5, np.eye(2), sym(2, 1), sym(2, 1), 3)
     with pytest.raises(setbound.NotDetectableError):
-        IntervalLuenbergerObserver(Plant([[2.0, 0], [0, 0.5]], [[0.0, 1.0]], F=np.eye(2), Z=[[1.0]]),
+        IntervalLuenbergerObserver(Plant([[2.0, 0], [0, 0.5]], [[0.0, 1.0]], Fd=np.eye(2), Z=[[1.0]]),
                                    x0, np.zeros(2), sym(2, 1), sym(1, 1))
     with pytest.raises(setbound.InvalidArgumentError, match=r"plant.F"):
         NonlinearIntervalObserver(p, x0, np.zeros(2), sym(1, 1), sym(2, 1))
@@ -436,7 +436,7 @@ def test_nonlinear_random_systems_with_the_example_nonlinearity():
         A = rng.normal(size=(n, n))
         A *= (0.5 + 0.7 * rng.random()) / np.max(np.abs(np.linalg.eigvals(A)))  # stable and unstable
         C = rng.normal(size=(ny, n))
-        p = Plant(A, C, B=np.eye(n), F=np.eye(n), Z=0.5 * np.eye(ny))
+        p = Plant(A, C, B=np.eye(n), Fd=np.eye(n), Z=0.5 * np.eye(ny))
         delta = rng.uniform(-0.8, 0.8)
         x0, v, hb = sym(n, 2), sym(ny, 0.2), sym(n, 0.8)
         bb = trial % 2 == 1

@@ -54,12 +54,12 @@ def x0z():
 
 @pytest.fixture(scope="module")
 def plant():
-    return Plant([[0.2, 0.2], [0, 0.5]], [[1, 0]], B=[[1], [1]], F=[[0], [0.1]], Z=[[0.1]])
+    return Plant([[0.2, 0.2], [0, 0.5]], [[1, 0]], B=[[1], [1]], Fd=[[0], [0.1]], Z=[[0.1]])
 
 
 @pytest.fixture(scope="module")
 def nl_plant():
-    return Plant([[0.5, 0.1], [0.0, 0.4]], [[1.0, 0.0]], F=np.eye(2), Z=[[0.1]])
+    return Plant([[0.5, 0.1], [0.0, 0.4]], [[1.0, 0.0]], Fd=np.eye(2), Z=[[0.1]])
 
 
 def nonlinear(nl_plant, **kw):

@@ -270,7 +270,7 @@ def test_zonotopic_reduction_is_part_of_the_state():
 # ---- thesis observers ------------------------------------------------------------------------
 
 def _ch2_plant(a12=0.2):
-    return sb.Plant([[0.2, a12], [0.0, 0.5]], [[1.0, 0.0]], B=[[1.0], [1.0]], F=[[0.0], [0.1]], Z=[[0.1]])
+    return sb.Plant([[0.2, a12], [0.0, 0.5]], [[1.0, 0.0]], B=[[1.0], [1.0]], Fd=[[0.0], [0.1]], Z=[[0.1]])
 
 
 def _plant_data(p, N):
@@ -315,7 +315,7 @@ def test_ellipsoidal_sm_observer():
 def _lpv_plant(z):
     A = [[[1, r], [0, 1]] for r in (0.05, 0.1)]
     B = [[[0], [r]] for r in (0.05, 0.1)]
-    return hinf.LpvPlant(A, [[1.0, 0.0]], [[0.05], [0.1]], B=B, F=B, Z=[[z]])
+    return hinf.LpvPlant(A, [[1.0, 0.0]], [[0.05], [0.1]], B=B, Fd=B, Z=[[z]])
 
 
 def test_lpv_ellipsoidal_sm_observer():
@@ -337,7 +337,7 @@ def test_lpv_ellipsoidal_sm_observer():
 
 def _ex451():
     return sb.Plant([[-1.1267, -1.3503], [1.1095, 1.2673]], [[-0.2512, 0.1723]],
-                    B=[[0.0951, -0.1977], [-0.2894, 0.1099]], F=[[-0.1606], [0.1254]], Z=[[-0.1542]])
+                    B=[[0.0951, -0.1977], [-0.2894, 0.1099]], Fd=[[-0.1606], [0.1254]], Z=[[-0.1542]])
 
 
 @pytest.mark.parametrize("variant", ["tight", "wrapped"])
@@ -360,7 +360,7 @@ def _h_box(x_box, k):  # module level: picklable
 
 
 def _nl_plant():
-    return sb.Plant([[0.3, -0.7], [0.6, -0.5]], [[1.0, 0.0]], B=np.eye(2), F=np.eye(2), Z=[[1.0]])
+    return sb.Plant([[0.3, -0.7], [0.6, -0.5]], [[1.0, 0.0]], B=np.eye(2), Fd=np.eye(2), Z=[[1.0]])
 
 
 def test_nonlinear_interval_observer_window():

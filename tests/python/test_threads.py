@@ -54,13 +54,13 @@ def run(family):
             m, P = kf.step(y[k], u[k])
             out += [m, P]
     elif family == "interval":
-        p = Plant(A, C, B=B, F=[[0.1], [0.1]], Z=[[0.1]])
+        p = Plant(A, C, B=B, Fd=[[0.1], [0.1]], Z=[[0.1]])
         obs = iobs.IntervalLuenbergerObserver(p, Box([-1, -1], [1, 1]), np.zeros(2), Box([-1], [1]), Box([-1], [1]))
         for k in range(N):
             b = obs.step(y[k], u[k])
             out += [b.lo, b.hi]
     elif family == "hinf":
-        p = Plant(A, C, B=B, F=[[0.1], [0.1]], Z=[[0.1]])
+        p = Plant(A, C, B=B, Fd=[[0.1], [0.1]], Z=[[0.1]])
         d = hinf.design_ellipsoidal_sm_observer(p, [1.0, 1.0])
         obs = hinf.EllipsoidalSMObserver(d, np.zeros(2), 2.0)
         for k in range(N):
@@ -180,11 +180,11 @@ U0 = np.zeros(1)
 
 
 def _thesis_plant():
-    return Plant(A, C, B=B, F=[[0.1], [0.1]], Z=[[0.1]])
+    return Plant(A, C, B=B, Fd=[[0.1], [0.1]], Z=[[0.1]])
 
 
 def _nl_plant():
-    return Plant([[0.3, -0.7], [0.6, -0.5]], [[1.0, 0.0]], B=np.eye(2), F=np.eye(2), Z=[[1.0]])
+    return Plant([[0.3, -0.7], [0.6, -0.5]], [[1.0, 0.0]], B=np.eye(2), Fd=np.eye(2), Z=[[1.0]])
 
 
 def _h_box(x_box, k):
@@ -259,7 +259,7 @@ def _lpv_design():
         Av = [[[1, r], [0, 1]] for r in (0.05, 0.1)]
         Bv = [[[0], [r]] for r in (0.05, 0.1)]
         return hinf.design_ellipsoidal_sm_observer_lpv(
-            hinf.LpvPlant(Av, [[1.0, 0.0]], [[0.05], [0.1]], B=Bv, F=Bv, Z=[[0.01]]), np.ones(2))
+            hinf.LpvPlant(Av, [[1.0, 0.0]], [[0.05], [0.1]], B=Bv, Fd=Bv, Z=[[0.01]]), np.ones(2))
 
     return _once("lpv", build)
 

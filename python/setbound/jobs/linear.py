@@ -94,38 +94,19 @@ def _descriptor_system(tab):
 
 
 # ---------------------------------------------------------------- initial sets per family
-def ellipsoidal_initial(initial, n):
-    """The initial set as an ellipsoid (a box or zonotope: the ellipsoid through its hull's corners)."""
-    from ..interval import Box
-    from ..sets import Ellipsoid, Zonotope
+def ellipsoidal_initial(initial, n: int):
+    """The initial set as an ellipsoid (setbound.sets.as_ellipsoid: a box or a zonotope by the
+    ellipsoid through the corners of its hull)."""
+    from ..sets import as_ellipsoid
 
-    if isinstance(initial, Ellipsoid):
-        return initial
-    if isinstance(initial, Box):
-        # the ellipsoid through the box's corners: Σ (x_i − c_i)² / (n r_i²) ≤ 1
-        r = np.maximum(np.asarray(initial.radius, dtype=float), 1e-300)
-        return Ellipsoid(np.diag(1.0 / (n * r ** 2)), np.asarray(initial.center, dtype=float), 1.0 + 1e-12)
-    if isinstance(initial, Zonotope):
-        lo, hi = initial.interval_hull()
-        r = np.maximum((hi - lo) / 2, 1e-300)
-        return Ellipsoid(np.diag(1.0 / (n * r ** 2)), (hi + lo) / 2, 1.0 + 1e-12)
-    raise InvalidArgumentError("initial: unsupported set")
+    return as_ellipsoid(initial, "initial")
 
 
 def zonotopic_initial(initial):
-    """The initial set as a zonotope (an ellipsoid: its bounding box)."""
-    from ..interval import Box
-    from ..sets import Ellipsoid, Zonotope
+    """The initial set as a zonotope (setbound.sets.as_zonotope: an ellipsoid by its bounding box)."""
+    from ..sets import as_zonotope
 
-    if isinstance(initial, Zonotope):
-        return initial
-    if isinstance(initial, Box):
-        lo, hi = np.asarray(initial.lo, float), np.asarray(initial.hi, float)
-        return Zonotope((hi + lo) / 2, np.diag((hi - lo) / 2))
-    if isinstance(initial, Ellipsoid):
-        lo, hi = initial.bounding_box()
-        return Zonotope((hi + lo) / 2, np.diag((hi - lo) / 2))
-    raise InvalidArgumentError("initial: unsupported set")
+    return as_zonotope(initial, "initial")
 
 
 # ---------------------------------------------------------------- estimators

@@ -62,6 +62,8 @@ def run_estimator(job: Job, spec: EstimatorSpec, *, keep_going: bool = False, qu
         t1 = time.perf_counter()
         traj = run_trajectory(est, job.y, job.u, label=spec.name, quiet=quiet)
         t2 = time.perf_counter()
+        if job.t is not None and len(job.t) == len(traj.center):
+            traj.t = np.asarray(job.t, dtype=float)  # the job's time of each row
     except SetboundError as exc:
         if not keep_going:
             raise
@@ -72,7 +74,7 @@ def run_estimator(job: Job, spec: EstimatorSpec, *, keep_going: bool = False, qu
         # with an injected fault the model no longer holds from its start: the guarantee (and the
         # check) covers the steps before it
         upto = len(job.x_true) if job.fault_start is None else job.fault_start
-        contained = bool(np.all(traj.contains(job.x_true)[:upto]))
+        contained = bool(np.all(traj.in_bounds(job.x_true)[:upto]))
     # a design shared with an earlier estimator of the job: report what it took to compute
     shared = max((dt for d, dt in job.designs.values() if d is design), default=0.0) if design is not None else 0.0
     res = Result(spec.name, spec.method, traj, max(t1 - t0, shared), (t2 - t1) / max(1, len(job.y)), contained,

@@ -313,7 +313,7 @@ def _boxes(tab, nd, nv):
 def _thesis_system(tab):
     A, B, C, F, Z = _plant_from(tab)
     try:
-        plant = Plant(A, C, B=B, F=F, Z=Z)
+        plant = Plant(A, C, B=B, Fd=F, Z=Z)
     except SetboundError as exc:
         raise ConfigError(f"system: {exc}") from None
     dlo, dhi, vlo, vhi = _boxes(tab, plant.nd, plant.nv)
@@ -371,7 +371,7 @@ class LpvSystem(_OutputModel):
         """The :class:`setbound.hinf.LpvPlant` of the vertex matrices (for the Ch. 3 design)."""
         from ..hinf import LpvPlant
 
-        return LpvPlant(self.A, self.C, self.theta, B=self.B, F=self.Fd, Z=self.Z)
+        return LpvPlant(self.A, self.C, self.theta, B=self.B, Fd=self.Fd, Z=self.Z)
 
     @property
     def wbar(self):
@@ -467,7 +467,7 @@ class NonlinearSystem(_OutputModel):
         self.A, self.B, self.Z, self.h = A, B, Z, h
         self.plo, self.phi, self.hlo, self.hhi, self.vlo, self.vhi = plo, phi, hlo, hhi, vlo, vhi
         self._set_output(C, Z, vlo, vhi, B.shape[1])
-        self.plant = Plant(A, C, B=B if B.shape[1] else None, F=np.eye(A.shape[0]), Z=Z if Z.shape[1] else None)
+        self.plant = Plant(A, C, B=B if B.shape[1] else None, Fd=np.eye(A.shape[0]), Z=Z if Z.shape[1] else None)
 
     nu = property(lambda self: self.B.shape[1], doc="Number of known inputs.")
 
