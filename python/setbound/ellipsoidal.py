@@ -36,7 +36,7 @@ from ._native import as_f64, check, dptr, ffi, lib
 from ._state import MadeByCall, StateMixin, reconstructible, remember_call, run_from_initial_set
 from ._validate import as_bool, as_choice, as_float
 from .errors import DimensionError, InvalidArgumentError
-from .measurement import MeasurementCheck, POLICIES, measurement_or_missing
+from .measurement import POLICIES, ReadingChecks, measurement_or_missing
 from .sets import Ellipsoid, as_ellipsoid
 from .system import as_system, DescriptorSystem, LinearSystem, refuse_missing, run_inputs, step_inputs
 from .trajectory import Trajectory
@@ -135,8 +135,9 @@ def design_offline(system, normalization: str = "logdet", beta: float | None = N
                                    int(blocks[0]), system, h), design_offline, *args)
 
 
-class _EllipsoidalEstimator(StateMixin):
+class _EllipsoidalEstimator(ReadingChecks, StateMixin):
     _method: int
+    _last_check_fn = lib.sb_ellipsoidal_last_check
     _state_prefix = "sb_ellipsoidal"
     is_filter: bool = False
 
@@ -169,8 +170,7 @@ class _EllipsoidalEstimator(StateMixin):
                                                               dptr(reset_set.P), dptr(reset_set.center),
                                                               reset_set.rho))
         self.on_inconsistency = on_inconsistency
-        self._status = ffi.new("int[]", max(design.system.ny, 1))
-        self._reset_flag = ffi.new("int*")
+        self._init_checks()
         n = design.nx
         self._P, self._c, self._rho = np.empty((n, n)), np.empty(n), ffi.new("double*")
         self._lo, self._hi = np.empty(n), np.empty(n)
@@ -206,20 +206,6 @@ class _EllipsoidalEstimator(StateMixin):
         ``"raise"``) the estimator is unchanged."""
         self._step(y, u)
         return self._snapshot()[0]
-
-    def _check_into(self, status, margin) -> bool:
-        """Writes the last step's statuses and margins into the given rows; returns the reset flag."""
-        check(lib.sb_ellipsoidal_last_check(self._handle, self._status, dptr(margin), self._reset_flag))
-        status[:] = np.frombuffer(ffi.buffer(self._status, 4 * max(self.system.ny, 1)), dtype=np.intc)[:self.system.ny]
-        return bool(self._reset_flag[0])
-
-    @property
-    def last_check(self) -> MeasurementCheck:
-        """What the last step did with each output of ``y_k`` (:class:`~setbound.measurement.MeasurementCheck`)."""
-        ny = self.system.ny
-        status, margin = np.empty(ny, dtype=np.int8), np.empty(ny)
-        reset = self._check_into(status, margin)
-        return MeasurementCheck(status, margin, reset)
 
     def reset(self) -> None:
         """Back to the initial set, no step taken (the options are kept)."""

@@ -23,9 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._native import lib
+from ._native import check, dptr, ffi, lib
 
-__all__ = ["MeasurementCheck", "POLICIES", "USED", "MISSING", "INCONSISTENT", "UNUSED", "measurement_or_missing"]
+__all__ = ["MeasurementCheck", "POLICIES", "USED", "MISSING", "INCONSISTENT", "UNUSED", "measurement_or_missing",
+           "ReadingChecks"]
 
 #: Status codes of an output at one step (``MeasurementCheck.status``, ``Trajectory.status``).
 USED, MISSING, INCONSISTENT, UNUSED = (lib.SB_OUTPUT_USED, lib.SB_OUTPUT_MISSING, lib.SB_OUTPUT_INCONSISTENT,
@@ -71,3 +72,30 @@ class MeasurementCheck:
 def measurement_or_missing(y, ny: int):
     """``y`` itself, or ``n_y`` NaN (every output missing) when ``y`` is None."""
     return np.full(ny, np.nan) if y is None else y
+
+
+class ReadingChecks:
+    """Mixin of the estimators that screen their readings through the C ABI: ``_last_check_fn`` is
+    their ``sb_*_last_check`` function, ``_handle`` the C object, ``system`` the model; call
+    :meth:`_init_checks` once the handle exists."""
+
+    _last_check_fn = None
+
+    def _init_checks(self) -> None:
+        self._status = ffi.new("int[]", max(self.system.ny, 1))
+        self._reset_flag = ffi.new("int*")
+
+    def _check_into(self, status, margin) -> bool:
+        """Writes the last step's statuses and margins into the given rows; returns the reset flag."""
+        check(type(self)._last_check_fn(self._handle, self._status, dptr(margin), self._reset_flag))
+        ny = self.system.ny
+        status[:] = np.frombuffer(ffi.buffer(self._status, 4 * max(ny, 1)), dtype=np.intc)[:ny]
+        return bool(self._reset_flag[0])
+
+    @property
+    def last_check(self) -> MeasurementCheck:
+        """What the last step did with each output of ``y_k`` (:class:`MeasurementCheck`)."""
+        ny = self.system.ny
+        status, margin = np.empty(ny, dtype=np.int8), np.empty(ny)
+        reset = self._check_into(status, margin)
+        return MeasurementCheck(status, margin, reset)

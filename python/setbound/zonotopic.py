@@ -20,7 +20,7 @@ from ._native import as_f64, check, dptr, ffi, lib
 from ._state import StateMixin, reconstructible, remember_call, run_from_initial_set
 from ._validate import as_bool, as_choice, as_float, as_int, check_memory
 from .errors import DimensionError, InvalidArgumentError
-from .measurement import MeasurementCheck, POLICIES, measurement_or_missing
+from .measurement import POLICIES, ReadingChecks, measurement_or_missing
 from .sets import Zonotope, as_zonotope
 from .system import as_system, LinearSystem, run_inputs, step_inputs
 from .trajectory import Trajectory
@@ -47,7 +47,7 @@ REDUCTIONS = {"combastel": lib.SB_ZONO_REDUCE_COMBASTEL, "girard": lib.SB_ZONO_R
 MAX_GENERATORS = lib.SB_ZONO_MAX_GENERATORS  # 100000, the C library refuses more too
 
 
-class _ZonotopicEstimator(StateMixin):
+class _ZonotopicEstimator(ReadingChecks, StateMixin):
     """Common options: ``max_generators`` (the reduction limit; the pending rounding box of
     relative size ~1e-15 is not counted, so before the first reduction a set may carry up to
     n_x more axis-aligned generators), ``use_first_measurement``, ``strip_order`` and
@@ -67,6 +67,7 @@ class _ZonotopicEstimator(StateMixin):
     _gain: int
     #: row k of a trajectory used y_k (Trajectory.filter)
     is_filter = True
+    _last_check_fn = lib.sb_zonotopic_last_check
     _lambdas = None
     _state_prefix = "sb_zonotopic"
 
@@ -112,8 +113,7 @@ class _ZonotopicEstimator(StateMixin):
                                                             dptr(reset_set.center), dptr(reset_set.generators)))
         self.on_inconsistency = on_inconsistency
         self._m = ffi.new("int*")
-        self._status = ffi.new("int[]", max(system.ny, 1))
-        self._reset_flag = ffi.new("int*")
+        self._init_checks()
 
     def restore_state(self, state) -> None:
         """Restores a state from ``save_state`` (see :class:`setbound._state.StateMixin`); the
@@ -136,20 +136,6 @@ class _ZonotopicEstimator(StateMixin):
         cap = ffi.new("int*", m)
         check(lib.sb_zonotopic_last_set(self._handle, cap, dptr(p), dptr(H)))
         return Zonotope(p, H)
-
-    def _check_into(self, status, margin) -> bool:
-        """Writes the last step's statuses and margins into the given rows; returns the reset flag."""
-        check(lib.sb_zonotopic_last_check(self._handle, self._status, dptr(margin), self._reset_flag))
-        status[:] = np.frombuffer(ffi.buffer(self._status, 4 * max(self.system.ny, 1)), dtype=np.intc)[:self.system.ny]
-        return bool(self._reset_flag[0])
-
-    @property
-    def last_check(self) -> MeasurementCheck:
-        """What the last step did with each output (:class:`~setbound.measurement.MeasurementCheck`)."""
-        ny = self.system.ny
-        status, margin = np.empty(ny, dtype=np.int8), np.empty(ny)
-        reset = self._check_into(status, margin)
-        return MeasurementCheck(status, margin, reset)
 
     def step(self, y, u=None) -> Zonotope:
         """Uses ``y_k`` (and ``u_k``), returns the set for ``x_k``, predicts ``x_{k+1}``. ``y`` None

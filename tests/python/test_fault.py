@@ -16,13 +16,9 @@ from setbound.fault import (Fault, FaultBank, actuator_loss, detect, nominal, pa
                             simulate_faulty, stuck_sensor)
 from setbound.sets import Ellipsoid, Zonotope
 from setbound.zonotopic import SegmentMinEstimator, VolumeMinEstimator
+from zono_examples import ex_le13 as le13
 
 
-def le13():
-    A = np.array([[0.0, -0.5], [1.0, 1.0]])
-    E = np.array([[-0.12, 0, 0], [0.02, 0, 0]])
-    F = np.array([[0, 0.2, 0], [0, 0, 0.2]])
-    return LinearSystem(A, [[-2.0, 1.0], [1.0, 1.0]], E=E, F=F)
 
 
 def with_input():

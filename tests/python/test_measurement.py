@@ -16,14 +16,9 @@ from setbound.ellipsoidal import (DescriptorEstimator, ImprovedEstimator, Kalman
                                   OnlineEstimator, design_offline)
 from setbound.sets import Ellipsoid, Zonotope
 from setbound.zonotopic import PRadiusEstimator, SegmentMinEstimator, VolumeMinEstimator, design_pradius, exact_hull
+from zono_examples import ex_le13 as le13
 
 
-def le13():
-    """EX-LE13 (papers §3.5) with a known A and ω = [w; v1; v2]."""
-    A = np.array([[0.0, -0.5], [1.0, 1.0]])
-    E = np.array([[-0.12, 0, 0], [0.02, 0, 0]])
-    F = np.array([[0, 0.2, 0], [0, 0, 0.2]])
-    return LinearSystem(A, [[-2.0, 1.0], [1.0, 1.0]], E=E, F=F)
 
 
 def record(s, N, rng, vertex, x0=(1.0, 1.0), jump=None):

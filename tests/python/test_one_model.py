@@ -12,11 +12,9 @@ from setbound import Box, LinearSystem, Plant, ellipsoidal, hinf, interval_obser
 from setbound.plant import as_plant
 from setbound.sets import Ellipsoid, Zonotope, as_box, as_ellipsoid, as_zonotope
 from setbound.simulation import simulate
+from zono_examples import ex_le13 as le13
 
 
-def le13():
-    return LinearSystem([[0.0, -0.5], [1.0, 1.0]], [[-2.0, 1.0], [1.0, 1.0]],
-                        E=[[-0.12, 0, 0], [0.02, 0, 0]], F=[[0, 0.2, 0], [0, 0, 0.2]])
 
 
 def test_thesis_functions_take_a_linear_system_with_the_plants_numbers():

@@ -16,13 +16,9 @@ from setbound.ellipsoidal import ImprovedEstimator, KalmanFilter, OnlineEstimato
 from setbound.sets import Ellipsoid, Zonotope
 from setbound.simulation import simulate
 from setbound.zonotopic import SegmentMinEstimator
+from zono_examples import ex_le13 as le13
 
 
-def le13(dt=None):
-    A = np.array([[0.0, -0.5], [1.0, 1.0]])
-    E = np.array([[-0.12, 0, 0], [0.02, 0, 0]])
-    F = np.array([[0, 0.2, 0], [0, 0, 0.2]])
-    return LinearSystem(A, [[-2.0, 1.0], [1.0, 1.0]], E=E, F=F, dt=dt)
 
 
 X0 = Zonotope([0, 0], 3 * np.eye(2))

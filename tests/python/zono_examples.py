@@ -1,0 +1,13 @@
+"""The zonotopic papers' example system EX-LE13 with a known A (papers.md §3.5), shared by the
+tests of real measurement data, fault detection, initial sets and trajectories."""
+import numpy as np
+
+import setbound as sb
+
+
+def ex_le13(dt=None) -> sb.LinearSystem:
+    """EX-LE13 with A known: x+ = [0 -0.5; 1 1] x + [-0.12; 0.02] w, y = C x + 0.2 v (ω = [w; v1; v2])."""
+    A = np.array([[0.0, -0.5], [1.0, 1.0]])
+    E = np.array([[-0.12, 0, 0], [0.02, 0, 0]])
+    F = np.array([[0, 0.2, 0], [0, 0, 0.2]])
+    return sb.LinearSystem(A, [[-2.0, 1.0], [1.0, 1.0]], E=E, F=F, dt=dt)
