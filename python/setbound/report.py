@@ -146,10 +146,12 @@ def write_results(out: Path, job, results, rows, *, extra: dict | None = None) -
         with open(out / f"{r.name}.csv", "w", newline="") as fh:
             wr = csv.writer(fh)
             n = t.center.shape[1]
-            wr.writerow(["k"] + [f"center{i}" for i in range(n)] + [f"lower{i}" for i in range(n)]
+            times = t.times  # the time of each row (the job's time, else k)
+            wr.writerow(["k", "t"] + [f"center{i}" for i in range(n)] + [f"lower{i}" for i in range(n)]
                         + [f"upper{i}" for i in range(n)])
             for k in range(len(t)):
-                wr.writerow([k] + [repr(float(v)) for v in np.concatenate([t.center[k], t.lower[k], t.upper[k]])])
+                wr.writerow([k, repr(float(times[k]))]
+                            + [repr(float(v)) for v in np.concatenate([t.center[k], t.lower[k], t.upper[k]])])
         written += [out / f"{r.name}.npz", out / f"{r.name}.csv"]
     doc = {"title": job.title, "source": job.source, "steps": int(len(job.y)), "estimators": rows}
     if getattr(job, "faults", None):

@@ -70,7 +70,10 @@ def test_example_runs_end_to_end(path, tmp_path, capsys):
         assert e["design_time_s"] >= 0 and e["time_per_step_s"] > 0
         rows = (out / f"{e['name']}.csv").read_text().splitlines()
         assert len(rows) == len(job.y) + 1
-        np.testing.assert_allclose(np.array(rows[-1].split(","), float)[1:1 + job.system.nx], z["center"][-1])
+        assert rows[0].split(",")[:3] == ["k", "t", "center0"]
+        last = np.array(rows[-1].split(","), float)
+        assert last[1] == z["t"][-1]  # the row's time (the job's time, as in the npz)
+        np.testing.assert_allclose(last[2:2 + job.system.nx], z["center"][-1])
     for name in PLOTS | ({"projections.png"} if job.system.nx >= 2 else set()):
         _png_ok(out / name)
     assert (out / "widths_relative.png").is_file() == (len(job.estimators) > 1)
