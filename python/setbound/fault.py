@@ -160,6 +160,13 @@ class Detection:
     margin: np.ndarray
     trajectory: object = None
 
+    @classmethod
+    def from_trajectory(cls, traj) -> "Detection":
+        """The detection a trajectory of an estimator that tested its readings records."""
+        flagged = np.asarray(traj.flagged, dtype=bool)
+        hits = np.flatnonzero(flagged)
+        return cls(int(hits[0]) if hits.size else None, flagged, _largest_margin(traj.margin), traj)
+
     def delay(self, fault_start: int) -> int | None:
         """Steps from ``fault_start`` to the first alarm at or after it (None: not detected)."""
         later = np.flatnonzero(self.flagged[fault_start:])
@@ -210,10 +217,7 @@ def detect(estimator, y, u=None) -> Detection:
                                    "(use a zonotopic or ellipsoidal estimator)")
     if policy != "flag":
         raise InvalidArgumentError(f'estimator: detect() needs on_inconsistency="flag", got {policy!r}')
-    traj = estimator.run(y, u)
-    flagged = np.asarray(traj.flagged, dtype=bool)
-    hits = np.flatnonzero(flagged)
-    return Detection(int(hits[0]) if hits.size else None, flagged, _largest_margin(traj.margin), traj)
+    return Detection.from_trajectory(estimator.run(y, u))
 
 
 # ------------------------------------------------------------------------------------ isolation

@@ -299,7 +299,7 @@ def plot_margins(trajectories, names=None, *, fault_start=None, title=None, figs
     """Fault detection (:mod:`setbound.fault`): per estimator that tests its readings, the largest
     margin of each step in noise bounds (> 0: a reading no state of the model can produce), the
     flagged steps, the alarm (the first flagged step) and the fault's start when given."""
-    from .fault import Detection, _largest_margin
+    from .fault import Detection
 
     title = _title(title)
     items = [(n, tr) for n, tr in _items(trajectories, names) if tr.status is not None]
@@ -307,10 +307,7 @@ def plot_margins(trajectories, names=None, *, fault_start=None, title=None, figs
         raise InvalidArgumentError("trajectories: none of them tested its readings (no status)")
     fig, axes = _new_figure(len(items), 1, cell=(7.0, 2.4), figsize=_figsize(figsize))
     for row, (name, tr) in enumerate(items):
-        flagged = np.asarray(tr.flagged, dtype=bool)
-        hits = np.flatnonzero(flagged)
-        det = Detection(int(hits[0]) if hits.size else None, flagged, _largest_margin(tr.margin), tr)
-        det.plot(axes[row][0], fault_start=fault_start, title=name)
+        Detection.from_trajectory(tr).plot(axes[row][0], fault_start=fault_start, title=name)
     if title:
         fig.suptitle(title, fontsize=11)
     return fig

@@ -176,8 +176,11 @@ SETBOUND_INLINE bool ell_certify_interval(const Eigen::MatrixXd& P, const EllGai
   return true;
 }
 
-SETBOUND_INLINE double ell_interval_sigma(const Eigen::MatrixXd& P, const EllGainTerms& t, const EllCentreTerms& ct,
-                                 const std::vector<Eigen::VectorXd>& omegas, double beta) {
+// The least σ the blocks need at fixed (β, L), uncertified: max over (A_j, ω) of vᵀK⁻¹v with
+// K = [βP, PALᵀ; PAL, P], v = [0; g]; +inf when some K is not positive definite. Used by
+// ell_interval_sigma (which then certifies) and by the predictor's partial steps (to rank β).
+SETBOUND_INLINE double ell_sigma_need(const Eigen::MatrixXd& P, const EllGainTerms& t, const EllCentreTerms& ct,
+                                      const std::vector<Eigen::VectorXd>& omegas, double beta) {
   const Eigen::Index n = P.rows();
   const double inf = std::numeric_limits<double>::infinity();
   double need = 0;
@@ -192,6 +195,13 @@ SETBOUND_INLINE double ell_interval_sigma(const Eigen::MatrixXd& P, const EllGai
       need = std::max(need, llt.matrixL().solve(v).squaredNorm());
     }
   }
+  return std::isfinite(need) ? need : inf;
+}
+
+SETBOUND_INLINE double ell_interval_sigma(const Eigen::MatrixXd& P, const EllGainTerms& t, const EllCentreTerms& ct,
+                                 const std::vector<Eigen::VectorXd>& omegas, double beta) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const double need = ell_sigma_need(P, t, ct, omegas, beta);
   if (!std::isfinite(need)) return inf;
   double sigma = need * (1.0 + 1e-9) + std::numeric_limits<double>::min();
   for (int attempt = 0; attempt < 12; ++attempt, sigma = sigma * 4.0 + std::numeric_limits<double>::min())
@@ -656,23 +666,8 @@ SETBOUND_INLINE auto EllipsoidalPredictor::partial_choice(double rho, const Eige
     std::vector<std::pair<double, double>> cand;  // (level, β)
     for (double eta : kEta) {
       const double beta = std::max(a2 * (1.0 + eta), eta * 1e-9);
-      double need = 0;
-      bool ok = true;
-      for (std::size_t j = 0; j < t.PAL.size() && ok; ++j) {
-        Eigen::MatrixXd K(2 * n, 2 * n);
-        K << beta * d_.P, t.PAL[j].transpose(), t.PAL[j], d_.P;
-        const Eigen::LLT<Eigen::MatrixXd> llt(K);
-        if (llt.info() != Eigen::Success) {
-          ok = false;
-          break;
-        }
-        for (const Eigen::VectorXd& w : omegas) {
-          Eigen::VectorXd v = Eigen::VectorXd::Zero(2 * n);
-          v.tail(n) = (t.PEL.cols() > 0 ? Eigen::VectorXd(t.PEL * w) : Eigen::VectorXd::Zero(n)) + ct.Ph[j];
-          need = std::max(need, llt.matrixL().solve(v).squaredNorm());
-        }
-      }
-      if (ok && std::isfinite(need)) cand.emplace_back(beta * rho + need, beta);
+      const double need = detail::ell_sigma_need(d_.P, t, ct, omegas, beta);
+      if (std::isfinite(need)) cand.emplace_back(beta * rho + need, beta);
     }
     std::sort(cand.begin(), cand.end());
     for (const auto& [level, beta] : cand) {
