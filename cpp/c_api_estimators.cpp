@@ -173,6 +173,14 @@ int sb_zonotopic_reset(sb_zonotopic* estimator) {
   });
 }
 
+int sb_zonotopic_steps(const sb_zonotopic* estimator, int* steps) {
+  return guard("sb_zonotopic_steps", [&] {
+    require_pointer(estimator, "estimator");
+    require_pointer(steps, "steps");
+    *steps = static_cast<int>(std::min<Eigen::Index>(estimator->estimator.steps_taken(), std::numeric_limits<int>::max()));
+  });
+}
+
 int sb_zonotopic_step(sb_zonotopic* estimator, const double* y, const double* u, double* center,
                       double* lower, double* upper, int* m) {
   return guard("sb_zonotopic_step", [&] {

@@ -412,4 +412,30 @@ SB_STATE_FUNCTIONS(interval_nonlinear, *)
 SB_STATE_FUNCTIONS(interval_invariant, )
 #undef SB_STATE_FUNCTIONS
 
+// Missing and impossible readings (thesis/reading_screen.hpp).
+#define SB_READING_FUNCTIONS(name, deref)                                                              \
+  int sb_##name##_set_inconsistency_policy(sb_##name* observer, int policy, const double* reset_lo,     \
+                                           const double* reset_hi) {                                    \
+    return guard("sb_" #name "_set_inconsistency_policy", [&] {                                        \
+      require_pointer(observer, "observer");                                                           \
+      auto& o = deref observer->obs;                                                                    \
+      const OnInconsistency pol = inconsistency_policy_arg(policy);                                     \
+      if ((reset_lo == nullptr) != (reset_hi == nullptr))                                               \
+        throw InvalidArgumentError("reset_lo, reset_hi: give both ends of the reset box or neither");   \
+      o.set_inconsistency_policy(pol, reset_lo ? box_arg(reset_lo, reset_hi, int(o.nx()), "reset_set")  \
+                                               : Box());                                               \
+    });                                                                                                 \
+  }                                                                                                     \
+  int sb_##name##_last_check(const sb_##name* observer, int* status, double* margin, int* reset) {      \
+    return guard("sb_" #name "_last_check", [&] {                                                      \
+      require_pointer(observer, "observer");                                                           \
+      check_out((deref observer->obs).last_check(), status, margin, reset);                             \
+    });                                                                                                 \
+  }
+
+SB_READING_FUNCTIONS(interval_luenberger, *)
+SB_READING_FUNCTIONS(interval_nonlinear, *)
+SB_READING_FUNCTIONS(interval_invariant, )
+#undef SB_READING_FUNCTIONS
+
 }  // extern "C"

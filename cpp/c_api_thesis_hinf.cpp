@@ -427,6 +427,26 @@ int sb_hinf_observer_run(sb_hinf_observer* observer, int T, const double* Y, con
   });
 }
 
+int sb_hinf_observer_set_inconsistency_policy(sb_hinf_observer* observer, int policy, const double* reset_lo,
+                                              const double* reset_hi) {
+  return guard("sb_hinf_observer_set_inconsistency_policy", [&] {
+    require_pointer(observer, "observer");
+    const OnInconsistency pol = inconsistency_policy_arg(policy);
+    if ((reset_lo == nullptr) != (reset_hi == nullptr))
+      throw InvalidArgumentError("reset_lo, reset_hi: give both ends of the reset box or neither");
+    const Box rb = reset_lo ? box_arg(reset_lo, reset_hi, observer->nx, "reset_set") : Box();
+    if (observer->lti) observer->lti->set_inconsistency_policy(pol, rb);
+    else observer->lpv->set_inconsistency_policy(pol, rb);
+  });
+}
+
+int sb_hinf_observer_last_check(const sb_hinf_observer* observer, int* status, double* margin, int* reset) {
+  return guard("sb_hinf_observer_last_check", [&] {
+    require_pointer(observer, "observer");
+    check_out(observer->lti ? observer->lti->last_check() : observer->lpv->last_check(), status, margin, reset);
+  });
+}
+
 int sb_hinf_observer_state_size(const sb_hinf_observer* observer, int* n) {
   return guard("sb_hinf_observer_state_size", [&] {
     require_pointer(observer, "observer");

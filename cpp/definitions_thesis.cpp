@@ -2,6 +2,7 @@
 // libsetbound (SETBOUND_SEPARATE_COMPILATION, see include/setbound/core/config.hpp). Each .ipp
 // is included by exactly one of the cpp/definitions_*.cpp files; they are balanced for build time.
 #include "setbound/thesis/impl/plant.ipp"
+#include "setbound/thesis/impl/reading_screen.ipp"
 #include "setbound/thesis/impl/hinf_gain.ipp"
 #include "setbound/thesis/impl/hinf_observer.ipp"
 #include "setbound/thesis/impl/interval_observer.ipp"

@@ -356,6 +356,8 @@ int sb_zonotopic_set_inconsistency_policy(sb_zonotopic* estimator, int policy, i
 int sb_zonotopic_last_check(const sb_zonotopic* estimator, int* status, double* margin, int* reset);
 /* Back to the state of construction (prior = initial set, no step taken); options kept. */
 int sb_zonotopic_reset(sb_zonotopic* estimator);
+/* The number of steps taken (a filter: the last step's set bounds x_{steps-1}). */
+int sb_zonotopic_steps(const sb_zonotopic* estimator, int* steps);
 /* The exact reference: interval hull of the exact consistent state set at each step (2 nx
  * LPs per step over x0 = p0 + H0 xi and all disturbances; known A only). Y: N x ny, U: N x nu
  * (NULL when nu = 0); lower, upper: N x nx. Row k uses y_0..y_k (y_1..y_k when
@@ -570,14 +572,24 @@ int sb_hinf_observer_create(const sb_hinf_design* design, const double* xhat0, d
 int sb_hinf_observer_free(sb_hinf_observer* observer);
 int sb_hinf_observer_current(const sb_hinf_observer* observer, double* center, double* lower,
                              double* upper, double* mu, int* steps);
-/* One step with y_k, u_k (NULL when nu = 0), rho_k; writes the bounds of x_{k+1}. On error
- * the observer is unchanged. */
+/* One step with y_k, u_k (NULL when nu = 0), rho_k; writes the bounds of x_{k+1}. NaN entries
+ * of y: missing outputs (see the inconsistency policy below). On error the observer is
+ * unchanged. */
 int sb_hinf_observer_step(sb_hinf_observer* observer, const double* y, const double* u, const double* rho,
                           double* center, double* lower, double* upper, double* mu);
 /* T steps: Y (T x ny), U (T x nu or NULL), R (T x nrho or NULL); outputs have T + 1 rows
  * (row 0 = the current set). On error the observer is unchanged. */
 int sb_hinf_observer_run(sb_hinf_observer* observer, int T, const double* Y, const double* U, const double* R,
                          double* centers, double* lowers, double* uppers, double* mus);
+/* Missing and impossible readings, as for sb_zonotopic (SB_ON_INCONSISTENCY_*, SB_OUTPUT_*): a
+ * NaN entry of y is a missing output; every present output is tested against the support of
+ * the observer's ellipsoid in +-C_i plus its noise bound. A step without some output is made in
+ * interval arithmetic (the box narrowed by the outputs present, then A[x] + B u + F[d]) and the
+ * recursion restarts from the predicted box. The reset box of SB_ON_INCONSISTENCY_RESET is
+ * [reset_lo, reset_hi] (nx each; NULL: the box of the initial ellipsoid). */
+int sb_hinf_observer_set_inconsistency_policy(sb_hinf_observer* observer, int policy, const double* reset_lo,
+                                              const double* reset_hi);
+int sb_hinf_observer_last_check(const sb_hinf_observer* observer, int* status, double* margin, int* reset);
 /* Saved state (see "saved states" at the end of this header). */
 int sb_hinf_observer_state_size(const sb_hinf_observer* observer, int* n);
 int sb_hinf_observer_save_state(const sb_hinf_observer* observer, double* state, int n);
@@ -681,7 +693,8 @@ int sb_interval_luenberger_info(const sb_interval_luenberger* observer, int* ste
 int sb_interval_luenberger_gain(const sb_interval_luenberger* observer, double* L, double* P);
 int sb_interval_luenberger_current(const sb_interval_luenberger* observer, double* xhat, double* lo,
                                    double* hi);
-/* On error (wrong data, NaN) the observer is unchanged. u may be NULL when nu = 0. */
+/* NaN entries of y: missing outputs (see the inconsistency policy below). On error (wrong
+ * data, +-inf) the observer is unchanged. u may be NULL when nu = 0. */
 int sb_interval_luenberger_step(sb_interval_luenberger* observer, const double* y, const double* u,
                                 double* xhat, double* lo, double* hi);
 
@@ -736,6 +749,22 @@ int sb_interval_invariant_info(const sb_interval_invariant* observer, int* steps
 int sb_interval_invariant_current(const sb_interval_invariant* observer, double* xhat, double* lo, double* hi);
 int sb_interval_invariant_step(sb_interval_invariant* observer, const double* y, const double* u, double* xhat,
                                double* lo, double* hi);
+/* Missing and impossible readings of the three interval observers, as for sb_hinf_observer:
+ * present outputs are tested against C_i[x_k] + Z_i[v] (the observer's box); a step without
+ * some output is made in interval arithmetic and the error bound restarts from the predicted
+ * box. Reset box [reset_lo, reset_hi] (NULL: the initial box x0). */
+int sb_interval_luenberger_set_inconsistency_policy(sb_interval_luenberger* observer, int policy,
+                                                    const double* reset_lo, const double* reset_hi);
+int sb_interval_luenberger_last_check(const sb_interval_luenberger* observer, int* status, double* margin,
+                                      int* reset);
+int sb_interval_nonlinear_set_inconsistency_policy(sb_interval_nonlinear* observer, int policy,
+                                                   const double* reset_lo, const double* reset_hi);
+int sb_interval_nonlinear_last_check(const sb_interval_nonlinear* observer, int* status, double* margin,
+                                     int* reset);
+int sb_interval_invariant_set_inconsistency_policy(sb_interval_invariant* observer, int policy,
+                                                   const double* reset_lo, const double* reset_hi);
+int sb_interval_invariant_last_check(const sb_interval_invariant* observer, int* status, double* margin,
+                                     int* reset);
 /* Saved states (see "saved states" at the end of this header). */
 int sb_interval_luenberger_state_size(const sb_interval_luenberger* observer, int* n);
 int sb_interval_luenberger_save_state(const sb_interval_luenberger* observer, double* state, int n);

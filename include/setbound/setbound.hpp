@@ -46,4 +46,5 @@ extern "C" {
 #include "setbound/thesis/hinf_observer.hpp"
 #include "setbound/thesis/lpv.hpp"
 #include "setbound/thesis/plant.hpp"
+#include "setbound/thesis/reading_screen.hpp"
 #include "setbound/thesis/invariant.hpp"

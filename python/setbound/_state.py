@@ -296,6 +296,28 @@ class StateMixin(ThreadSafe):
     def _state_handle(self):
         return getattr(self, self._state_handle_attr)
 
+    @property
+    def current_k(self) -> int | None:
+        """Which time the current set — the set the last ``step()`` returned — bounds: the index k
+        of ``x_k``, as row k of a trajectory. A predictor (``is_filter`` False) after k steps bounds
+        ``x_k`` (it has used ``y_0 … y_{k−1}``); a filter's step with ``y_k`` bounds ``x_k`` (None
+        before its first step)."""
+        steps = self.steps
+        if getattr(self, "is_filter", False):
+            return None if steps == 0 else steps - 1
+        return steps
+
+    @property
+    def current_t(self) -> float | None:
+        """The time of :attr:`current_k`: ``k·dt`` with the system's sampling time ``dt``, else k
+        (None when ``current_k`` is None)."""
+        k = self.current_k
+        if k is None:
+            return None
+        system = getattr(self, "system", None) or getattr(self, "plant", None)
+        dt = getattr(system, "dt", None)
+        return float(k) * (dt if dt else 1.0)
+
     def save_state(self) -> bytes:
         """The estimator's full mutable state (current set, step counter, last gain, working
         sets, windows) as bytes: restored into an estimator made from the same design and

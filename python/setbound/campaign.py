@@ -620,6 +620,7 @@ def _run_thesis(case: Case, res: CaseResult, rng):
     else:  # pragma: no cover - guarded by ESTIMATORS
         raise ValueError(name)
     _check_boxes(traj.lower, traj.upper, x, delta, res)
+    res.false_alarms += int(np.sum(traj.flagged))  # fault-free data: any flag is a bug
 
 
 # interval_invariant: n_x <= 4, its offline design (polyhedral invariant set Φ_0 and the

@@ -378,6 +378,13 @@ class KalmanFilter(StateMixin):
         check(lib.sb_kalman_current(self._handle, dptr(m), dptr(G), ffi.NULL))
         self.mean, self.covariance = m, G
 
+    @property
+    def steps(self) -> int:
+        """Number of steps taken (the last step's mean is about ``x_{steps−1}``)."""
+        s = ffi.new("int*")
+        check(lib.sb_kalman_current(self._handle, ffi.NULL, ffi.NULL, s))
+        return int(s[0])
+
     def step(self, y, u=None):
         """Correction with ``y_k`` (None or NaN entries: missing outputs, the correction uses the
         others), then prediction; returns ``(mean, covariance)`` of ``x_k``."""

@@ -27,7 +27,8 @@ from ._validate import as_choice, as_float, as_int
 from .errors import DimensionError, InvalidArgumentError
 from .interval import Box
 from .plant import Plant, as_plant
-from .system import refuse_infinite, refuse_missing
+from .measurement import POLICIES, ReadingChecks, measurement_or_missing, _set_box_policy
+from .system import refuse_infinite
 from .trajectory import Trajectory
 
 __all__ = [
@@ -377,14 +378,21 @@ def box_corners(lo, hi) -> np.ndarray:
     return np.array([[hi[i] if (j >> i) & 1 else lo[i] for i in range(n)] for j in range(1 << n)])
 
 
-class _Observer(StateMixin):
+class _Observer(ReadingChecks, StateMixin):
     _lpv = False
     #: row k of a trajectory used y_0 … y_{k−1} only (Trajectory.filter)
     is_filter = False
     _state_prefix = "sb_hinf_observer"
     _state_handle_attr = "_h"
+    _check_handle_attr = "_h"
+    _last_check_fn = lib.sb_hinf_observer_last_check
 
-    def __init__(self, design: EllipsoidalSMDesign, xhat0, mu0: float | None = None):
+    def _reading_ny(self) -> int:
+        return self.ny
+
+    def __init__(self, design: EllipsoidalSMDesign, xhat0, mu0: float | None = None, *,
+                 on_inconsistency: str = "flag", reset_set=None):
+        as_choice(on_inconsistency, "on_inconsistency", POLICIES)  # named before any other argument
         if not isinstance(design, EllipsoidalSMDesign):
             raise InvalidArgumentError("design: expected an EllipsoidalSMDesign")
         from .interval import Box as _Box
@@ -403,13 +411,17 @@ class _Observer(StateMixin):
             raise InvalidArgumentError("design: " + ("an LPV design needs LPVEllipsoidalSMObserver" if not self._lpv
                                                      else "LPVEllipsoidalSMObserver needs an LPV design"))
         self.design = design
-        p = design.plant
+        p = self.plant = design.plant  # the model (its dt times the results)
         self.nx, self.nu, self.ny = p.nx, p.nu, p.ny
         self.n_rho = p.n_rho if self._lpv else 0
         x0 = as_f64(xhat0, "xhat0", shape=(self.nx,))
         h = ffi.new("sb_hinf_observer**")
         check(lib.sb_hinf_observer_create(design._handle, dptr(x0), as_float(mu0, "mu0"), h))
         self._h = ffi.gc(h[0], lib.sb_hinf_observer_free)
+        #: what a step does with an impossible reading (:mod:`setbound.measurement`)
+        self.on_inconsistency = _set_box_policy(lib.sb_hinf_observer_set_inconsistency_policy, self._h,
+                                               on_inconsistency, reset_set, self.nx)
+        self._init_checks()
         self._c, self._lo, self._hi, self._mu = np.empty(self.nx), np.empty(self.nx), np.empty(self.nx), ffi.new("double*")
         check(lib.sb_hinf_observer_current(self._h, dptr(self._c), dptr(self._lo), dptr(self._hi), self._mu, ffi.NULL))
 
@@ -435,7 +447,7 @@ class _Observer(StateMixin):
         return s[0]
 
     def _step(self, y, u, rho) -> Box:
-        y = as_f64(np.atleast_1d(y), "y", shape=(self.ny,))
+        y = as_f64(np.atleast_1d(measurement_or_missing(y, self.ny)), "y", shape=(self.ny,))
         u = as_f64(np.zeros(0) if u is None else np.atleast_1d(u), "u", shape=(self.nu,))
         r = ffi.NULL
         if self._lpv:
@@ -450,8 +462,7 @@ class _Observer(StateMixin):
         if y.ndim == 1 and self.ny == 1:
             y = y.reshape(-1, 1)
         y = as_f64(y, "y", shape=(None, self.ny))
-        refuse_missing(y, type(self).__name__)
-        refuse_infinite(y)
+        refuse_infinite(y)  # NaN: a missing reading
         T = y.shape[0]
         if u is None:
             if self.nu:
@@ -461,7 +472,6 @@ class _Observer(StateMixin):
         if u.ndim == 1 and self.nu == 1:
             u = u.reshape(-1, 1)
         u = as_f64(u, "u", shape=(T, self.nu))
-        R = ffi.NULL
         if self._lpv:
             if rho is None:
                 raise InvalidArgumentError(f"rho: the LPV observer needs the scheduling signal, shape ({T}, {self.n_rho})")
@@ -469,14 +479,18 @@ class _Observer(StateMixin):
             if rho.ndim == 1 and self.n_rho == 1:
                 rho = rho.reshape(-1, 1)
             rho = as_f64(rho, "rho", shape=(T, self.n_rho))
-            R = dptr(rho)
-        C, Lo, Hi, M = np.empty((T + 1, self.nx)), np.empty((T + 1, self.nx)), np.empty((T + 1, self.nx)), np.empty(T + 1)
-        check(lib.sb_hinf_observer_run(self._h, T, dptr(y), dptr(u), R, dptr(C), dptr(Lo), dptr(Hi), dptr(M)))
-        self._c[:], self._lo[:], self._hi[:], self._mu[0] = C[-1], Lo[-1], Hi[-1], M[-1]
         # The library's convention (python/setbound/trajectory.py): N rows, row k = x_k having used
-        # y_0 … y_{k−1}; the observer itself has advanced to x_N (current()).
-        C, Lo, Hi, M = C[:T], Lo[:T], Hi[:T], M[:T]
-        traj = Trajectory(C, Lo, Hi, sets=[Box(Lo[k], Hi[k]) for k in range(T)], guaranteed=True)
+        # y_0 … y_{k−1}; the observer itself advances to x_N (current()). Row k's status and
+        # margin say what the step did with y_k.
+        C, Lo, Hi, M = np.empty((T, self.nx)), np.empty((T, self.nx)), np.empty((T, self.nx)), np.empty(T)
+        status, margin = np.empty((T, self.ny), dtype=np.int8), np.empty((T, self.ny))
+        resets = np.zeros(T, dtype=bool)
+        for k in range(T):
+            C[k], Lo[k], Hi[k], M[k] = self._c, self._lo, self._hi, self._mu[0]
+            self._step(y[k], u[k], rho[k] if self._lpv else None)
+            resets[k] = self._check_into(status[k], margin[k])
+        traj = Trajectory(C, Lo, Hi, sets=[Box(Lo[k], Hi[k]) for k in range(T)], guaranteed=True, status=status,
+                          margin=margin, resets=resets)
         traj.mu = M
         return traj
 
@@ -487,10 +501,20 @@ class EllipsoidalSMObserver(_Observer):
     ``EllipsoidalSMObserver(design, xhat0, mu0)``, or ``(design, x0)`` with an initial set
     (Box, Zonotope, Ellipsoid): x̂0 its hull's centre and μ0 from the hull (:func:`mu0_from_box`).
     ``step(y_k, u_k)`` returns the box of x_{k+1}; ``run(y, u)`` returns a Trajectory with
-    N rows (row k = x_k having used y_0 … y_{k−1}; row 0 = the initial box) and ``traj.mu``."""
+    N rows (row k = x_k having used y_0 … y_{k−1}; row 0 = the initial box) and ``traj.mu``.
+
+    Real data (:mod:`setbound.measurement`): NaN entries of ``y`` are missing outputs; each present
+    reading is tested against the support of the observer's ellipsoid in ``±C_i`` plus its noise
+    bound. A step without some output is made in interval arithmetic (the box narrowed by the
+    outputs present, then ``A[x] + Bu + F[d]``) and the recursion restarts from the predicted box
+    (x̂ its centre, μ from its corners). ``on_inconsistency``: ``"flag"`` (default), ``"raise"``
+    or ``"reset"`` (to ``reset_set``, any set by its interval hull; default the box of the
+    initial ellipsoid)."""
 
     def step(self, y, u=None) -> Box:
-        """Uses y_k and u_k, advances the observer and returns the box of x_{k+1} (unchanged on error)."""
+        """Uses y_k and u_k, advances the observer and returns the box of x_{k+1} (unchanged on
+        error). ``y`` None or NaN entries: missing outputs; readings outside the predicted output
+        set follow ``on_inconsistency`` (``last_check`` says what the step did with each)."""
         return self._step(y, u, None)
 
     @run_from_initial_set
@@ -503,7 +527,9 @@ class EllipsoidalSMObserver(_Observer):
 
 @reconstructible
 class LPVEllipsoidalSMObserver(_Observer):
-    """Online LPV observer (3.63–3.66) with the scheduling signal ρ_k per step."""
+    """Online LPV observer (3.63–3.66) with the scheduling signal ρ_k per step. Missing and
+    impossible readings as :class:`EllipsoidalSMObserver` (the interval step uses ``A(ρ_k)``,
+    ``B(ρ_k)``, ``F(ρ_k)`` widened by the rounding of their combination)."""
     _lpv = True
 
     def step(self, y, u=None, rho=None) -> Box:

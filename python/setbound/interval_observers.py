@@ -13,7 +13,12 @@
 
 All observers are one-step predictors: ``run(y, u)`` returns a :class:`~setbound.Trajectory`
 whose row ``k`` bounds ``x_k`` having used ``y_0 … y_{k−1}`` (row 0 is the initial box), with
-one :class:`~setbound.Box` per row in ``sets``. Every box is guaranteed in floating point
+one :class:`~setbound.Box` per row in ``sets``, and row ``k``'s ``status``/``margin`` saying
+what the step did with ``y_k``. Real data (:mod:`setbound.measurement`): NaN entries of ``y``
+are missing outputs; each present reading is tested against ``C_i[x_k] + Z_i[v]``; a step
+without some output is made in interval arithmetic (the box narrowed by the outputs present,
+then propagated) and the error bound restarts from the predicted box. ``on_inconsistency``:
+``"flag"`` (default), ``"raise"`` or ``"reset"`` (to ``reset_set``, default the initial box). Every box is guaranteed in floating point
 (docs/thesis_interval.md). A gain ``L=None`` means the H∞ gain of LMI (4.13) (``Q = I``;
 for the nonlinear observer LMI (4.46), i.e. ``F = I``).
 """
@@ -31,7 +36,8 @@ from ._validate import INT_MAX, as_float, as_int, check_memory
 from .errors import DimensionError, InvalidArgumentError
 from .interval import Box
 from .plant import Plant, as_plant
-from .system import refuse_infinite, refuse_missing
+from .measurement import ReadingChecks, measurement_or_missing, _set_box_policy
+from .system import refuse_infinite
 from .trajectory import Trajectory
 
 __all__ = [
@@ -133,7 +139,7 @@ def interval_error_limit(Ao, E, w, variant: str = "tight") -> Box:
     return Box(lo, hi)
 
 
-class _OnlineObserver(StateMixin):
+class _OnlineObserver(ReadingChecks, StateMixin):
     """Shared step/run logic (one-step predictors)."""
 
     _prefix = ""
@@ -143,6 +149,19 @@ class _OnlineObserver(StateMixin):
     @property
     def _state_prefix(self) -> str:
         return self._prefix
+
+    def _reading_ny(self) -> int:
+        return self.plant.ny
+
+    def _set_policy(self, on_inconsistency: str, reset_set) -> None:
+        #: what a step does with an impossible reading (:mod:`setbound.measurement`)
+        self.on_inconsistency = _set_box_policy(getattr(lib, self._prefix + "_set_inconsistency_policy"),
+                                               self._handle, on_inconsistency, reset_set, self.plant.nx)
+        self._init_checks()
+
+    def _y(self, y):
+        """One reading (None or NaN entries: missing outputs)."""
+        return as_f64(np.atleast_1d(measurement_or_missing(y, self.plant.ny)), "y", shape=(self.plant.ny,))
 
     def _io(self):
         n = self.plant.nx
@@ -181,19 +200,21 @@ class _OnlineObserver(StateMixin):
         N = y.shape[0]
         if y.shape[1] != p.ny:
             raise DimensionError(f"y: expected shape (N, {p.ny}), got {y.shape}")
-        refuse_missing(y, type(self).__name__)
-        refuse_infinite(y)
+        refuse_infinite(y)  # NaN: a missing reading
         if p.nu > 0:
             u = as_f64(u, "u", shape=(N, p.nu))
         elif u is not None and np.size(u) != 0:
             raise DimensionError("u: the plant has no input")
         lows, highs, sets = np.empty((N, p.nx)), np.empty((N, p.nx)), []
+        status, margin = np.empty((N, p.ny), dtype=np.int8), np.empty((N, p.ny))
+        resets = np.zeros(N, dtype=bool)
         for k in range(N):
             b = self.current()
             lows[k], highs[k] = b.lo, b.hi
             sets.append(b)
             self.step(y[k], u[k] if p.nu > 0 else None, **kw)
-        return Trajectory(0.5 * (lows + highs), lows, highs, sets)
+            resets[k] = self._check_into(status[k], margin[k])
+        return Trajectory(0.5 * (lows + highs), lows, highs, sets, status=status, margin=margin, resets=resets)
 
 
 @reconstructible
@@ -206,8 +227,10 @@ class IntervalLuenbergerObserver(_OnlineObserver):
     (``setbound.Box`` or ``(lo, hi)``; default the unit box)."""
 
     _prefix = "sb_interval_luenberger"
+    _last_check_fn = lib.sb_interval_luenberger_last_check
 
-    def __init__(self, plant: Plant, x0, xhat0=None, d=None, v=None, *, L=None, variant: str = "tight"):
+    def __init__(self, plant: Plant, x0, xhat0=None, d=None, v=None, *, L=None, variant: str = "tight",
+                 on_inconsistency: str = "flag", reset_set=None):
         p = self.plant = _plant(plant)
         x0 = _box(x0, p.nx, "x0")
         xhat0 = 0.5 * (np.asarray(x0.lo) + np.asarray(x0.hi)) if xhat0 is None else xhat0
@@ -225,6 +248,7 @@ class IntervalLuenbergerObserver(_OnlineObserver):
                                                 dptr(xh), dptr(dlo), dptr(dhi), dptr(vlo), dptr(vhi),
                                                 _variant(variant, False), h))
         self._handle = ffi.gc(h[0], lib.sb_interval_luenberger_free)
+        self._set_policy(on_inconsistency, reset_set)
         self.variant = variant
         Lo, Po = np.empty((p.nx, p.ny)), np.full((p.nx, p.nx), np.nan)
         check(lib.sb_interval_luenberger_gain(self._handle, dptr(Lo), dptr(Po)))
@@ -247,7 +271,7 @@ class IntervalLuenbergerObserver(_OnlineObserver):
     def step(self, y, u=None) -> Box:
         """Uses ``y_k`` (and ``u_k``); returns the box of ``x_{k+1}``. On error the observer is
         unchanged."""
-        y = as_f64(np.atleast_1d(y), "y", shape=(self.plant.ny,))
+        y = self._y(y)
         _, up = self._u(u)
         xh, lo, hi = self._io()
         check(lib.sb_interval_luenberger_step(self._handle, dptr(y), up, dptr(xh), dptr(lo), dptr(hi)))
@@ -269,8 +293,10 @@ class NonlinearIntervalObserver(_OnlineObserver):
     ``min(window, K)``, K the number of stored powers of ``A_o`` (reported as ``.window``)."""
 
     _prefix = "sb_interval_nonlinear"
+    _last_check_fn = lib.sb_interval_nonlinear_last_check
 
-    def __init__(self, plant: Plant, x0, xhat0, v=None, h: HBox | None = None, *, L=None, window: int = 256):
+    def __init__(self, plant: Plant, x0, xhat0, v=None, h: HBox | None = None, *, L=None, window: int = 256,
+                 on_inconsistency: str = "flag", reset_set=None):
         # the C ABI reads window <= 0 as the default: refused here instead
         window = as_int(window, "window", lo=1, hi=MAX_WINDOW)
         p = self.plant = _plant(plant)
@@ -296,6 +322,7 @@ class NonlinearIntervalObserver(_OnlineObserver):
                                                dptr(x0lo), dptr(x0hi), dptr(xh), dptr(vlo), dptr(vhi), window,
                                                hh))
         self._handle = ffi.gc(hh[0], lib.sb_interval_nonlinear_free)
+        self._set_policy(on_inconsistency, reset_set)
         Lo, Po = np.empty((p.nx, p.ny)), np.full((p.nx, p.nx), np.nan)
         check(lib.sb_interval_nonlinear_gain(self._handle, dptr(Lo), dptr(Po)))
         g, wi = ffi.new("double*"), ffi.new("int*")
@@ -328,7 +355,7 @@ class NonlinearIntervalObserver(_OnlineObserver):
         the one given at construction: a Box or ``h(current_box, k)``). Returns the box of
         ``x_{k+1}``; on error the observer is unchanged."""
         p = self.plant
-        y = as_f64(np.atleast_1d(y), "y", shape=(p.ny,))
+        y = self._y(y)
         _, up = self._u(u)
         src = h if h is not None else self.h
         if src is None:
@@ -430,8 +457,9 @@ class IntervalInvariantObserver(_OnlineObserver):
     ``[x_k] = x̂_k + [s_min(k, k*)]``."""
 
     _prefix = "sb_interval_invariant"
+    _last_check_fn = lib.sb_interval_invariant_last_check
 
-    def __init__(self, design: InvariantObserverDesign):
+    def __init__(self, design: InvariantObserverDesign, *, on_inconsistency: str = "flag", reset_set=None):
         if not isinstance(design, InvariantObserverDesign):
             raise InvalidArgumentError("design: expected the result of offline_error_sequence")
         self.design = design
@@ -439,6 +467,7 @@ class IntervalInvariantObserver(_OnlineObserver):
         h = ffi.new("sb_interval_invariant**")
         check(lib.sb_interval_invariant_create(design._handle, h))
         self._handle = ffi.gc(h[0], lib.sb_interval_invariant_free)
+        self._set_policy(on_inconsistency, reset_set)
 
     @property
     def steps(self) -> int:
@@ -448,8 +477,9 @@ class IntervalInvariantObserver(_OnlineObserver):
         return int(s[0])
 
     def step(self, y, u=None) -> Box:
-        """Uses ``y_k`` (and ``u_k``); returns the box of ``x_{k+1}``."""
-        y = as_f64(np.atleast_1d(y), "y", shape=(self.plant.ny,))
+        """Uses ``y_k`` (and ``u_k``); returns the box of ``x_{k+1}``. ``y`` None or NaN entries:
+        missing outputs (``last_check`` says what the step did with each output)."""
+        y = self._y(y)
         _, up = self._u(u)
         xh, lo, hi = self._io()
         check(lib.sb_interval_invariant_step(self._handle, dptr(y), up, dptr(xh), dptr(lo), dptr(hi)))

@@ -76,26 +76,55 @@ def measurement_or_missing(y, ny: int):
 
 class ReadingChecks:
     """Mixin of the estimators that screen their readings through the C ABI: ``_last_check_fn`` is
-    their ``sb_*_last_check`` function, ``_handle`` the C object, ``system`` the model; call
-    :meth:`_init_checks` once the handle exists."""
+    their ``sb_*_last_check`` function, the attribute named ``_check_handle_attr`` (default
+    ``_handle``) the C object, :meth:`_reading_ny` the number of outputs (default
+    ``system.ny``); call :meth:`_init_checks` once the handle exists."""
 
     _last_check_fn = None
+    _check_handle_attr = "_handle"
+
+    def _reading_ny(self) -> int:
+        return self.system.ny
 
     def _init_checks(self) -> None:
-        self._status = ffi.new("int[]", max(self.system.ny, 1))
+        self._status = ffi.new("int[]", max(self._reading_ny(), 1))
         self._reset_flag = ffi.new("int*")
 
     def _check_into(self, status, margin) -> bool:
         """Writes the last step's statuses and margins into the given rows; returns the reset flag."""
-        check(type(self)._last_check_fn(self._handle, self._status, dptr(margin), self._reset_flag))
-        ny = self.system.ny
+        check(type(self)._last_check_fn(getattr(self, self._check_handle_attr), self._status, dptr(margin),
+                                        self._reset_flag))
+        ny = self._reading_ny()
         status[:] = np.frombuffer(ffi.buffer(self._status, 4 * max(ny, 1)), dtype=np.intc)[:ny]
         return bool(self._reset_flag[0])
 
     @property
     def last_check(self) -> MeasurementCheck:
         """What the last step did with each output of ``y_k`` (:class:`MeasurementCheck`)."""
-        ny = self.system.ny
+        ny = self._reading_ny()
         status, margin = np.empty(ny, dtype=np.int8), np.empty(ny)
         reset = self._check_into(status, margin)
         return MeasurementCheck(status, margin, reset)
+
+
+def _set_box_policy(set_fn, handle, on_inconsistency: str, reset_set, nx: int) -> str:
+    """Sets the policy of a thesis observer through ``set_fn`` (its
+    ``sb_*_set_inconsistency_policy``): ``reset_set`` is any set (its interval hull is used) or
+    None (the observer's initial box). Returns the validated policy name."""
+    from ._validate import as_choice
+    from .errors import DimensionError, InvalidArgumentError
+    from .sets import as_box
+
+    on_inconsistency = as_choice(on_inconsistency, "on_inconsistency", POLICIES)
+    lo = hi = ffi.NULL
+    if reset_set is not None:
+        if on_inconsistency != "reset":
+            raise InvalidArgumentError('reset_set: only used with on_inconsistency="reset"')
+        box = as_box(reset_set, "reset_set")
+        lo_a = np.ascontiguousarray(box.lo, dtype=np.float64)
+        hi_a = np.ascontiguousarray(box.hi, dtype=np.float64)
+        if lo_a.shape != (nx,):
+            raise DimensionError(f"reset_set: expected a set of dimension {nx}, got {lo_a.shape[0]}")
+        lo, hi = dptr(lo_a), dptr(hi_a)
+    check(set_fn(handle, POLICIES[on_inconsistency], lo, hi))
+    return on_inconsistency

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._native import as_f64
+from ._validate import as_float
 from .errors import DimensionError, InvalidArgumentError, NotFiniteError
 
 
@@ -32,9 +33,10 @@ def _finite(a: np.ndarray, name: str) -> np.ndarray:
 class Plant:
     """``x⁺ = A x + B u + F d``, ``y = C x + Z v`` (thesis.md §2), with the thesis's ``F`` given
     as ``Fd=``. ``B``, ``Fd`` or ``Z`` may be omitted (no input, no state disturbance, no
-    measurement noise)."""
+    measurement noise). ``dt``: the sampling time (None: unknown; results are then indexed by
+    the step), kept from a converted ``LinearSystem``."""
 
-    def __init__(self, A, C, *, B=None, Fd=None, Z=None, **wrong):
+    def __init__(self, A, C, *, B=None, Fd=None, Z=None, dt=None, **wrong):
         if "F" in wrong:
             raise InvalidArgumentError(
                 "F: a Plant's state-disturbance matrix is passed as Fd= (x+ = A x + B u + Fd d); F is the "
@@ -57,6 +59,11 @@ class Plant:
         if F.shape[1] + Z.shape[1] == 0:
             raise DimensionError("F, Z: the plant has no disturbance (n_d + n_v = 0)")
         self.A, self.B, self.C, self.Fd, self.Z = A, B, C, F, Z
+        if dt is not None:
+            dt = as_float(dt, "dt")
+            if not dt > 0:
+                raise InvalidArgumentError(f"dt: the sampling time must be > 0, got {dt}")
+        self.dt = dt
 
     F = property(lambda self: self.Fd, doc="The thesis's F: the state-disturbance matrix (given as Fd=).")
 
@@ -88,7 +95,8 @@ class Plant:
         if both.size:
             raise DimensionError(f"system: disturbance components {both.tolist()} drive both the state and "
                                  "the output; the thesis plant needs independent d and v")
-        return cls(system.A, system.C, B=system.B if system.nu else None, Fd=E[:, state], Z=Fo[:, output & ~state])
+        return cls(system.A, system.C, B=system.B if system.nu else None, Fd=E[:, state], Z=Fo[:, output & ~state],
+                   dt=getattr(system, "dt", None))
 
     def unit_boxes(self):
         """The boxes ``[d] = [−1, 1]^{n_d}`` and ``[v] = [−1, 1]^{n_v}`` of a plant made from a

@@ -28,7 +28,7 @@ def refuse_missing(y, who: str) -> None:
         return
     where = f"row {bad[0][0]}, output {bad[0][1]}" if y.ndim == 2 else f"output {bad[0][0]}"
     raise NotFiniteError(f"y: {where} is NaN (a missing reading): {who} needs every output at every step; the "
-                         "zonotopic estimators accept missing readings (docs/user_guide.md, \"Real measurement data\")")
+                         "other estimators accept missing readings (docs/user_guide.md, \"Real measurement data\")")
 
 
 def refuse_infinite(y) -> None:

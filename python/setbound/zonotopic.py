@@ -143,6 +143,13 @@ class _ZonotopicEstimator(ReadingChecks, StateMixin):
         self._step(y, u)
         return self._last_set()
 
+    @property
+    def steps(self) -> int:
+        """Number of steps taken (a filter: the last step's set bounds ``x_{steps−1}``)."""
+        s = ffi.new("int*")
+        check(lib.sb_zonotopic_steps(self._handle, s))
+        return int(s[0])
+
     def reset(self) -> None:
         """Back to the initial set, no step taken (the options are kept)."""
         check(lib.sb_zonotopic_reset(self._handle))

@@ -1,6 +1,6 @@
 // setbound — the data of the real-measurement tests (issue 24): EX-LE13 with a known A and a
 // simulated record, shared by test_measurement_check.cpp (zonotopic) and
-// test_measurement_ellipsoidal.cpp.
+// test_measurement_ellipsoidal.cpp and test_measurement_thesis.cpp.
 #pragma once
 
 #include <Eigen/Core>

@@ -665,7 +665,7 @@ TEST(StateThesis, LPVEllipsoidalSMObserverContinuesIdentically) {
         v.push_back(e->mu());
         return v;
       };
-      s.bad_steps.emplace_back("NaN y", [e, d, rho](int i) { e->step(nan_at(d.y[size_t(i)], 0), d.u[size_t(i)], rho[size_t(i)]); });
+      s.bad_steps.emplace_back("inf y", [e, d, rho](int i) { e->step(inf_at(d.y[size_t(i)], 0), d.u[size_t(i)], rho[size_t(i)]); });
       s.bad_steps.emplace_back("NaN u", [e, d, rho](int i) { e->step(d.y[size_t(i)], nan_at(d.u[size_t(i)], 0), rho[size_t(i)]); });
       s.bad_steps.emplace_back("long y", [e, d, rho](int i) { e->step(VectorXd::Zero(2), d.u[size_t(i)], rho[size_t(i)]); });
       s.bad_steps.emplace_back("NaN rho", [e, d](int i) { e->step(d.y[size_t(i)], d.u[size_t(i)], VectorXd::Constant(1, kNaN)); });
@@ -739,7 +739,7 @@ TEST(StateThesis, NonlinearIntervalObserverWindowIsSaved) {
       Subject s = saving_subject(e);
       s.step = [e, d, hb](int i) { e->step(d.y[size_t(i)], d.u[size_t(i)], hb[size_t(i)]); };
       s.sets = xhat_and_box(e);
-      s.bad_steps.emplace_back("NaN y", [e, d, hb](int i) { e->step(nan_at(d.y[size_t(i)], 0), d.u[size_t(i)], hb[size_t(i)]); });
+      s.bad_steps.emplace_back("inf y", [e, d, hb](int i) { e->step(inf_at(d.y[size_t(i)], 0), d.u[size_t(i)], hb[size_t(i)]); });
       s.bad_steps.emplace_back("NaN u", [e, d, hb](int i) { e->step(d.y[size_t(i)], nan_at(d.u[size_t(i)], 1), hb[size_t(i)]); });
       s.bad_steps.emplace_back("short u", [e, d, hb](int i) { e->step(d.y[size_t(i)], VectorXd::Zero(1), hb[size_t(i)]); });
       s.bad_steps.emplace_back("h of wrong size", [e, d](int i) { e->step(d.y[size_t(i)], d.u[size_t(i)], box_sym(3, 1)); });

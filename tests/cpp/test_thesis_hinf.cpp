@@ -283,7 +283,7 @@ TEST(ThesisHinf, ObserverBadInputLeavesStateUnchanged) {
   const VectorXd c = obs.center();
   const double mu = obs.mu();
   VectorXd ynan(1);
-  ynan << NAN;
+  ynan << INFINITY;  // NaN is a missing reading (issue 24)
   try {
     obs.step(ynan, VectorXd::Ones(1));
     FAIL();
@@ -443,7 +443,7 @@ TEST(ThesisHinfCapi, DesignObserverAndErrors) {
   double c[2], l[2], h[2], mu = 0;
   const double y[] = {0.2}, u[] = {1};
   ASSERT_EQ(sb_hinf_observer_step(o, y, u, nullptr, c, l, h, &mu), SB_OK);
-  const double ynan[] = {NAN};
+  const double ynan[] = {INFINITY};  // NaN is a missing reading (issue 24)
   EXPECT_EQ(sb_hinf_observer_step(o, ynan, u, nullptr, c, l, h, &mu), SB_ERR_NOT_FINITE);
   EXPECT_EQ(std::string(sb_last_error()).rfind("sb_hinf_observer_step: y:", 0), 0u) << sb_last_error();
   int steps = 0;

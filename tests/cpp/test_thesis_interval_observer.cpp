@@ -378,7 +378,8 @@ TEST(IntervalLuenbergerObserver, StepDoesNotChangeStateOnError) {
   obs.step(VectorXd::Constant(1, 0.3), VectorXd::Constant(1, 0.1));
   const VectorXd lo = obs.lower(), hi = obs.upper();
   expect_error_naming<DimensionError>([&] { obs.step(VectorXd::Zero(2), VectorXd::Zero(1)); }, "y");
-  expect_error_naming<NotFiniteError>([&] { obs.step(VectorXd::Constant(1, std::nan("")), VectorXd::Zero(1)); }, "y");
+  // (NaN is a missing reading, issue 24: ±inf is the bad value)
+  expect_error_naming<NotFiniteError>([&] { obs.step(VectorXd::Constant(1, INFINITY), VectorXd::Zero(1)); }, "y");
   expect_error_naming<DimensionError>([&] { obs.step(VectorXd::Zero(1), VectorXd::Zero(3)); }, "u");
   EXPECT_EQ(obs.steps(), 1);
   EXPECT_EIGEN_NEAR(obs.lower(), lo, 0.0);
@@ -676,8 +677,8 @@ TEST(IntervalObserverCApi, LuenbergerRoundTripAndErrors) {
   ref.step(VectorXd::Constant(1, 0.3), (VectorXd(2) << 12, 10).finished());
   EXPECT_EQ(lo[0], ref.lower()(0));
   EXPECT_EQ(hi[1], ref.upper()(1));
-  // bad input: NaN y leaves the observer unchanged; the message names y
-  const double ynan[1] = {std::nan("")};
+  // bad input: inf y leaves the observer unchanged; the message names y (NaN: a missing reading)
+  const double ynan[1] = {INFINITY};
   EXPECT_EQ(sb_interval_luenberger_step(h, ynan, u, xhat, lo, hi), SB_ERR_NOT_FINITE);
   EXPECT_NE(last_error().find("y:"), std::string::npos) << last_error();
   int steps = -1;

@@ -52,7 +52,9 @@ FINITE_FILLS = ("normal", "zeros", "ones", "eye1", "eye2", "eye3", "huge", "tiny
 # design scalars that are NaN when not computed, margins of outputs that were not tested.
 NAN_OUTPUT_OK = re.compile(
     r"^sb_(lmi_solve|lmi_solve_class|lmi_solve_gevp|lmi_dual|lmi_dual_eq|hinf_design_pass|hinf_design_get"
-    r"|zonotopic_last_check|ellipsoidal_last_check|interval_luenberger_info|interval_nonlinear_info|interval_luenberger_gain|interval_nonlinear_gain)$")
+    r"|zonotopic_last_check|ellipsoidal_last_check|hinf_observer_last_check|interval_luenberger_last_check"
+    r"|interval_nonlinear_last_check|interval_invariant_last_check"
+    r"|interval_luenberger_info|interval_nonlinear_info|interval_luenberger_gain|interval_nonlinear_gain)$")
 
 
 # ---- the signatures, from the header --------------------------------------------------------

@@ -421,11 +421,11 @@ def test_bad_input_messages():
     obs.step([0.3], [1.0])
     c, mu = obs.center, obs.mu
     with pytest.raises(setbound.NotFiniteError, match="y"):
-        obs.step([np.nan], [1.0])
+        obs.step([np.inf], [1.0])  # (NaN: a missing reading)
     with pytest.raises(setbound.DimensionError, match="y"):
         obs.step([1.0, 2.0], [1.0])
     with pytest.raises(setbound.NotFiniteError):
-        obs.run(np.array([[0.1], [np.nan]]), np.ones((2, 1)))
+        obs.run(np.array([[0.1], [np.inf]]), np.ones((2, 1)))
     assert np.array_equal(obs.center, c) and obs.mu == mu and obs.steps == 1
     # LPV: ρ outside the polytope names rho; the observer is unchanged
     lp = ch3_ex1()

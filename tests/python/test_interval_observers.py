@@ -274,10 +274,18 @@ def test_nonlinear_state_dependent_box_is_tighter_than_constant():
     obs_c = NonlinearIntervalObserver(p, x0, xh, v, sym(2, 0.8))
     obs_s = NonlinearIntervalObserver(p, x0, xh, v, lambda xb, k: Box([-0.8, -0.8 * abs(np.sin(0.3 * k))],
                                                                       [0.8, 0.8 * abs(np.sin(0.3 * k))]))
+    # readings of a true run (h inside the narrower box): every reading is consistent, so both
+    # observers make the same full steps and only their boxes of h differ
+    rng = np.random.default_rng(3)
+    x = xh + rng.uniform(-1, 1, 2)
     for k in range(30):
         u = np.array([np.sin(0.1 * k), np.cos(0.2 * k)])
-        bc, bs = obs_c.step([0.1], u), obs_s.step([0.1], u)
+        y = p.C @ x + p.Z @ rng.uniform(-0.2, 0.2, p.Z.shape[1])
+        bc, bs = obs_c.step(y, u), obs_s.step(y, u)
+        assert not obs_c.last_check.flagged and not obs_s.last_check.flagged
         assert np.all(bs.width <= bc.width + 1e-12)
+        h = np.array([0.8, 0.8 * abs(np.sin(0.3 * k))]) * rng.uniform(-1, 1, 2)
+        x = p.A @ x + h + p.B @ u
     assert np.any(bs.width < bc.width - 1e-6)
 
 
@@ -392,7 +400,7 @@ def test_bad_input_messages():
     obs = IntervalLuenbergerObserver(p, x0, np.zeros(2), sym(1, 1), sym(1, 1))
     before = obs.current()
     with pytest.raises(setbound.NotFiniteError, match=r"y"):
-        obs.step([np.nan], u451(0))
+        obs.step([np.inf], u451(0))  # (NaN: a missing reading)
     with pytest.raises(setbound.DimensionError, match=r"(^|: )y:"):
         obs.step([0.0, 1.0], u451(0))
     with pytest.raises(setbound.InvalidArgumentError, match=r"u:"):

@@ -140,3 +140,32 @@ def test_projection_plot_draws_a_strip_only_over_sets_that_used_it():
     assert any("used by segment)" in lab for lab in strip_labels(both))
     only_pred = plot_projections({"online": pred}, steps=[5], system=s, y=y, x_true=sim.x)
     assert not strip_labels(only_pred)  # the predictor's set of x_5 has not used y_5
+
+
+def test_a_step_result_says_which_time_it_bounds():
+    """``current_k``/``current_t``: the set the last ``step()`` returned bounds x_k with k the
+    trajectory row holding the same set, for predictors, filters and the thesis observers."""
+    from setbound import interval_observers
+    from setbound.interval import Box
+
+    s = le13(dt=0.05)
+    sim = simulate(s, X0, 12, rng=2)
+    d = design_offline(s)
+    E0 = Ellipsoid(np.eye(2), [0, 0], 18.0)
+    for est, is_filter in [(OnlineEstimator(d, E0), False), (ImprovedEstimator(d, E0), True),
+                           (SegmentMinEstimator(s, X0), True), (KalmanFilter(s, [0, 0], np.eye(2)), True),
+                           (interval_observers.IntervalLuenbergerObserver(s, Box([-3, -3], [3, 3])), False)]:
+        traj = est.run(sim.y)
+        est.reset()
+        assert est.current_k == (None if is_filter else 0)
+        for j in range(8):
+            out = est.step(sim.y[j])
+            k = est.current_k
+            assert k == (j if is_filter else j + 1), type(est).__name__
+            assert est.current_t == pytest.approx(0.05 * k)
+            if isinstance(out, tuple):  # Kalman: (mean, covariance)
+                np.testing.assert_allclose(out[0], traj.center[k])
+            elif isinstance(out, Box):
+                np.testing.assert_array_equal(out.lo, traj.lower[k])
+            else:  # the step's set is the trajectory's row k
+                np.testing.assert_allclose(out.center, traj.sets[k].center)

@@ -26,6 +26,7 @@
 
 #include "setbound/core/state.hpp"
 #include "setbound/thesis/hinf_gain.hpp"
+#include "setbound/thesis/reading_screen.hpp"
 
 namespace setbound::thesis {
 
@@ -272,6 +273,41 @@ struct SMState {
 
 void check_vec(const Eigen::Ref<const Eigen::VectorXd>& v, Eigen::Index n, const char* name);
 
+/// Certified upper bounds of C_i P⁻¹ C_iᵀ (the squared support of {eᵀPe ≤ 1} in ±C_i).
+Eigen::VectorXd output_gram_upper(const Eigen::MatrixXd& P, const Eigen::MatrixXd& C);
+
+/// μ ≥ 1 with every point of [lo, hi] − x̂ in {eᵀPe ≤ μc̄}: the box's corners for n ≤ 12,
+/// rᵀ|P|r with r = max(|lo − x̂|, |hi − x̂|) beyond (rounded up).
+double mu_from_box(const EllipsoidalSMDesign& d, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+                   const Eigen::VectorXd& xhat);
+
+/// Missing and impossible readings of the SM observers (reading_screen.hpp): the data both
+/// observers keep for them.
+struct SMReadings {
+  ReadingScreen screen;
+  Eigen::VectorXd qC;   // output_gram_upper(P, C)
+  Box d, v;             // the centred boxes [−w̄_d, w̄_d], [−w̄_v, w̄_v] of the design
+  Eigen::MatrixXd Zabs;
+  double lambda_min_P = 0;  // lower bound of λ_min(P) (0: unknown, the ellipsoidal route is skipped)
+
+  void init(const EllipsoidalSMDesign& des, const Eigen::MatrixXd& C, const Eigen::MatrixXd& Z, const SMState& st);
+  /// Tests y against the support of the current ellipsoid {(x − x̂)ᵀP(x − x̂) ≤ μc̄} in ±C_i
+  /// plus |Z_i| w̄_v; throws under policy Raise (nothing changed). True: every output is used.
+  bool screen_step(const SMState& st, const Eigen::MatrixXd& C, const Eigen::Ref<const Eigen::VectorXd>& y);
+  /// The step without some output, two guaranteed candidates, the one of smaller level kept:
+  ///  (a) interval prediction of the (narrowed) box of x_k — or of the reset box under policy
+  ///      Reset — and a restart of st at k+1 from it (x̂ its centre, μ from its corners);
+  ///  (b) (LTI, `L` given, no reset) the Luenberger step with the gain restricted to the outputs
+  ///      used, G = L with the other columns zero: e⁺ = (A − GC)e + F d − G Z v, so
+  ///      ‖e⁺‖_P ≤ α‖e‖_P + Σ_j w̄_j ‖[F, −GZ]_j‖_P with α ≥ ‖A − GC‖_P certified (rounding of
+  ///      A − GC and of the centre included). No box conversion: the set does not inflate by
+  ///      the ellipsoid ↔ box factors at every missing sample.
+  void fallback_step(SMState& st, const EllipsoidalSMDesign& des, const Eigen::MatrixXd& A, const Eigen::MatrixXd& B,
+                     const Eigen::MatrixXd& F, const Eigen::MatrixXd& C, const Eigen::MatrixXd& Z,
+                     const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u,
+                     const screen_detail::ModelWidening* widen = nullptr, const Eigen::MatrixXd* L = nullptr);
+};
+
 }  // namespace hinf_detail
 
 /// Online observer (2.68–2.71): x̂⁺ = (A − LC)x̂ + Bu + Ly, μ⁺ = (1 − λ)μ + λ,
@@ -281,6 +317,10 @@ class EllipsoidalSMObserver {
  public:
   EllipsoidalSMObserver(const Plant& plant, EllipsoidalSMDesign design, const Eigen::VectorXd& xhat0, double mu0);
 
+  /// NaN entries of y are missing outputs; every present reading is tested against the support
+  /// of the current ellipsoid (reading_screen.hpp). A step without some output is made in
+  /// interval arithmetic and restarts the recursion from the predicted box (x̂ its midpoint, μ
+  /// from its corners). ±inf, wrong sizes: an error, the observer unchanged.
   void step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u);
 
   /// Full mutable state (core/state.hpp): x̂_k, μ_k and k (the box follows from them).
@@ -290,7 +330,19 @@ class EllipsoidalSMObserver {
   void restore_state(const std::vector<double>& state);
   StateFingerprint fingerprint() const;
 
-  void reset(const Eigen::VectorXd& xhat0, double mu0) { st_.init(design_, xhat0, mu0); }
+  void reset(const Eigen::VectorXd& xhat0, double mu0) {
+    st_.init(design_, xhat0, mu0);
+    rd_.screen.check.clear(C_.rows(), OutputStatus::Used);
+  }
+
+  /// Policy for impossible readings; `reset_box` (size 0: keep; default the box of the initial
+  /// ellipsoid) is where policy Reset restarts.
+  void set_inconsistency_policy(OnInconsistency policy, const Box& reset_box = Box()) {
+    rd_.screen.set_policy(policy, reset_box, C_.cols());
+  }
+  OnInconsistency inconsistency_policy() const { return rd_.screen.policy; }
+  /// The screening of the last step (every output Used before the first).
+  const MeasurementCheck& last_check() const { return rd_.screen.check; }
 
   const Eigen::VectorXd& center() const { return st_.xhat; }
   const Eigen::VectorXd& lower() const { return st_.lower; }
@@ -301,9 +353,10 @@ class EllipsoidalSMObserver {
 
  private:
   EllipsoidalSMDesign design_;
-  Eigen::MatrixXd Ao_, B_, L_, Ma_, Mb_, Ml_;
+  Eigen::MatrixXd Ao_, B_, L_, Ma_, Mb_, Ml_, A_, C_, F_, Z_;
   Eigen::VectorXd tmp_, tmpu_, tmpy_;
   hinf_detail::SMState st_;
+  hinf_detail::SMReadings rd_;
 };
 
 }  // namespace setbound::thesis

@@ -48,6 +48,7 @@
 #include "setbound/sets/interval.hpp"
 #include "setbound/sets/polytope.hpp"
 #include "setbound/thesis/hinf_gain.hpp"
+#include "setbound/thesis/reading_screen.hpp"
 #include "setbound/thesis/invariant.hpp"
 #include "setbound/thesis/plant.hpp"
 
@@ -208,11 +209,26 @@ class IntervalLuenbergerObserver {
   Box current() const { return Box(lo_, hi_, "current"); }
 
   /// Uses y_k and u_k (u ignored when n_u = 0); afterwards lower()/upper() bound x_{k+1}.
-  /// Throws (naming y or u) on wrong sizes or non-finite values; the observer is then unchanged.
+  /// NaN entries of y are missing outputs, readings outside C_i[x_k] + Z_i[v] are impossible
+  /// (policy below); a step without some output is made in interval arithmetic and restarts the
+  /// error table from the predicted box (reading_screen.hpp). Throws (naming y or u) on wrong
+  /// sizes or ±inf; the observer is then unchanged.
   void step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u);
 
+  /// Policy for impossible readings (reading_screen.hpp); `reset_box` (size 0: keep; default
+  /// the initial box) is where policy Reset restarts.
+  void set_inconsistency_policy(OnInconsistency policy, const Box& reset_box = Box()) {
+    screen_.set_policy(policy, reset_box, nx());
+  }
+  OnInconsistency inconsistency_policy() const { return screen_.policy; }
+  /// The screening of the last step (every output Used before the first).
+  const MeasurementCheck& last_check() const { return screen_.check; }
+  /// Steps since the last restart (a step without some output restarts the error bound).
+  long steps_since_restart() const { return k_ - k0_; }
+
   /// Full mutable state (core/state.hpp): x̂_k, the centre of the disturbance part, the
-  /// rounding residue ξ_k and k (the box follows from them and the tabulated radii).
+  /// rounding residue ξ_k and k (the box follows from them and the tabulated radii), and the
+  /// box and step of the last restart.
   std::vector<double> save_state() const;
   /// Restores a state from save_state() into an observer made with the same plant, gain,
   /// boxes and variant; throws InvalidArgumentError ("state: ...") otherwise. Unchanged on error.
@@ -232,6 +248,17 @@ class IntervalLuenbergerObserver {
   Eigen::VectorXd xhat_, cc_, xn_, cn_, work_, innov_, innov_mag_, lo_, hi_;
   double xi_ = 0;
   long k_ = 0;
+  Eigen::VectorXd rw_;  // radii of the disturbance box w = (d, v)
+  iobs_detail::ErrorBoxTable rtable_;  // the table of the last restart
+  // Missing and impossible readings (reading_screen.hpp): a step without some output restarts
+  // the error bound from the predicted box [rlo_, rhi_] at step k0_ (restarted_).
+  ReadingScreen screen_;
+  Box dbox_, vbox_;
+  bool restarted_ = false;
+  long k0_ = 0;
+  Eigen::VectorXd rlo_, rhi_;
+  /// Restarts from the box X of x_k at step k (allocates: the table of X's radius).
+  void restart(const Box& X, long k);
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -275,7 +302,19 @@ class NonlinearIntervalObserver {
   void step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u);
 
   /// Step with an explicit inclusion box [h]_k of h(p, x_k, k) (must hold for every x_k ∈ [x_k]).
+  /// Missing and impossible readings as IntervalLuenbergerObserver::step (the fallback adds [h]_k).
   void step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u, const Box& hbox);
+
+  /// Policy for impossible readings (reading_screen.hpp); `reset_box` (size 0: keep; default
+  /// the initial box) is where policy Reset restarts.
+  void set_inconsistency_policy(OnInconsistency policy, const Box& reset_box = Box()) {
+    screen_.set_policy(policy, reset_box, nx());
+  }
+  OnInconsistency inconsistency_policy() const { return screen_.policy; }
+  /// The screening of the last step (every output Used before the first).
+  const MeasurementCheck& last_check() const { return screen_.check; }
+  /// Steps since the last restart (a step without some output restarts the error bound).
+  long steps_since_restart() const { return k_ - k0_; }
 
   /// Full mutable state (core/state.hpp): x̂_k, the centre of the v part, ξ_k, k and the
   /// error-sequence window (the last W radii of [h], the maxima of the radii that left it).
@@ -304,6 +343,17 @@ class NonlinearIntervalObserver {
   Eigen::VectorXd xhat_, cc_, xn_, cn_, work_, hc_, hr_, conv_, tmp_, innov_, innov_mag_, lo_, hi_;
   double xi_ = 0;
   long k_ = 0;
+  Eigen::VectorXd rv_;  // radii of the output noise box
+  iobs_detail::ErrorBoxTable rtable_;
+  // Missing and impossible readings (reading_screen.hpp): a step without some output restarts
+  // the error bound from the predicted box [rlo_, rhi_] at step k0_ (restarted_).
+  ReadingScreen screen_;
+  Box dbox_, vbox_;
+  bool restarted_ = false;
+  long k0_ = 0;
+  Eigen::VectorXd rlo_, rhi_;
+  /// Restarts from the box X of x_k at step k: the table of X's radius, an empty window.
+  void restart(const Box& X, long k);
 };
 
 
@@ -370,6 +420,14 @@ namespace iobs_detail {
 /// β = √λ_max(A_oᵀPA_o, P) rounded up and certified: β²P − A_oᵀPA_o ⪰ 0 (Cholesky with slack).
 double certified_rate(const Eigen::MatrixXd& Ao, const Eigen::MatrixXd& P, const std::string& name);
 
+/// The rounding bound of L Z as a block of E's (n × m, zero on the d columns).
+Eigen::MatrixXd sequence_e_err(const InvariantObserverDesign& D);
+
+/// The part of the §6.3 design that depends on the initial box: inflation (inflation_opt, 0 =
+/// the smallest), k*, ρ(k) and the error boxes [s_0] … [s_k*] for [e_0] = [x0] − x̂0. Used by
+/// the design and by the observer's restart after a step without some output.
+void fill_error_sequence(InvariantObserverDesign& D, const Box& x0, const Eigen::VectorXd& xhat0, double inflation_opt);
+
 }  // namespace iobs_detail
 
 /// §6.3 offline design for a given H∞ design (L, P, γ satisfying the dissipation LMI (4.13),
@@ -403,9 +461,24 @@ class IntervalInvariantObserver {
   const Eigen::VectorXd& upper() const { return hi_; }
   Box current() const { return Box(lo_, hi_, "current"); }
 
+  /// Missing and impossible readings as IntervalLuenbergerObserver::step; the restart refills
+  /// the error sequence for the predicted box (iobs_detail::fill_error_sequence, smallest
+  /// inflation); design() keeps the construction's.
   void step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u);
 
-  /// Full mutable state (core/state.hpp): x̂_k, the rounding residue ξ_k and k.
+  /// Policy for impossible readings (reading_screen.hpp); `reset_box` (size 0: keep; default
+  /// the initial box) is where policy Reset restarts.
+  void set_inconsistency_policy(OnInconsistency policy, const Box& reset_box = Box()) {
+    screen_.set_policy(policy, reset_box, nx());
+  }
+  OnInconsistency inconsistency_policy() const { return screen_.policy; }
+  /// The screening of the last step (every output Used before the first).
+  const MeasurementCheck& last_check() const { return screen_.check; }
+  /// Steps since the last restart (a step without some output restarts the error bound).
+  long steps_since_restart() const { return k_ - k0_; }
+
+  /// Full mutable state (core/state.hpp): x̂_k, the rounding residue ξ_k, k and the box and
+  /// step of the last restart.
   std::vector<double> save_state() const;
   /// Restores a state from save_state() (same design); throws InvalidArgumentError
   /// ("state: ...") otherwise. Unchanged on error.
@@ -419,6 +492,17 @@ class IntervalInvariantObserver {
   Eigen::VectorXd xhat_, xn_, work_, innov_, innov_mag_, lo_, hi_;
   double xi_ = 0;
   long k_ = 0;
+  std::vector<Box> rseq_;  // the error sequence of the last restart ([s_k] for k − k0 ≥ k*: the last)
+  // Missing and impossible readings (reading_screen.hpp): a step without some output restarts
+  // the error bound from the predicted box [rlo_, rhi_] at step k0_ (restarted_).
+  ReadingScreen screen_;
+  Box dbox_, vbox_;
+  bool restarted_ = false;
+  long k0_ = 0;
+  Eigen::VectorXd rlo_, rhi_;
+  const Box& active_box() const;
+  /// Restarts from the box X of x_k at step k (allocates: a new error sequence).
+  void restart(const Box& X, long k);
 };
 
 }  // namespace setbound::thesis

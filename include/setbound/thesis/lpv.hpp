@@ -95,8 +95,17 @@ class LPVEllipsoidalSMObserver {
  public:
   LPVEllipsoidalSMObserver(const LpvSystem& sys, EllipsoidalSMDesign design, const Eigen::VectorXd& xhat0, double mu0);
 
+  /// Missing and impossible readings as EllipsoidalSMObserver::step (the fallback uses A(ρ_k),
+  /// B(ρ_k), F(ρ_k), widened by the rounding of their combination).
   void step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u,
             const Eigen::Ref<const Eigen::VectorXd>& rho);
+
+  /// As EllipsoidalSMObserver.
+  void set_inconsistency_policy(OnInconsistency policy, const Box& reset_box = Box()) {
+    rd_.screen.set_policy(policy, reset_box, sys_.nx());
+  }
+  OnInconsistency inconsistency_policy() const { return rd_.screen.policy; }
+  const MeasurementCheck& last_check() const { return rd_.screen.check; }
 
   /// Full mutable state (core/state.hpp): x̂_k, μ_k, k and the weights α of the last step.
   std::vector<double> save_state() const;
@@ -105,7 +114,10 @@ class LPVEllipsoidalSMObserver {
   void restore_state(const std::vector<double>& state);
   StateFingerprint fingerprint() const;
 
-  void reset(const Eigen::VectorXd& xhat0, double mu0) { st_.init(design_, xhat0, mu0); }
+  void reset(const Eigen::VectorXd& xhat0, double mu0) {
+    st_.init(design_, xhat0, mu0);
+    rd_.screen.check.clear(sys_.ny(), OutputStatus::Used);
+  }
 
   const Eigen::VectorXd& center() const { return st_.xhat; }
   const Eigen::VectorXd& lower() const { return st_.lower; }
@@ -119,8 +131,9 @@ class LPVEllipsoidalSMObserver {
   EllipsoidalSMDesign design_;
   LpvSystem sys_;
   Eigen::VectorXd alpha_, tmp_, tmpu_, tmpy_, tmpn_;
-  Eigen::MatrixXd Aa_, Ba_, La_, Ao_, absAo_, absA_, absB_, absL_, absC_;
+  Eigen::MatrixXd Aa_, Ba_, La_, Ao_, absAo_, absA_, absB_, absL_, absC_, Fa_, absF_;
   hinf_detail::SMState st_;
+  hinf_detail::SMReadings rd_;
 };
 
 }  // namespace setbound::thesis

@@ -561,8 +561,10 @@ class _JobRunner:
         if len(traj) == T + 1:
             from ..trajectory import Trajectory
 
+            cut = (lambda a: None if a is None else np.asarray(a)[:T])
             t2 = Trajectory(traj.center[:T], traj.lower[:T], traj.upper[:T], list(traj.sets[:T]),
-                            guaranteed=traj.guaranteed)
+                            guaranteed=traj.guaranteed, status=cut(traj.status), margin=cut(traj.margin),
+                            resets=cut(traj.resets))
             for extra in ("mu",):
                 if hasattr(traj, extra):
                     setattr(t2, extra, np.asarray(getattr(traj, extra))[:T])
@@ -587,6 +589,11 @@ class _NaiveLuenberger:
     def run(self, y, u=None, *, reset: bool = True):
         from ..trajectory import Trajectory
 
+        from ..system import refuse_missing
+
+        # The naive boxes (4.15) are data independent, tied to the point observer's start: a step
+        # that skips a reading restarts that observer, which the naive recursion cannot follow.
+        refuse_missing(np.asarray(y, float), "interval_luenberger with variant = \"naive\" (use \"tight\")")
         if reset:
             self.k = 0
             self.obs.reset()
@@ -600,6 +607,9 @@ class _NaiveLuenberger:
             hi[j] = np.nextafter(xh + boxes[j].hi, np.inf)
             sets.append(Box(lo[j], hi[j]) if np.all(np.isfinite(lo[j]) & np.isfinite(hi[j])) else b)
             self.obs.step(y[j], None if u is None else u[j])
+            if self.obs.last_check.flagged:
+                raise InvalidArgumentError(f"y: row {j}: an impossible reading; the naive recursion (4.15) cannot "
+                                           "skip it (use variant = \"tight\", which flags it)")
         self.k += T
         return Trajectory((lo + hi) / 2, lo, hi, sets)
 
@@ -660,7 +670,8 @@ def _build_luenberger(job, o):
     xh = _xhat0(job, o, p.nx)
     variant = o["variant"]
     obs = IntervalLuenbergerObserver(p, x0, xh, s.d, s.v, L=_L(o, p.nx, p.ny),
-                                     variant="tight" if variant == "naive" else variant)
+                                     variant="tight" if variant == "naive" else variant,
+                                     on_inconsistency=o["on_inconsistency"])
     if variant == "naive":
         e0 = Box(np.asarray(x0.lo, float) - xh, np.asarray(x0.hi, float) - xh)
         w = Box(np.concatenate([s.dlo, s.vlo]), np.concatenate([s.dhi, s.vhi]))
@@ -680,7 +691,7 @@ def _build_invariant(job, o):
     design, _ = job.cached_design(key, lambda: offline_error_sequence(
         p, x0, xh, s.d, s.v, mu=float(o["mu"]), inflation=None if o["inflation"] is None else float(o["inflation"]),
         epsilon=float(o["epsilon"]), variant=o["variant"]))
-    return _JobRunner(IntervalInvariantObserver(design), _user_nu(job)), design
+    return _JobRunner(IntervalInvariantObserver(design, on_inconsistency=o["on_inconsistency"]), _user_nu(job)), design
 
 
 def _build_nonlinear(job, o):
@@ -690,7 +701,8 @@ def _build_nonlinear(job, o):
     p = s.plant
     x0 = _initial_box(job.initial)
     xh = _xhat0(job, o, p.nx)
-    obs = NonlinearIntervalObserver(p, x0, xh, s.v, h=s.h_box, L=_L(o, p.nx, p.ny), window=int(o["window"]))
+    obs = NonlinearIntervalObserver(p, x0, xh, s.v, h=s.h_box, L=_L(o, p.nx, p.ny), window=int(o["window"]),
+                                    on_inconsistency=o["on_inconsistency"])
     return _JobRunner(obs, s.nu), obs
 
 
@@ -717,7 +729,8 @@ def _build_ellipsoidal_sm(job, o):
     design, _ = job.cached_design(key, lambda: hinf.design_ellipsoidal_sm_observer(
         p, s.wbar, W=_W(o, p.m), lambda_route=o["lambda_route"], passes=int(o["passes"])))
     mu0 = hinf.mu0_from_box(design, np.asarray(x0.lo, float) - xh, np.asarray(x0.hi, float) - xh)
-    return _JobRunner(hinf.EllipsoidalSMObserver(design, xh, mu0), _user_nu(job)), design
+    return _JobRunner(hinf.EllipsoidalSMObserver(design, xh, mu0, on_inconsistency=o["on_inconsistency"]),
+                      _user_nu(job)), design
 
 
 def _build_lpv_sm(job, o):
@@ -735,7 +748,8 @@ def _build_lpv_sm(job, o):
     rho = job.extra.get("rho")
     if rho is None:
         raise InvalidArgumentError("rho: the LPV observer needs the scheduling signal (a [simulation] of an lpv system)")
-    return _JobRunner(hinf.LPVEllipsoidalSMObserver(design, xh, mu0), s.nu, rho=rho), design
+    return _JobRunner(hinf.LPVEllipsoidalSMObserver(design, xh, mu0, on_inconsistency=o["on_inconsistency"]), s.nu,
+                      rho=rho), design
 
 
 class _InvariantTube:
@@ -791,9 +805,14 @@ def _optional(check):
 
 
 _XHAT = {"xhat0": optional_vector}
+# on_inconsistency: what an impossible reading does (setbound.measurement); "reset" restarts from
+# the job's initial box. A missing or skipped reading makes an interval step and restarts the
+# observer's error bound (thesis/reading_screen.hpp).
+_POLICY = {"on_inconsistency": "flag"}
+_POLICY_CHECKS = {"on_inconsistency": one_of("flag", "raise", "reset")}
 _GAIN = {"L": optional_matrix}
-_SM = {"xhat0": None, "W": None, "passes": 2, "lambda_route": None}
-_SM_CHECKS = {**_XHAT, "W": optional_matrix, "passes": one_of(1, 2),
+_SM = {"xhat0": None, "W": None, "passes": 2, "lambda_route": None, **_POLICY}
+_SM_CHECKS = {**_XHAT, **_POLICY_CHECKS, "W": optional_matrix, "passes": one_of(1, 2),
               "lambda_route": _optional(one_of("logdet", "direct", "input_or_logdet", "largest"))}
 # the work of these designs grows with the value: the Python API's own bounds, so that a value
 # the observer would refuse is a job-file error at load time
@@ -808,21 +827,21 @@ register_system("lpv", {"A", "B", "C", "F", "Z", "d", "v", "theta", "scheduling"
 register_system("nonlinear", {"A", "B", "C", "Z", "h", "p", "h_bounds", "v"}, _nonlinear_system,
                 NonlinearSystem, description="x+ = A x + h(p, x, k) + B u, y = C x + Z v, h in [h] "
                                              "(thesis.md §6.6)")
-register_estimator("interval_luenberger", "interval", {"xhat0": None, "L": None, "variant": "tight"},
+register_estimator("interval_luenberger", "interval", {"xhat0": None, "L": None, "variant": "tight", **_POLICY},
                    _build_luenberger, systems=("thesis", "linear"),
-                   checks={**_XHAT, **_GAIN, "variant": one_of("tight", "wrapped", "naive")},
+                   checks={**_XHAT, **_GAIN, **_POLICY_CHECKS, "variant": one_of("tight", "wrapped", "naive")},
                    description="thesis Ch. 4 interval Luenberger observer (thesis.md §6.2)")
 register_estimator("interval_invariant", "interval",
-                   {"xhat0": None, "mu": 2.0, "inflation": None, "epsilon": 0.01, "variant": "tight"},
+                   {"xhat0": None, "mu": 2.0, "inflation": None, "epsilon": 0.01, "variant": "tight", **_POLICY},
                    _build_invariant, systems=("thesis", "linear"),
-                   checks={**_XHAT, "mu": number(lo=1, lo_open=True),
+                   checks={**_XHAT, **_POLICY_CHECKS, "mu": number(lo=1, lo_open=True),
                            "inflation": _optional(number(lo=1)),
                            "epsilon": number(lo=0, lo_open=True),
                            "variant": one_of("tight", "wrapped")},
                    description="thesis Ch. 4 interval observer with an invariant-set tail (thesis.md §6.3)")
-register_estimator("nonlinear_interval", "interval", {"xhat0": None, "L": None, "window": 256},
+register_estimator("nonlinear_interval", "interval", {"xhat0": None, "L": None, "window": 256, **_POLICY},
                    _build_nonlinear, systems=("nonlinear",),
-                   checks={**_XHAT, **_GAIN, "window": positive_int(_WINDOW_MAX)},
+                   checks={**_XHAT, **_GAIN, **_POLICY_CHECKS, "window": positive_int(_WINDOW_MAX)},
                    description="thesis Ch. 4 nonlinear interval observer (thesis.md §6.6)")
 # The Ch. 1-3 estimators need setbound.hinf / setbound.invariant (the thesis branches); a kind is
 # registered only when its module is present, so a job naming it otherwise fails as an unknown method.

@@ -6,6 +6,8 @@
 #include "setbound/thesis/hinf_observer.hpp"
 #include "setbound/core/config.hpp"
 
+#include "setbound/thesis/interval_observer.hpp"  // iobs_detail::certified_rate (the missing-output step)
+
 namespace setbound {
 namespace thesis {
 namespace hinf_detail {
@@ -339,6 +341,149 @@ SETBOUND_INLINE void SMState::update_box() {
   }
 }
 
+SETBOUND_INLINE Eigen::VectorXd output_gram_upper(const Eigen::MatrixXd& P, const Eigen::MatrixXd& C) {
+  const Eigen::Index n = P.rows();
+  Eigen::LLT<Eigen::MatrixXd> llt(P);
+  if (llt.info() != Eigen::Success) throw NotPositiveDefiniteError("P: matrix is not positive definite");
+  Eigen::MatrixXd X = llt.solve(Eigen::MatrixXd::Identity(n, n));
+  X = 0.5 * (X + X.transpose());
+  // ‖P⁻¹ − X‖₂ ≤ ‖X‖ r/(1 − r), r ≥ ‖I − P X‖ (as inverse_diagonal_upper)
+  const Eigen::MatrixXd R = Eigen::MatrixXd::Identity(n, n) - P * X;
+  const double r = R.norm() + ell_rounding::gamma(n + 2) * P.norm() * X.norm();
+  if (!(r < 0.5)) throw NumericalError("P: too ill-conditioned to bound C P^-1 C^T reliably");
+  const double err = X.norm() * r / (1.0 - r);
+  const Eigen::MatrixXd Xabs = X.cwiseAbs();
+  Eigen::VectorXd q(C.rows());
+  for (Eigen::Index i = 0; i < C.rows(); ++i) {
+    const Eigen::VectorXd c = C.row(i).transpose();
+    const double v = c.dot(X * c) + ell_rounding::gamma(2 * n + 2) * c.cwiseAbs().dot(Xabs * c.cwiseAbs());
+    q(i) = ell_rounding::round_up(std::max(v, 0.0) + err * c.squaredNorm() * (1.0 + ell_rounding::gamma(n + 1)));
+  }
+  return q;
+}
+
+SETBOUND_INLINE double mu_from_box(const EllipsoidalSMDesign& d, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+                                   const Eigen::VectorXd& xhat) {
+  const Eigen::Index n = xhat.size();
+  Eigen::VectorXd elo(n), ehi(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    elo(i) = rounding::sub_down(lo(i), xhat(i));
+    ehi(i) = rounding::sub_up(hi(i), xhat(i));
+  }
+  if (n <= 12) return mu0_from_vertices(d, box_corners(elo, ehi));
+  // vᵀPv ≤ |v|ᵀ|P||v| ≤ rᵀ|P|r for every v in the box
+  const Eigen::VectorXd r = elo.cwiseAbs().cwiseMax(ehi.cwiseAbs());
+  const double q = r.dot(d.P.cwiseAbs() * r) * (1.0 + ell_rounding::gamma(2 * n + 2));
+  using ell_rounding::round_up;
+  return std::max(1.0, round_up(round_up(q) / d.cbar));
+}
+
+SETBOUND_INLINE void SMReadings::init(const EllipsoidalSMDesign& des, const Eigen::MatrixXd& C, const Eigen::MatrixXd& Z,
+                                      const SMState& st) {
+  const Eigen::Index nv = Z.cols(), nd = des.wbar.size() - nv;
+  qC = output_gram_upper(des.P, C);
+  const Eigen::VectorXd wd = des.wbar.head(nd), wv = des.wbar.tail(nv);
+  d = Box(-wd, wd, "d");
+  v = Box(-wv, wv, "v");
+  Zabs = Z.cwiseAbs();
+  screen.init(C.rows(), Box(st.lower, st.upper, "x0"));
+  const double lm = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(des.P, Eigen::EigenvaluesOnly).eigenvalues().minCoeff();
+  const double low = lm - 8.0 * static_cast<double>(des.P.rows()) * ell_rounding::kEps * des.P.norm();
+  lambda_min_P = low > 0 ? low : 0.0;
+}
+
+SETBOUND_INLINE bool SMReadings::screen_step(const SMState& st, const Eigen::MatrixXd& C,
+                                             const Eigen::Ref<const Eigen::VectorXd>& y) {
+  using ell_rounding::round_up;
+  const Eigen::Index ny = C.rows(), n = C.cols();
+  const double level = round_up(st.mu * st.cbar);
+  for (Eigen::Index i = 0; i < ny; ++i) {
+    double c = 0, mag = 0;
+    for (Eigen::Index j = 0; j < n; ++j) {
+      c += C(i, j) * st.xhat(j);
+      mag += std::abs(C(i, j) * st.xhat(j));
+    }
+    const double rad = round_up(std::sqrt(round_up(level * qC(i))));
+    const double ph = Zabs.row(i).dot(v.hi());
+    screen.center(i) = c;  // v is centred: Z_i mid(v) = 0
+    screen.radius(i) = rad;
+    screen.phi(i) = ph;
+    screen.magnitude(i) = mag + rad + ph;
+  }
+  const bool all = screen.screen(y, n + Zabs.cols() + 4);
+  if (!all && screen.policy == OnInconsistency::Raise) screen.raise_first(st.k, y);
+  return all;
+}
+
+SETBOUND_INLINE void SMReadings::fallback_step(SMState& st, const EllipsoidalSMDesign& des, const Eigen::MatrixXd& A,
+                                               const Eigen::MatrixXd& B, const Eigen::MatrixXd& F,
+                                               const Eigen::MatrixXd& C, const Eigen::MatrixXd& Z,
+                                               const Eigen::Ref<const Eigen::VectorXd>& y,
+                                               const Eigen::Ref<const Eigen::VectorXd>& u,
+                                               const screen_detail::ModelWidening* widen, const Eigen::MatrixXd* L) {
+  using ell_rounding::round_up;
+  Eigen::VectorXd lo = st.lower, hi = st.upper;
+  const MeasurementCheck use = screen_detail::apply_reset(screen, C, Z, v, y, lo, hi);
+  const Box next = screen_detail::fallback_prediction(A, B, F, C, Z, lo, hi, y, u, d, v, use, Box(), widen);
+  Eigen::VectorXd xh = next.mid();
+  double mu = mu_from_box(des, next.lo(), next.hi(), xh);
+  if (L != nullptr && !screen.check.reset && lambda_min_P > 0) {
+    // (b): the Luenberger step with G = L on the outputs used
+    const Eigen::Index n = A.rows(), ny = C.rows(), nu = B.cols();
+    Eigen::MatrixXd G = *L;
+    Eigen::VectorXd ys = Eigen::VectorXd::Zero(ny);
+    for (Eigen::Index i = 0; i < ny; ++i) {
+      if (use.status[std::size_t(i)] == OutputStatus::Used) ys(i) = y(i);
+      else G.col(i).setZero();
+    }
+    const Eigen::MatrixXd Ao = A - G * C;
+    const Eigen::MatrixXd T = 2.0 * ell_rounding::gamma(ny + 2) * (A.cwiseAbs() + G.cwiseAbs() * C.cwiseAbs());
+    double alpha = -1;
+    try {
+      alpha = iobs_detail::certified_rate(Ao, des.P, "L");
+    } catch (const NumericalError&) {
+      alpha = -1;  // not certified: keep (a)
+    }
+    if (alpha >= 0) {
+      const double kappa = std::sqrt(round_up(des.lambda_max_P / lambda_min_P)) * (1.0 + 4 * ell_rounding::kEps);
+      alpha = round_up(alpha + round_up(kappa * round_up(T.norm())));
+      // Σ_j w̄_j ‖col_j‖_P of E = [F, −G Z] (its rounding through √λ_max(P))
+      const Eigen::Index nd = F.cols(), nv = Z.cols();
+      const double slm = round_up(std::sqrt(des.lambda_max_P));
+      double delta = 0;
+      for (Eigen::Index j = 0; j < nd + nv; ++j) {
+        const double wj = des.wbar(j);
+        if (wj == 0) continue;
+        Eigen::VectorXd c(n), cerr = Eigen::VectorXd::Zero(n);
+        if (j < nd) {
+          c = F.col(j);
+        } else {
+          c = -G * Z.col(j - nd);
+          cerr = 2.0 * ell_rounding::gamma(ny + 2) * (G.cwiseAbs() * Zabs.col(j - nd));
+        }
+        const double q = c.dot(des.P * c) + ell_rounding::gamma(2 * n + 2) * c.cwiseAbs().dot(des.P.cwiseAbs() * c.cwiseAbs());
+        const double cn = round_up(std::sqrt(std::max(q, 0.0))) + round_up(slm * round_up(cerr.norm()));
+        delta = round_up(delta + round_up(wj * cn));
+      }
+      // the centre x̂⁺ = A x̂ + B u + G(y_S − C x̂) and a bound of its rounding error
+      Eigen::VectorXd xc = A * st.xhat + G * (ys - C * st.xhat);
+      Eigen::VectorXd dm = A.cwiseAbs() * st.xhat.cwiseAbs() + G.cwiseAbs() * (ys.cwiseAbs() + C.cwiseAbs() * st.xhat.cwiseAbs());
+      if (nu > 0) {
+        xc += B * u;
+        dm += B.cwiseAbs() * u.cwiseAbs();
+      }
+      const double cerr = round_up(slm * round_up((2.0 * ell_rounding::gamma(n + nu + 2 * ny + 4) * dm).norm()));
+      const double s = round_up(round_up(alpha * round_up(std::sqrt(round_up(st.mu * st.cbar)))) + delta + cerr);
+      const double mu_b = round_up(round_up(s * s) / st.cbar);
+      if (xc.allFinite() && std::isfinite(mu_b) && mu_b < mu) {
+        mu = mu_b;
+        xh = std::move(xc);
+      }
+    }
+  }
+  st.apply(st.k + 1, std::move(xh), mu);
+}
+
 SETBOUND_INLINE void check_vec(const Eigen::Ref<const Eigen::VectorXd>& v, Eigen::Index n, const char* name) {
   if (v.size() != n)
     throw DimensionError(std::string(name) + ": expected " + std::to_string(n) + " entries, got " + std::to_string(v.size()));
@@ -368,15 +513,26 @@ SETBOUND_INLINE EllipsoidalSMObserver::EllipsoidalSMObserver(const Plant& plant,
   Ma_ = 2.0 * (gk * Ao_.cwiseAbs() + ga * (plant.A.cwiseAbs() + L_.cwiseAbs() * plant.C.cwiseAbs()));
   Mb_ = 2.0 * gk * B_.cwiseAbs();
   Ml_ = 2.0 * gk * L_.cwiseAbs();
+  A_ = plant.A;
+  C_ = plant.C;
+  F_ = plant.F;
+  Z_ = plant.Z;
   tmp_.resize(n);
   tmpu_.resize(plant.nu());
   tmpy_.resize(plant.ny());
   st_.init(design_, xhat0, mu0);
+  rd_.init(design_, C_, Z_, st_);
 }
 
 SETBOUND_INLINE void EllipsoidalSMObserver::step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u) {
-  hinf_detail::check_vec(y, L_.cols(), "y");
+  if (y.size() != L_.cols())
+    throw DimensionError("y: expected " + std::to_string(L_.cols()) + " entries, got " + std::to_string(y.size()));
+  require_no_infinity(y, "y");
   hinf_detail::check_vec(u, B_.cols(), "u");
+  if (!rd_.screen_step(st_, C_, y)) {  // may throw (policy Raise): nothing changed yet
+    rd_.fallback_step(st_, design_, A_, B_, F_, C_, Z_, y, u, nullptr, &L_);
+    return;
+  }
   st_.xnext.noalias() = Ao_ * st_.xhat;
   if (B_.cols() > 0) st_.xnext.noalias() += B_ * u;
   st_.xnext.noalias() += L_ * y;

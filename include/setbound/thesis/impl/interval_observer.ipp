@@ -499,6 +499,12 @@ SETBOUND_INLINE IntervalLuenbergerObserver::IntervalLuenbergerObserver(const Pla
   mid_rad(e0, c0, r0);
   mid_rad(w, cw, rw);
   table_ = error_box_table(powers_, c0, r0, rw, variant_);
+  rw_ = rw;
+  dbox_ = d;
+  vbox_ = v;
+  screen_.init(plant.ny(), x0);
+  rlo_ = x0.lo();
+  rhi_ = x0.hi();
   Ecw_ = E_ * cw;
   ecw_err_ = (2 * gam(plant.m() + 2) * (E_.cwiseAbs() * cw.cwiseAbs()) + e_err * cw.cwiseAbs()).unaryExpr([](double x) {
     return up(x);
@@ -516,10 +522,49 @@ SETBOUND_INLINE IntervalLuenbergerObserver::IntervalLuenbergerObserver(const Pla
   update_bounds();
 }
 
+namespace iobs_detail {
+
+SETBOUND_INLINE void require_reading(const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Index ny) {
+  if (y.size() != ny)
+    throw DimensionError("y: expected " + std::to_string(ny) + " entries, got " + std::to_string(y.size()));
+  require_no_infinity(y, "y");
+}
+
+}  // namespace iobs_detail
+
+SETBOUND_INLINE void IntervalLuenbergerObserver::restart(const Box& X, long k) {
+  using namespace iobs_detail;
+  Eigen::VectorXd xh = X.mid();
+  const Box e0 = X - Box::point(xh);
+  Eigen::VectorXd c0, r0;
+  mid_rad(e0, c0, r0);
+  ErrorBoxTable t = error_box_table(powers_, c0, r0, rw_, variant_);
+  Eigen::VectorXd lo = X.lo(), hi = X.hi();
+  // commit (swaps and moves)
+  rtable_ = std::move(t);
+  rlo_.swap(lo);
+  rhi_.swap(hi);
+  restarted_ = true;
+  k0_ = k;
+  k_ = k;
+  xhat_.swap(xh);
+  cc_.setZero();
+  xi_ = 0;
+  update_bounds();
+}
+
 SETBOUND_INLINE void IntervalLuenbergerObserver::step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u) {
   using namespace iobs_detail;
-  require_vec(y, plant_.ny(), "y");
+  require_reading(y, plant_.ny());
   if (plant_.nu() > 0) require_vec(u, plant_.nu(), "u");
+  if (!screen_detail::screen_box_step(screen_, plant_.C, plant_.Z, vbox_, lo_, hi_, y, k_)) {
+    Eigen::VectorXd lo = lo_, hi = hi_;
+    const MeasurementCheck use = screen_detail::apply_reset(screen_, plant_.C, plant_.Z, vbox_, y, lo, hi);
+    restart(screen_detail::fallback_prediction(plant_.A, plant_.B, plant_.F, plant_.C, plant_.Z, lo, hi, y, u, dbox_,
+                                               vbox_, use),
+            k_ + 1);
+    return;
+  }
   const double dn = luenberger_update(plant_.A, plant_.B, plant_.C, L_, xhat_, u.data(), y.data(), nullptr, 0.0, xn_,
                                       innov_, innov_mag_, work_);
   if (!xn_.allFinite()) throw NumericalError("y: the observer state overflowed");
@@ -541,14 +586,16 @@ SETBOUND_INLINE void IntervalLuenbergerObserver::step(const Eigen::Ref<const Eig
 
 SETBOUND_INLINE std::vector<double> IntervalLuenbergerObserver::save_state() const {
   StateWriter w(StateKind::IntervalLuenbergerObserver, fingerprint());
-  w.count(k_).vec(xhat_).vec(cc_).scalar(xi_);
+  w.count(k_).vec(xhat_).vec(cc_).scalar(xi_).flag(restarted_).count(k0_).vec(rlo_).vec(rhi_);
   return w.finish();
 }
 
 SETBOUND_INLINE void IntervalLuenbergerObserver::restore_state(const std::vector<double>& state) {
-  long long k = 0;
-  Eigen::VectorXd xh, cc;
+  long long k = 0, k0 = 0;
+  Eigen::VectorXd xh, cc, rlo, rhi;
   double xi = 0;
+  bool restarted = false;
+  iobs_detail::ErrorBoxTable rt;
   guard_state_memory(StateKind::IntervalLuenbergerObserver, [&] {
     const Eigen::Index n = plant_.nx();
     StateReader r(state, StateKind::IntervalLuenbergerObserver, fingerprint());
@@ -556,11 +603,28 @@ SETBOUND_INLINE void IntervalLuenbergerObserver::restore_state(const std::vector
     xh = r.vec(n, "xhat");
     cc = r.vec(n, "center offset");
     xi = r.scalar("rounding residue");
+    restarted = r.flag("restarted");
+    k0 = r.count("restart step");
+    rlo = r.vec(n, "restart lower");
+    rhi = r.vec(n, "restart upper");
     r.finish();
     if (!(xi >= 0)) r.fail("rounding residue must be >= 0");
+    if (k0 > k || (!restarted && k0 != 0)) r.fail("restart step must be 0 or at most the step count");
+    if ((rhi.array() < rlo.array()).any()) r.fail("restart box has lower > upper");
+    if (restarted) {
+      Eigen::VectorXd c0, r0;
+      const Box X(rlo, rhi, "restart box");
+      iobs_detail::mid_rad(X - Box::point(X.mid()), c0, r0);
+      rt = iobs_detail::error_box_table(powers_, c0, r0, rw_, variant_);
+    }
   });
   // Commit (swaps; update_bounds writes into sized buffers: nothing throws).
   k_ = static_cast<long>(k);
+  k0_ = static_cast<long>(k0);
+  restarted_ = restarted;
+  rtable_ = std::move(rt);
+  rlo_.swap(rlo);
+  rhi_.swap(rhi);
   xhat_.swap(xh);
   cc_.swap(cc);
   xi_ = xi;
@@ -577,8 +641,9 @@ SETBOUND_INLINE StateFingerprint IntervalLuenbergerObserver::fingerprint() const
 
 SETBOUND_INLINE void IntervalLuenbergerObserver::update_bounds() {
   using namespace rounding;
-  const Eigen::VectorXd& tlo = table_.lo_at(k_);
-  const Eigen::VectorXd& thi = table_.hi_at(k_);
+  const iobs_detail::ErrorBoxTable& t = restarted_ ? rtable_ : table_;
+  const Eigen::VectorXd& tlo = t.lo_at(k_ - k0_);
+  const Eigen::VectorXd& thi = t.hi_at(k_ - k0_);
   const double xs = iobs_detail::up(xi_ * powers_.ctr.inv_sqrt_lmin);
   for (Eigen::Index j = 0; j < xhat_.size(); ++j) {
     const double clo = add_down(xhat_(j), cc_(j)), chi = add_up(xhat_(j), cc_(j));
@@ -612,6 +677,11 @@ SETBOUND_INLINE NonlinearIntervalObserver::NonlinearIntervalObserver(const Plant
   mid_rad(e0, c0, r0);
   mid_rad(v, cv, rv);
   table_ = error_box_table(powers_, c0, r0, rv, ErrorRecursion::Tight);
+  rv_ = rv;
+  vbox_ = v;
+  screen_.init(plant.ny(), x0);
+  rlo_ = x0.lo();
+  rhi_ = x0.hi();
   Ecw_ = LZ * cv;
   ecw_err_ = (2 * gam(plant.nv() + 2) * (LZ.cwiseAbs() * cv.cwiseAbs()) + lz_err * cv.cwiseAbs()).unaryExpr(
       [](double x) { return up(x); });
@@ -650,10 +720,34 @@ SETBOUND_INLINE void NonlinearIntervalObserver::step(const Eigen::Ref<const Eige
   step(y, u, hb);
 }
 
+SETBOUND_INLINE void NonlinearIntervalObserver::restart(const Box& X, long k) {
+  using namespace iobs_detail;
+  Eigen::VectorXd xh = X.mid();
+  Eigen::VectorXd c0, r0;
+  mid_rad(X - Box::point(xh), c0, r0);
+  ErrorBoxTable t = error_box_table(powers_, c0, r0, rv_, ErrorRecursion::Tight);
+  Eigen::VectorXd lo = X.lo(), hi = X.hi();
+  // commit (swaps and moves); the window starts empty: the h terms before k are inside X
+  rtable_ = std::move(t);
+  rlo_.swap(lo);
+  rhi_.swap(hi);
+  restarted_ = true;
+  k0_ = k;
+  k_ = k;
+  xhat_.swap(xh);
+  cc_.setZero();
+  xi_ = 0;
+  ring_.setZero();
+  Rmax_.setZero();
+  rmax_norm_ = 0;
+  rmax_norm_out_ = 0;
+  update_bounds();
+}
+
 SETBOUND_INLINE void NonlinearIntervalObserver::step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u, const Box& hbox) {
   using namespace iobs_detail;
   const Eigen::Index n = plant_.nx();
-  require_vec(y, plant_.ny(), "y");
+  require_reading(y, plant_.ny());
   if (plant_.nu() > 0) require_vec(u, plant_.nu(), "u");
   if (hbox.size() != n)
     throw DimensionError("h: expected a box with " + std::to_string(n) + " components, got " +
@@ -664,6 +758,15 @@ SETBOUND_INLINE void NonlinearIntervalObserver::step(const Eigen::Ref<const Eige
       throw NotFiniteError("h: component " + std::to_string(i) + " is unbounded or NaN");
     hc_(i) = hbox[i].mid();
     hr_(i) = hbox[i].rad();
+  }
+  if (!screen_detail::screen_box_step(screen_, plant_.C, plant_.Z, vbox_, lo_, hi_, y, k_)) {
+    // x⁺ = A x + h + B u: the plant's F is I, so [h]_k enters as the box of d
+    Eigen::VectorXd lo = lo_, hi = hi_;
+    const MeasurementCheck use = screen_detail::apply_reset(screen_, plant_.C, plant_.Z, vbox_, y, lo, hi);
+    restart(screen_detail::fallback_prediction(plant_.A, plant_.B, plant_.F, plant_.C, plant_.Z, lo, hi, y, u, hbox,
+                                               vbox_, use),
+            k_ + 1);
+    return;
   }
   // the constant added to x̂: ĥ + (−LZ) c_v (only ĥ when v is centred)
   const double dn = luenberger_update(plant_.A, plant_.B, plant_.C, L_, xhat_, u.data(), y.data(), hc_.data(), 0.0,
@@ -682,8 +785,9 @@ SETBOUND_INLINE void NonlinearIntervalObserver::step(const Eigen::Ref<const Eige
   xhat_.swap(xn_);
   xi_ = up(powers_.ctr.beta * xi_ + pert);
   // ring buffer of the last W radii: slot (k mod W) receives r_h,k; the one it replaces leaves
-  const int slot = static_cast<int>(k_ % W_);
-  if (k_ >= W_) {
+  const long kr = k_ - k0_;  // steps since the (re)start
+  const int slot = static_cast<int>(kr % W_);
+  if (kr >= W_) {
     for (Eigen::Index i = 0; i < n; ++i) Rmax_(i) = std::max(Rmax_(i), ring_(i, slot));
     rmax_norm_out_ = std::max(rmax_norm_out_, up(ring_.col(slot).norm()));
   }
@@ -696,14 +800,17 @@ SETBOUND_INLINE void NonlinearIntervalObserver::step(const Eigen::Ref<const Eige
 SETBOUND_INLINE std::vector<double> NonlinearIntervalObserver::save_state() const {
   StateWriter w(StateKind::NonlinearIntervalObserver, fingerprint());
   w.count(k_).vec(xhat_).vec(cc_).scalar(xi_).mat(ring_).vec(Rmax_).scalar(rmax_norm_).scalar(rmax_norm_out_);
+  w.flag(restarted_).count(k0_).vec(rlo_).vec(rhi_);
   return w.finish();
 }
 
 SETBOUND_INLINE void NonlinearIntervalObserver::restore_state(const std::vector<double>& state) {
-  long long k = 0;
-  Eigen::VectorXd xh, cc, rmax;
+  long long k = 0, k0 = 0;
+  Eigen::VectorXd xh, cc, rmax, rlo, rhi;
   Eigen::MatrixXd ring;
   double xi = 0, rn = 0, rno = 0;
+  bool restarted = false;
+  iobs_detail::ErrorBoxTable rt;
   guard_state_memory(StateKind::NonlinearIntervalObserver, [&] {
     const Eigen::Index n = plant_.nx();
     StateReader r(state, StateKind::NonlinearIntervalObserver, fingerprint());
@@ -715,12 +822,29 @@ SETBOUND_INLINE void NonlinearIntervalObserver::restore_state(const std::vector<
     rmax = r.vec(n, "window maxima");
     rn = r.scalar("window norm");
     rno = r.scalar("window norm out");
+    restarted = r.flag("restarted");
+    k0 = r.count("restart step");
+    rlo = r.vec(n, "restart lower");
+    rhi = r.vec(n, "restart upper");
     r.finish();
     if (!(xi >= 0) || !(rn >= 0) || !(rno >= 0) || (ring.array() < 0).any() || (rmax.array() < 0).any())
       r.fail("a radius or residue is negative");
+    if (k0 > k || (!restarted && k0 != 0)) r.fail("restart step must be 0 or at most the step count");
+    if ((rhi.array() < rlo.array()).any()) r.fail("restart box has lower > upper");
+    if (restarted) {
+      Eigen::VectorXd c0, r0;
+      const Box X(rlo, rhi, "restart box");
+      iobs_detail::mid_rad(X - Box::point(X.mid()), c0, r0);
+      rt = iobs_detail::error_box_table(powers_, c0, r0, rv_, ErrorRecursion::Tight);
+    }
   });
   // Commit (swaps; update_bounds writes into sized buffers: nothing throws).
   k_ = static_cast<long>(k);
+  k0_ = static_cast<long>(k0);
+  restarted_ = restarted;
+  rtable_ = std::move(rt);
+  rlo_.swap(rlo);
+  rhi_.swap(rhi);
   xhat_.swap(xh);
   cc_.swap(cc);
   xi_ = xi;
@@ -745,18 +869,20 @@ SETBOUND_INLINE void NonlinearIntervalObserver::update_bounds() {
   const Eigen::Index n = plant_.nx();
   // h part: Σ_{i < min(k, W)} |M_i| r_h,k−1−i (exact radii), rounded up
   conv_.setZero();
-  const long terms = std::min<long>(k_, W_);
+  const long kr = k_ - k0_;  // steps since the (re)start
+  const long terms = std::min<long>(kr, W_);
   for (long i = 0; i < terms; ++i) {
-    const long j = k_ - 1 - i;
+    const long j = kr - 1 - i;
     const int slot = static_cast<int>(j % W_);
     iobs_detail::abs_mul_up(powers_.M[std::size_t(i)], ring_.col(slot).data(), tmp_.data());
     for (Eigen::Index r = 0; r < n; ++r) conv_(r) = add_up(conv_(r), tmp_(r));
   }
-  const Eigen::VectorXd& tlo = table_.lo_at(k_);
-  const Eigen::VectorXd& thi = table_.hi_at(k_);
+  const iobs_detail::ErrorBoxTable& t = restarted_ ? rtable_ : table_;
+  const Eigen::VectorXd& tlo = t.lo_at(kr);
+  const Eigen::VectorXd& thi = t.hi_at(kr);
   const iobs_detail::Contraction& c = powers_.ctr;
   double resid = up(xi_ + up(Dw_ * c.sqrt_lmax * rmax_norm_));
-  if (k_ > W_) {
+  if (kr > W_) {
     const double geo = up(1.0 / (1.0 - c.beta) * (1.0 + 4 * iobs_detail::kEps));
     resid = up(resid + up(geo * up(mW_.dot(Rmax_) * (1 + iobs_detail::gam(n)) +
                                    powers_.d[std::size_t(W_)] * c.sqrt_lmax * rmax_norm_out_)));
@@ -831,6 +957,107 @@ SETBOUND_INLINE double certified_rate(const Eigen::MatrixXd& Ao, const Eigen::Ma
 namespace setbound {
 namespace thesis {
 
+namespace iobs_detail {
+
+SETBOUND_INLINE Eigen::MatrixXd sequence_e_err(const InvariantObserverDesign& D) {
+  Eigen::MatrixXd e_err = Eigen::MatrixXd::Zero(D.plant.nx(), D.plant.m());
+  e_err.rightCols(D.plant.nv()) = lz_error_bound(D.L, D.plant.Z);
+  return e_err;
+}
+
+SETBOUND_INLINE void fill_error_sequence(InvariantObserverDesign& D, const Box& x0, const Eigen::VectorXd& xhat0,
+                                         double inflation_opt) {
+  const Plant& plant = D.plant;
+  const Eigen::Index n = plant.nx();
+  const Eigen::MatrixXd Ao = plant.A - D.L * plant.C;
+  D.x0 = x0;
+  D.xhat0 = xhat0;
+  D.shrinking_index.clear();
+  D.sequence.clear();
+  // inflation: smallest λ ≥ 1 with every corner of [e_0] in λΦ_0 (Φ_0 = {Hx ≤ b}, b > 0)
+  const Box e0 = x0 - Box::point(xhat0);
+  double lam = 1.0;
+  const Eigen::MatrixXd& H = D.phi0.H();
+  const Eigen::VectorXd& b = D.phi0.b();
+  const long corners = 1L << n;
+  for (long c = 0; c < corners; ++c) {
+    Eigen::VectorXd x(n);
+    for (Eigen::Index j = 0; j < n; ++j) x(j) = (c >> j) & 1 ? e0.hi()(j) : e0.lo()(j);
+    for (Eigen::Index i = 0; i < H.rows(); ++i) {
+      const double t = H.row(i).dot(x);
+      const double terr = gam(n) * H.row(i).cwiseAbs().dot(x.cwiseAbs());
+      lam = std::max(lam, up((t + terr) / b(i) * (1 + 4 * kEps)));
+    }
+  }
+  D.inflation_min = lam;
+  if (inflation_opt == 0) {
+    D.inflation = lam;
+  } else {
+    if (inflation_opt < lam)
+      throw InvalidArgumentError("inflation: " + num(inflation_opt) + " is too small, [e_0] is not inside " +
+                                 "inflation*Phi_0 (the smallest admissible value is " + num(lam) + ")");
+    D.inflation = inflation_opt;
+  }
+
+  // k*: first k with λ β^k √(c_out/λ_min(P)) ≤ ε (rigorous version of (4.33))
+  const double lmin = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(D.P, Eigen::EigenvaluesOnly).eigenvalues().minCoeff();
+  const double lmax = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(D.P, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+  const double R = D.inflation * std::sqrt(D.c_out / lmin);
+  int kstar = 0;
+  double bk = R;
+  while (bk > D.epsilon) {
+    bk *= D.beta;
+    ++kstar;
+    if (kstar > 1000000) throw NumericalError("epsilon: k* exceeds 10^6 (beta too close to 1 or epsilon too small)");
+  }
+  D.k_star = kstar;
+  for (int k = 0; k <= kstar; ++k) D.shrinking_index.push_back(std::pow(D.beta, k) * std::sqrt(D.mu * lmax / lmin));
+
+  // interval part [s_k], k < k*, for the centred error e⁺ = A_o e + E Δw
+  const Eigen::MatrixXd theta = ao_error_bound(plant.A, D.L, plant.C);
+  const Eigen::MatrixXd e_err = sequence_e_err(D);
+  const ErrorPowers pw = build_powers(Ao, theta, D.E, e_err, kstar, "L");
+  Eigen::VectorXd c0, r0;
+  mid_rad(e0, c0, r0);
+  const ErrorBoxTable tab = error_box_table(pw, c0, r0, D.w_radius, D.variant);
+  const ErrorBoxTable omega =
+      error_box_table(pw, Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n), D.w_radius, ErrorRecursion::Tight);
+  auto to_box = [&](const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
+    std::vector<Interval> iv;
+    for (Eigen::Index j = 0; j < n; ++j) iv.push_back(Interval::unchecked(lo(j), hi(j)));
+    return Box::from_intervals(iv);
+  };
+  for (int k = 0; k < kstar; ++k) D.sequence.push_back(to_box(tab.lo_at(k), tab.hi_at(k)));
+  // tail [Φ_k*] = box(A_o^k* λΦ_0) + Σ_{i<k*} |A_o^iE| rad(Δw)
+  {
+    const Eigen::MatrixXd& Mk = pw.M[std::size_t(kstar)];
+    const Eigen::MatrixXd V = D.inflation * D.phi0.vertices();
+    const Eigen::MatrixXd Y = Mk * V;
+    double vmax = 0;
+    for (Eigen::Index j = 0; j < V.cols(); ++j) vmax = std::max(vmax, V.col(j).norm());
+    const double resid = up(up(pw.d[std::size_t(kstar)] * pw.ctr.sqrt_lmax * up(vmax)) * pw.ctr.inv_sqrt_lmin);
+    const Eigen::MatrixXd Yerr = gam(n) * 2 * (Mk.cwiseAbs() * V.cwiseAbs());
+    Eigen::VectorXd lo(n), hi(n);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      double mx = -rounding::kInf, mn = rounding::kInf;
+      for (Eigen::Index c = 0; c < Y.cols(); ++c) {
+        mx = std::max(mx, rounding::add_up(Y(j, c), up(Yerr(j, c))));
+        mn = std::min(mn, rounding::sub_down(Y(j, c), up(Yerr(j, c))));
+      }
+      const Eigen::VectorXd& ohi = omega.hi_at(kstar);
+      const Eigen::VectorXd& olo = omega.lo_at(kstar);
+      hi(j) = rounding::add_up(rounding::add_up(mx, ohi(j)), resid);
+      lo(j) = rounding::sub_down(rounding::add_down(mn, olo(j)), resid);
+    }
+    D.sequence.push_back(to_box(lo, hi));
+  }
+  D.rounding_beta = pw.ctr.beta;
+  D.rounding_sqrt_lmax = pw.ctr.sqrt_lmax;
+  D.rounding_inv_sqrt_lmin = pw.ctr.inv_sqrt_lmin;
+}
+
+}  // namespace iobs_detail
+
 SETBOUND_INLINE InvariantObserverDesign offline_error_sequence(const Plant& plant, const HinfGain& gain, const Box& x0,
                                                       const Eigen::VectorXd& xhat0, const Box& d, const Box& v,
                                                       const InvariantObserverOptions& opt) {
@@ -884,87 +1111,8 @@ SETBOUND_INLINE InvariantObserverDesign offline_error_sequence(const Plant& plan
   D.c_out = lv.c_out;
   D.phi0 = polyhedral_rpi_between_ellipsoids(D.P, D.c_in, D.c_out, opt.polytope);
 
-  // inflation: smallest λ ≥ 1 with every corner of [e_0] in λΦ_0 (Φ_0 = {Hx ≤ b}, b > 0)
-  const Box e0 = x0 - Box::point(xhat0);
-  double lam = 1.0;
-  const Eigen::MatrixXd& H = D.phi0.H();
-  const Eigen::VectorXd& b = D.phi0.b();
-  const long corners = 1L << n;
-  for (long c = 0; c < corners; ++c) {
-    Eigen::VectorXd x(n);
-    for (Eigen::Index j = 0; j < n; ++j) x(j) = (c >> j) & 1 ? e0.hi()(j) : e0.lo()(j);
-    for (Eigen::Index i = 0; i < H.rows(); ++i) {
-      const double t = H.row(i).dot(x);
-      const double terr = gam(n) * H.row(i).cwiseAbs().dot(x.cwiseAbs());
-      lam = std::max(lam, up((t + terr) / b(i) * (1 + 4 * kEps)));
-    }
-  }
-  D.inflation_min = lam;
-  if (opt.inflation == 0) {
-    D.inflation = lam;
-  } else {
-    if (opt.inflation < lam)
-      throw InvalidArgumentError("inflation: " + num(opt.inflation) + " is too small, [e_0] is not inside " +
-                                 "inflation*Phi_0 (the smallest admissible value is " + num(lam) + ")");
-    D.inflation = opt.inflation;
-  }
-
-  // k*: first k with λ β^k √(c_out/λ_min(P)) ≤ ε (rigorous version of (4.33))
-  const double lmin = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(D.P, Eigen::EigenvaluesOnly).eigenvalues().minCoeff();
-  const double lmax = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(D.P, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
-  const double R = D.inflation * std::sqrt(D.c_out / lmin);
-  int kstar = 0;
-  double bk = R;
-  while (bk > D.epsilon) {
-    bk *= D.beta;
-    ++kstar;
-    if (kstar > 1000000) throw NumericalError("epsilon: k* exceeds 10^6 (beta too close to 1 or epsilon too small)");
-  }
-  D.k_star = kstar;
-  for (int k = 0; k <= kstar; ++k) D.shrinking_index.push_back(std::pow(D.beta, k) * std::sqrt(D.mu * lmax / lmin));
-
-  // interval part [s_k], k < k*, for the centred error e⁺ = A_o e + E Δw
-  const Eigen::MatrixXd theta = ao_error_bound(plant.A, gain.L, plant.C);
-  Eigen::MatrixXd e_err = Eigen::MatrixXd::Zero(n, plant.m());
-  e_err.rightCols(plant.nv()) = lz_error_bound(gain.L, plant.Z);
-  const ErrorPowers pw = build_powers(Ao, theta, D.E, e_err, kstar, "L");
-  Eigen::VectorXd c0, r0;
-  mid_rad(e0, c0, r0);
-  const ErrorBoxTable tab = error_box_table(pw, c0, r0, D.w_radius, opt.variant);
-  const ErrorBoxTable omega =
-      error_box_table(pw, Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n), D.w_radius, ErrorRecursion::Tight);
-  auto to_box = [&](const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
-    std::vector<Interval> iv;
-    for (Eigen::Index j = 0; j < n; ++j) iv.push_back(Interval::unchecked(lo(j), hi(j)));
-    return Box::from_intervals(iv);
-  };
-  for (int k = 0; k < kstar; ++k) D.sequence.push_back(to_box(tab.lo_at(k), tab.hi_at(k)));
-  // tail [Φ_k*] = box(A_o^k* λΦ_0) + Σ_{i<k*} |A_o^iE| rad(Δw)
-  {
-    const Eigen::MatrixXd& Mk = pw.M[std::size_t(kstar)];
-    const Eigen::MatrixXd V = D.inflation * D.phi0.vertices();
-    const Eigen::MatrixXd Y = Mk * V;
-    double vmax = 0;
-    for (Eigen::Index j = 0; j < V.cols(); ++j) vmax = std::max(vmax, V.col(j).norm());
-    const double resid = up(up(pw.d[std::size_t(kstar)] * pw.ctr.sqrt_lmax * up(vmax)) * pw.ctr.inv_sqrt_lmin);
-    const Eigen::MatrixXd Yerr = gam(n) * 2 * (Mk.cwiseAbs() * V.cwiseAbs());
-    Eigen::VectorXd lo(n), hi(n);
-    for (Eigen::Index j = 0; j < n; ++j) {
-      double mx = -rounding::kInf, mn = rounding::kInf;
-      for (Eigen::Index c = 0; c < Y.cols(); ++c) {
-        mx = std::max(mx, rounding::add_up(Y(j, c), up(Yerr(j, c))));
-        mn = std::min(mn, rounding::sub_down(Y(j, c), up(Yerr(j, c))));
-      }
-      const Eigen::VectorXd& ohi = omega.hi_at(kstar);
-      const Eigen::VectorXd& olo = omega.lo_at(kstar);
-      hi(j) = rounding::add_up(rounding::add_up(mx, ohi(j)), resid);
-      lo(j) = rounding::sub_down(rounding::add_down(mn, olo(j)), resid);
-    }
-    D.sequence.push_back(to_box(lo, hi));
-  }
-  D.rounding_beta = pw.ctr.beta;
-  D.rounding_sqrt_lmax = pw.ctr.sqrt_lmax;
-  D.rounding_inv_sqrt_lmin = pw.ctr.inv_sqrt_lmin;
+  fill_error_sequence(D, x0, xhat0, opt.inflation);
+  const Eigen::MatrixXd e_err = sequence_e_err(D);
   D.Ecw = D.E * D.w_center;
   const Eigen::VectorXd ecw_err = 2 * gam(plant.m() + 2) * (D.E.cwiseAbs() * D.w_center.cwiseAbs()) +
                                   e_err * D.w_center.cwiseAbs();
@@ -989,13 +1137,54 @@ SETBOUND_INLINE IntervalInvariantObserver::IntervalInvariantObserver(InvariantOb
   innov_mag_.resize(D_.plant.ny());
   lo_.resize(n);
   hi_.resize(n);
+  // the boxes of d and v, outward from the design's centred form w = w_c ± rad(Δw)
+  const Eigen::Index nd = D_.plant.nd(), nv = D_.plant.nv();
+  Eigen::VectorXd wlo(nd + nv), whi(nd + nv);
+  for (Eigen::Index i = 0; i < nd + nv; ++i) {
+    wlo(i) = rounding::sub_down(D_.w_center(i), D_.w_radius(i));
+    whi(i) = rounding::add_up(D_.w_center(i), D_.w_radius(i));
+  }
+  dbox_ = Box(wlo.head(nd), whi.head(nd), "d");
+  vbox_ = Box(wlo.tail(nv), whi.tail(nv), "v");
+  screen_.init(D_.plant.ny(), D_.x0);
+  rlo_ = D_.x0.lo();
+  rhi_ = D_.x0.hi();
+  update_bounds();
+}
+
+SETBOUND_INLINE const Box& IntervalInvariantObserver::active_box() const {
+  if (!restarted_) return D_.box_at(k_);
+  return rseq_[std::size_t(std::min<long>(k_ - k0_, long(rseq_.size()) - 1))];
+}
+
+SETBOUND_INLINE void IntervalInvariantObserver::restart(const Box& X, long k) {
+  Eigen::VectorXd xh = X.mid();
+  InvariantObserverDesign D2 = D_;
+  iobs_detail::fill_error_sequence(D2, X, xh, 0.0);
+  Eigen::VectorXd lo = X.lo(), hi = X.hi();
+  // commit (swaps)
+  rseq_.swap(D2.sequence);
+  rlo_.swap(lo);
+  rhi_.swap(hi);
+  restarted_ = true;
+  k0_ = k;
+  k_ = k;
+  xhat_.swap(xh);
+  xi_ = 0;
   update_bounds();
 }
 
 SETBOUND_INLINE void IntervalInvariantObserver::step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u) {
   using namespace iobs_detail;
-  require_vec(y, D_.plant.ny(), "y");
+  require_reading(y, D_.plant.ny());
   if (D_.plant.nu() > 0) require_vec(u, D_.plant.nu(), "u");
+  const Plant& p = D_.plant;
+  if (!screen_detail::screen_box_step(screen_, p.C, p.Z, vbox_, lo_, hi_, y, k_)) {
+    Eigen::VectorXd lo = lo_, hi = hi_;
+    const MeasurementCheck use = screen_detail::apply_reset(screen_, p.C, p.Z, vbox_, y, lo, hi);
+    restart(screen_detail::fallback_prediction(p.A, p.B, p.F, p.C, p.Z, lo, hi, y, u, dbox_, vbox_, use), k_ + 1);
+    return;
+  }
   const double dn = luenberger_update(D_.plant.A, D_.plant.B, D_.plant.C, D_.L, xhat_, u.data(), y.data(),
                                       D_.Ecw.data(), D_.Ecw_err, xn_, innov_, innov_mag_, work_);
   if (!xn_.allFinite()) throw NumericalError("y: the observer state overflowed");
@@ -1007,24 +1196,44 @@ SETBOUND_INLINE void IntervalInvariantObserver::step(const Eigen::Ref<const Eige
 
 SETBOUND_INLINE std::vector<double> IntervalInvariantObserver::save_state() const {
   StateWriter w(StateKind::IntervalInvariantObserver, fingerprint());
-  w.count(k_).vec(xhat_).scalar(xi_);
+  w.count(k_).vec(xhat_).scalar(xi_).flag(restarted_).count(k0_).vec(rlo_).vec(rhi_);
   return w.finish();
 }
 
 SETBOUND_INLINE void IntervalInvariantObserver::restore_state(const std::vector<double>& state) {
-  long long k = 0;
-  Eigen::VectorXd xh;
+  long long k = 0, k0 = 0;
+  Eigen::VectorXd xh, rlo, rhi;
   double xi = 0;
+  bool restarted = false;
+  std::vector<Box> rseq;
   guard_state_memory(StateKind::IntervalInvariantObserver, [&] {
+    const Eigen::Index n = D_.plant.nx();
     StateReader r(state, StateKind::IntervalInvariantObserver, fingerprint());
     k = r.count("steps");
-    xh = r.vec(D_.plant.nx(), "xhat");
+    xh = r.vec(n, "xhat");
     xi = r.scalar("rounding residue");
+    restarted = r.flag("restarted");
+    k0 = r.count("restart step");
+    rlo = r.vec(n, "restart lower");
+    rhi = r.vec(n, "restart upper");
     r.finish();
     if (!(xi >= 0)) r.fail("rounding residue must be >= 0");
+    if (k0 > k || (!restarted && k0 != 0)) r.fail("restart step must be 0 or at most the step count");
+    if ((rhi.array() < rlo.array()).any()) r.fail("restart box has lower > upper");
+    if (restarted) {
+      const Box X(rlo, rhi, "restart box");
+      InvariantObserverDesign D2 = D_;
+      iobs_detail::fill_error_sequence(D2, X, X.mid(), 0.0);
+      rseq.swap(D2.sequence);
+    }
   });
-  // Commit (a swap; update_bounds writes into sized buffers: nothing throws).
+  // Commit (swaps; update_bounds writes into sized buffers: nothing throws).
   k_ = static_cast<long>(k);
+  k0_ = static_cast<long>(k0);
+  restarted_ = restarted;
+  rseq_.swap(rseq);
+  rlo_.swap(rlo);
+  rhi_.swap(rhi);
   xhat_.swap(xh);
   xi_ = xi;
   update_bounds();
@@ -1040,7 +1249,7 @@ SETBOUND_INLINE StateFingerprint IntervalInvariantObserver::fingerprint() const 
 
 SETBOUND_INLINE void IntervalInvariantObserver::update_bounds() {
   using namespace rounding;
-  const Box& s = D_.box_at(k_);
+  const Box& s = active_box();
   const double xs = iobs_detail::up(xi_ * D_.rounding_inv_sqrt_lmin);
   for (Eigen::Index j = 0; j < xhat_.size(); ++j) {
     lo_(j) = sub_down(add_down(xhat_(j), s.lo()(j)), xs);

@@ -203,14 +203,20 @@ SETBOUND_INLINE LPVEllipsoidalSMObserver::LPVEllipsoidalSMObserver(const LpvSyst
   tmpu_.resize(sys.nu());
   tmpy_.resize(sys.ny());
   tmpn_.resize(n);
+  Fa_.resize(n, sys.nd());
+  absF_.resize(n, sys.nd());
   st_.init(design_, xhat0, mu0);
+  rd_.init(design_, sys_.C, sys_.Z, st_);
 }
 
 SETBOUND_INLINE void LPVEllipsoidalSMObserver::step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u,
             const Eigen::Ref<const Eigen::VectorXd>& rho) {
-  hinf_detail::check_vec(y, sys_.ny(), "y");
+  if (y.size() != sys_.ny())
+    throw DimensionError("y: expected " + std::to_string(sys_.ny()) + " entries, got " + std::to_string(y.size()));
+  require_no_infinity(y, "y");
   hinf_detail::check_vec(u, sys_.nu(), "u");
-  sys_.weights.compute(rho, alpha_);  // validates rho; nothing changed yet
+  const bool all = rd_.screen_step(st_, sys_.C, y);  // may throw (policy Raise): nothing changed yet
+  sys_.weights.compute(rho, alpha_);  // validates rho; the state is not changed yet
   const Eigen::Index N = sys_.num_vertices();
   Aa_.setZero();
   Ba_.setZero();
@@ -228,6 +234,22 @@ SETBOUND_INLINE void LPVEllipsoidalSMObserver::step(const Eigen::Ref<const Eigen
     absB_ += a * sys_.B[static_cast<size_t>(i)].cwiseAbs();
     absL_ += a * design_.L_vertices[static_cast<size_t>(i)].cwiseAbs();
   }
+  const double gk = 2.0 * ell_rounding::gamma(N + sys_.nx() + sys_.nu() + 2 * sys_.ny() + 4);
+  if (!all) {
+    // the step without some output (reading_screen.hpp), with A(ρ), B(ρ), F(ρ) widened by the
+    // rounding of their combination (the same γ as the centre below)
+    Fa_.setZero();
+    absF_.setZero();
+    for (Eigen::Index i = 0; i < N; ++i) {
+      const double a = alpha_(i);
+      if (a == 0.0) continue;
+      Fa_ += a * sys_.F[static_cast<size_t>(i)];
+      absF_ += a * sys_.F[static_cast<size_t>(i)].cwiseAbs();
+    }
+    const screen_detail::ModelWidening w{gk * absA_, gk * absB_, gk * absF_};
+    rd_.fallback_step(st_, design_, Aa_, Ba_, Fa_, sys_.C, sys_.Z, y, u, &w);
+    return;
+  }
   Ao_ = Aa_;
   Ao_.noalias() -= La_ * sys_.C;
   st_.xnext.noalias() = Ao_ * st_.xhat;
@@ -235,7 +257,6 @@ SETBOUND_INLINE void LPVEllipsoidalSMObserver::step(const Eigen::Ref<const Eigen
   st_.xnext.noalias() += La_ * y;
   // Centre rounding (forming the combinations, A_o and the products), a factor 2 for the
   // weights' own rounding: d = 2γ_K [(Σα|A_i| + Σα|L_i||C| + |A_o|)|x̂| + Σα|B_i||u| + Σα|L_i||y|].
-  const double gk = 2.0 * ell_rounding::gamma(N + sys_.nx() + sys_.nu() + 2 * sys_.ny() + 4);
   tmp_ = st_.xhat.cwiseAbs();
   tmpn_.noalias() = absC_ * tmp_;
   st_.d.noalias() = absL_ * tmpn_;
