@@ -32,12 +32,15 @@ std::atomic<long> g_eigen_assert_failures{0};
 #include "setbound/thesis/lpv.hpp"
 
 #include "count_malloc.hpp"  // this executable counts allocations
+#include "thesis_test_systems.hpp"
 
 using namespace setbound;
 using namespace setbound::lmi;
 using namespace setbound::thesis;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
+using setbound::testing::ch2_plant;
+using setbound::testing::ch3_ex1;
 
 namespace {
 
@@ -49,37 +52,8 @@ MatrixXd random_symmetric(std::mt19937& rng, int n) {
   return 0.5 * (A + A.transpose());
 }
 
-MatrixXd M2(double a, double b, double c, double d) {
-  MatrixXd M(2, 2);
-  M << a, b, c, d;
-  return M;
-}
 
 // Ch. 2 example (thesis.md §4.8).
-Plant ch2_plant() {
-  MatrixXd B(2, 1), F(2, 1), C(1, 2), Z(1, 1);
-  B << 1, 1;
-  F << 0, 0.1;
-  C << 1, 0;
-  Z << 0.1;
-  return Plant(M2(0.2, 0.2, 0, 0.5), B, C, F, Z);
-}
-
-LpvSystem ch3_ex1() {
-  std::vector<MatrixXd> A, B, F;
-  for (double r : {0.05, 0.1}) {
-    A.push_back(M2(1, r, 0, 1));
-    MatrixXd b(2, 1);
-    b << 0, r;
-    B.push_back(b);
-    F.push_back(b);
-  }
-  MatrixXd C(1, 2), Z(1, 1), theta(2, 1);
-  C << 1, 0;
-  Z << 0.01;
-  theta << 0.05, 0.1;
-  return LpvSystem(A, B, F, C, Z, theta);
-}
 
 }  // namespace
 

@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "test_helpers.hpp"
+#include "thesis_test_systems.hpp"
 #include "ell_test_systems.hpp"
 #include "setbound/estimators/descriptor.hpp"
 #include "setbound/estimators/ellipsoidal.hpp"
@@ -281,20 +282,7 @@ std::vector<Kind> kinds() {
                  },
                  5});
   {
-    std::vector<MatrixXd> As, Bs, Fs;
-    for (double r : {0.05, 0.1}) {
-      MatrixXd a(2, 2), b(2, 1);
-      a << 1, r, 0, 1;
-      b << 0, r;
-      As.push_back(a);
-      Bs.push_back(b);
-      Fs.push_back(b);
-    }
-    MatrixXd Cl(1, 2), Zl(1, 1), theta(2, 1);
-    Cl << 1, 0;
-    Zl << 0.01;
-    theta << 0.05, 0.1;
-    const LpvSystem lsys(As, Bs, Fs, Cl, Zl, theta);
+    const LpvSystem lsys = setbound::testing::ch3_ex1();
     const EllipsoidalSMDesign ld = design_ellipsoidal_sm_observer_lpv(lsys, VectorXd::Ones(2));
     out.push_back({"LPVEllipsoidalSMObserver", [lsys, ld] {
                      auto e = std::make_shared<LPVEllipsoidalSMObserver>(lsys, ld, VectorXd::Zero(2), 2.0);

@@ -19,6 +19,7 @@
 #include "setbound/thesis/interval_observer.hpp"
 #include "setbound/thesis/lpv.hpp"
 #include "test_helpers.hpp"
+#include "thesis_test_systems.hpp"
 
 using namespace setbound;
 using namespace setbound::thesis;
@@ -323,20 +324,11 @@ TEST(MeasurementThesis, SavedStateAfterARestartContinuesBitForBit) {
 }
 
 TEST(MeasurementThesis, LpvObserverMissingAndGlitchedReadings) {
-  std::vector<MatrixXd> A, B, F;
-  for (double r : {0.05, 0.1}) {
-    MatrixXd a(2, 2), b(2, 1);
-    a << 1, r, 0, 1;
-    b << 0, r;
-    A.push_back(a);
-    B.push_back(b);
-    F.push_back(b);
-  }
-  MatrixXd C(1, 2), Z(1, 1), theta(2, 1);
-  C << 1, 0;
-  Z << 0.01;
-  theta << 0.05, 0.1;
-  const LpvSystem sys(A, B, F, C, Z, theta);
+  const LpvSystem sys = setbound::testing::ch3_ex1();
+  const std::vector<MatrixXd>& A = sys.A;
+  const std::vector<MatrixXd>& B = sys.B;
+  const MatrixXd& C = sys.C;
+  const MatrixXd& Z = sys.Z;
   const EllipsoidalSMDesign d = design_ellipsoidal_sm_observer_lpv(sys, VectorXd::Ones(2));
   VectorXd lo(2), hi(2);
   lo << -0.1, -2.1;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "test_helpers.hpp"
+#include "thesis_test_systems.hpp"
 #include "ell_test_systems.hpp"
 #include "setbound/estimators/descriptor.hpp"
 #include "setbound/estimators/ellipsoidal.hpp"
@@ -626,23 +627,7 @@ TEST(StateThesis, EllipsoidalSMObserverContinuesIdentically) {
 
 TEST(StateThesis, LPVEllipsoidalSMObserverContinuesIdentically) {
   using namespace thesis;
-  auto lpv = [](double z) {
-    std::vector<MatrixXd> A, B, F;
-    for (double r : {0.05, 0.1}) {
-      MatrixXd a(2, 2), b(2, 1);
-      a << 1, r, 0, 1;
-      b << 0, r;
-      A.push_back(a);
-      B.push_back(b);
-      F.push_back(b);
-    }
-    MatrixXd C(1, 2), Z(1, 1), theta(2, 1);
-    C << 1, 0;
-    Z << z;
-    theta << 0.05, 0.1;
-    return LpvSystem(A, B, F, C, Z, theta);
-  };
-  const LpvSystem s1 = lpv(0.01), s2 = lpv(0.02);
+  const LpvSystem s1 = setbound::testing::ch3_ex1(0.01), s2 = setbound::testing::ch3_ex1(0.02);
   const EllipsoidalSMDesign des1 = design_ellipsoidal_sm_observer_lpv(s1, VectorXd::Ones(2));
   const EllipsoidalSMDesign des2 = design_ellipsoidal_sm_observer_lpv(s2, VectorXd::Ones(2));
   Data d;

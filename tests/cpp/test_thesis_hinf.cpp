@@ -8,6 +8,7 @@
 
 #include "setbound/thesis/hinf_gain.hpp"
 #include "c_api_common.hpp"  // the C ABI (setbound.h) through the library's objects
+#include "thesis_test_systems.hpp"
 
 // The observers' step() allocation test lives in test_alloc.cpp (it interposes malloc).
 
@@ -15,6 +16,9 @@ using namespace setbound;
 using namespace setbound::thesis;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
+
+using setbound::testing::ch2_plant;
+using setbound::testing::ch3_ex1;
 
 namespace {
 
@@ -24,15 +28,6 @@ MatrixXd M2(double a, double b, double c, double d) {
   return M;
 }
 
-// Ch. 2 example (thesis.md §4.8).
-Plant ch2_plant() {
-  MatrixXd B(2, 1), F(2, 1), C(1, 2), Z(1, 1);
-  B << 1, 1;
-  F << 0, 0.1;
-  C << 1, 0;
-  Z << 0.1;
-  return Plant(M2(0.2, 0.2, 0, 0.5), B, C, F, Z);
-}
 
 // σ_max(G(e^{jω})) for G = (zI − A)⁻¹E.
 double gain_at(const MatrixXd& A, const MatrixXd& E, double w) {
@@ -304,21 +299,6 @@ TEST(ThesisHinf, ObserverBadInputLeavesStateUnchanged) {
 
 namespace {
 
-LpvSystem ch3_ex1() {
-  std::vector<MatrixXd> A, B, F;
-  for (double r : {0.05, 0.1}) {
-    A.push_back(M2(1, r, 0, 1));
-    MatrixXd b(2, 1);
-    b << 0, r;
-    B.push_back(b);
-    F.push_back(b);
-  }
-  MatrixXd C(1, 2), Z(1, 1), theta(2, 1);
-  C << 1, 0;
-  Z << 0.01;
-  theta << 0.05, 0.1;
-  return LpvSystem(A, B, F, C, Z, theta);
-}
 
 }  // namespace
 

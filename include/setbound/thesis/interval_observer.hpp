@@ -167,6 +167,34 @@ std::vector<Box> interval_error_recursion(const Eigen::MatrixXd& Ao, const Eigen
 Box interval_error_limit(const Eigen::MatrixXd& Ao, const Eigen::MatrixXd& E, const Box& w,
                                 ErrorRecursion variant = ErrorRecursion::Tight);
 
+namespace iobs_detail {
+
+/// What the three interval observers share for real data (reading_screen.hpp): the reading
+/// policy and the last screening, the step counter, and the restart of the error bound after a
+/// step without some output (from the predicted box [rlo_, rhi_] at step k0_).
+class BoxObserverReadings {
+ public:
+  /// Policy for impossible readings; `reset_box` (size 0: keep; default the initial box) is
+  /// where policy Reset restarts.
+  void set_inconsistency_policy(OnInconsistency policy, const Box& reset_box = Box()) {
+    screen_.set_policy(policy, reset_box, rlo_.size());
+  }
+  OnInconsistency inconsistency_policy() const { return screen_.policy; }
+  /// The screening of the last step (every output Used before the first).
+  const MeasurementCheck& last_check() const { return screen_.check; }
+  /// Steps since the last restart (a step without some output restarts the error bound).
+  long steps_since_restart() const { return k_ - k0_; }
+
+ protected:
+  ReadingScreen screen_;
+  Box dbox_, vbox_;
+  bool restarted_ = false;
+  long k_ = 0, k0_ = 0;
+  Eigen::VectorXd rlo_, rhi_;  // the initial box, then the box of the last restart
+};
+
+}  // namespace iobs_detail
+
 // ---------------------------------------------------------------------------------------------
 // IntervalLuenbergerObserver (§6.2)
 // ---------------------------------------------------------------------------------------------
@@ -185,7 +213,7 @@ struct IntervalObserverOptions {
 /// are tabulated at construction (up to the freeze index K, then constant); the centre of the
 /// disturbance part and the rounding residue are updated per step: O(n² + n n_y + n n_u) per
 /// step, no allocation.
-class IntervalLuenbergerObserver {
+class IntervalLuenbergerObserver : public iobs_detail::BoxObserverReadings {
  public:
   IntervalLuenbergerObserver(const Plant& plant, const Eigen::MatrixXd& L, const Box& x0,
                              const Eigen::VectorXd& xhat0, const Box& d, const Box& v,
@@ -215,16 +243,6 @@ class IntervalLuenbergerObserver {
   /// sizes or ±inf; the observer is then unchanged.
   void step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u);
 
-  /// Policy for impossible readings (reading_screen.hpp); `reset_box` (size 0: keep; default
-  /// the initial box) is where policy Reset restarts.
-  void set_inconsistency_policy(OnInconsistency policy, const Box& reset_box = Box()) {
-    screen_.set_policy(policy, reset_box, nx());
-  }
-  OnInconsistency inconsistency_policy() const { return screen_.policy; }
-  /// The screening of the last step (every output Used before the first).
-  const MeasurementCheck& last_check() const { return screen_.check; }
-  /// Steps since the last restart (a step without some output restarts the error bound).
-  long steps_since_restart() const { return k_ - k0_; }
 
   /// Full mutable state (core/state.hpp): x̂_k, the centre of the disturbance part, the
   /// rounding residue ξ_k and k (the box follows from them and the tabulated radii), and the
@@ -247,16 +265,8 @@ class IntervalLuenbergerObserver {
   bool has_cw_ = false;
   Eigen::VectorXd xhat_, cc_, xn_, cn_, work_, innov_, innov_mag_, lo_, hi_;
   double xi_ = 0;
-  long k_ = 0;
   Eigen::VectorXd rw_;  // radii of the disturbance box w = (d, v)
   iobs_detail::ErrorBoxTable rtable_;  // the table of the last restart
-  // Missing and impossible readings (reading_screen.hpp): a step without some output restarts
-  // the error bound from the predicted box [rlo_, rhi_] at step k0_ (restarted_).
-  ReadingScreen screen_;
-  Box dbox_, vbox_;
-  bool restarted_ = false;
-  long k0_ = 0;
-  Eigen::VectorXd rlo_, rhi_;
   /// Restarts from the box X of x_k at step k (allocates: the table of X's radius).
   void restart(const Box& X, long k);
 };
@@ -282,7 +292,7 @@ struct NonlinearObserverOptions {
 /// radii r_h,j with the stored powers |A_o^i| over a window of W = min(K, window) steps; the
 /// older terms (i ≥ W) are bounded by the geometric P-norm tail with the componentwise maximum
 /// of the radii that left the window. Per step O(W n²).
-class NonlinearIntervalObserver {
+class NonlinearIntervalObserver : public iobs_detail::BoxObserverReadings {
  public:
   NonlinearIntervalObserver(const Plant& plant, const Eigen::MatrixXd& L, const Box& x0, const Eigen::VectorXd& xhat0,
                             const Box& v, NonlinearityBox h = {}, const NonlinearObserverOptions& opt = {});
@@ -305,16 +315,6 @@ class NonlinearIntervalObserver {
   /// Missing and impossible readings as IntervalLuenbergerObserver::step (the fallback adds [h]_k).
   void step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u, const Box& hbox);
 
-  /// Policy for impossible readings (reading_screen.hpp); `reset_box` (size 0: keep; default
-  /// the initial box) is where policy Reset restarts.
-  void set_inconsistency_policy(OnInconsistency policy, const Box& reset_box = Box()) {
-    screen_.set_policy(policy, reset_box, nx());
-  }
-  OnInconsistency inconsistency_policy() const { return screen_.policy; }
-  /// The screening of the last step (every output Used before the first).
-  const MeasurementCheck& last_check() const { return screen_.check; }
-  /// Steps since the last restart (a step without some output restarts the error bound).
-  long steps_since_restart() const { return k_ - k0_; }
 
   /// Full mutable state (core/state.hpp): x̂_k, the centre of the v part, ξ_k, k and the
   /// error-sequence window (the last W radii of [h], the maxima of the radii that left it).
@@ -342,16 +342,8 @@ class NonlinearIntervalObserver {
   double rmax_norm_ = 0, rmax_norm_out_ = 0;
   Eigen::VectorXd xhat_, cc_, xn_, cn_, work_, hc_, hr_, conv_, tmp_, innov_, innov_mag_, lo_, hi_;
   double xi_ = 0;
-  long k_ = 0;
   Eigen::VectorXd rv_;  // radii of the output noise box
   iobs_detail::ErrorBoxTable rtable_;
-  // Missing and impossible readings (reading_screen.hpp): a step without some output restarts
-  // the error bound from the predicted box [rlo_, rhi_] at step k0_ (restarted_).
-  ReadingScreen screen_;
-  Box dbox_, vbox_;
-  bool restarted_ = false;
-  long k0_ = 0;
-  Eigen::VectorXd rlo_, rhi_;
   /// Restarts from the box X of x_k at step k: the table of X's radius, an empty window.
   void restart(const Box& X, long k);
 };
@@ -447,7 +439,7 @@ InvariantObserverDesign offline_error_sequence(const Plant& plant, const Box& x0
 /// [x_k] = x̂_k + [s_min(k,k*)], widened by the certified rounding allowance of x̂. One-step
 /// predictor (current() before any step is x̂_0 + [s_0] = [x_0] up to rounding). O(n² + n n_y
 /// + n n_u) per step, no allocation.
-class IntervalInvariantObserver {
+class IntervalInvariantObserver : public iobs_detail::BoxObserverReadings {
  public:
   explicit IntervalInvariantObserver(InvariantObserverDesign design);
 
@@ -466,16 +458,6 @@ class IntervalInvariantObserver {
   /// inflation); design() keeps the construction's.
   void step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u);
 
-  /// Policy for impossible readings (reading_screen.hpp); `reset_box` (size 0: keep; default
-  /// the initial box) is where policy Reset restarts.
-  void set_inconsistency_policy(OnInconsistency policy, const Box& reset_box = Box()) {
-    screen_.set_policy(policy, reset_box, nx());
-  }
-  OnInconsistency inconsistency_policy() const { return screen_.policy; }
-  /// The screening of the last step (every output Used before the first).
-  const MeasurementCheck& last_check() const { return screen_.check; }
-  /// Steps since the last restart (a step without some output restarts the error bound).
-  long steps_since_restart() const { return k_ - k0_; }
 
   /// Full mutable state (core/state.hpp): x̂_k, the rounding residue ξ_k, k and the box and
   /// step of the last restart.
@@ -491,15 +473,7 @@ class IntervalInvariantObserver {
   InvariantObserverDesign D_;
   Eigen::VectorXd xhat_, xn_, work_, innov_, innov_mag_, lo_, hi_;
   double xi_ = 0;
-  long k_ = 0;
   std::vector<Box> rseq_;  // the error sequence of the last restart ([s_k] for k − k0 ≥ k*: the last)
-  // Missing and impossible readings (reading_screen.hpp): a step without some output restarts
-  // the error bound from the predicted box [rlo_, rhi_] at step k0_ (restarted_).
-  ReadingScreen screen_;
-  Box dbox_, vbox_;
-  bool restarted_ = false;
-  long k0_ = 0;
-  Eigen::VectorXd rlo_, rhi_;
   const Box& active_box() const;
   /// Restarts from the box X of x_k at step k (allocates: a new error sequence).
   void restart(const Box& X, long k);
