@@ -16,10 +16,14 @@ The driver (:func:`run_cases`):
   the next cases only then (back-pressure: millions of cases are never all in memory);
 * hands each finished chunk's records to ``sink`` (e.g. the result store, which writes and fsyncs
   them) and then releases the future;
+* a finished chunk whose result cannot be fetched within 10 s (it was held by a worker that died
+  since) is submitted again: its records were never saved, so nothing is recorded twice;
 * a chunk whose worker died (Dask retries it on other workers first, up to the scheduler's
   ``distributed.scheduler.allowed-failures``, then raises ``KilledWorker``) is split into single
-  cases; a single case that still kills its worker is recorded with ``status = "crashed"`` and its
-  reproduction command, and the others complete.
+  cases; a single case that meets ``KilledWorker`` is run once more *alone* (nothing else in
+  flight, so a case that only shared a worker with the culprit is not blamed), and if it still
+  kills its worker it is recorded with ``status = "crashed"`` and its reproduction command. The
+  other cases complete.
 """
 from __future__ import annotations
 
@@ -94,7 +98,9 @@ class _Chunker:
 
     def __init__(self, cases, target: float, max_chunk: int):
         self.it = iter(cases)
-        self.retry = deque()
+        self.retry = deque()   # single cases of a chunk whose worker died
+        self.again = deque()   # whole chunks whose result was lost with a dead worker
+        self.quarantine = deque()  # single cases that met a dead worker: run alone next
         self.target, self.max_chunk = target, max_chunk
         self.per_case = None
         self.exhausted = False
@@ -111,6 +117,8 @@ class _Chunker:
         return max(1, min(self.max_chunk, int(self.target / self.per_case)))
 
     def next(self) -> list:
+        if self.again:
+            return self.again.popleft()
         if self.retry:
             return [self.retry.popleft()]
         if self.exhausted:
@@ -173,11 +181,19 @@ def _distributed(client, engine, task, context, chunker, save, stats, max_in_fli
     from distributed import KilledWorker, wait
 
     limit = max_in_flight or 2 * (engine.threads if engine is not None else 1)
+    gather_timeout = 10.0
     pending = {}
+    isolated = None  # the future of a quarantined case running alone
     down_since = None
     try:
         while True:
-            while len(pending) < limit:
+            if chunker.quarantine and not pending:
+                # nothing else in flight: if it kills its worker now, it is the culprit
+                case = chunker.quarantine.popleft()
+                isolated = client.submit(run_chunk, task, context, [case], pure=False)
+                stats.tasks += 1
+                pending[isolated] = [case]
+            while len(pending) < limit and not chunker.quarantine and isolated is None:
                 chunk = chunker.next()
                 if not chunk:
                     break
@@ -200,8 +216,18 @@ def _distributed(client, engine, task, context, chunker, save, stats, max_in_fli
                 continue
             for fut in done:
                 chunk = pending.pop(fut)
+                alone = fut is isolated
+                if alone:
+                    isolated = None
                 if fut.status == "finished":
-                    res = fut.result()
+                    try:
+                        # a result held by a worker that died meanwhile: the gather would wait for
+                        # the connect timeout (30 s by default); run the chunk again instead
+                        res = fut.result(timeout=gather_timeout)
+                    except TimeoutError:
+                        fut.release()
+                        chunker.again.append(chunk)
+                        continue
                     fut.release()
                     save(res, len(chunk))
                     continue
@@ -211,6 +237,9 @@ def _distributed(client, engine, task, context, chunker, save, stats, max_in_fli
                     stats.worker_deaths += 1
                     if len(chunk) > 1:  # find the case that kills its worker: one at a time
                         chunker.retry.extend(chunk)
+                    elif not alone:
+                        # it may have shared a dying worker with the culprit: run it alone
+                        chunker.quarantine.append(chunk[0])
                     else:
                         stats.crashed += 1
                         save({"records": [_crash_record(chunk[0], f"killed its worker repeatedly ({exc})",

@@ -68,8 +68,8 @@ class _Group:
             self.errors += 1
 
     def row(self, estimator: str, parameter: str, value) -> dict:
-        def mean(v):
-            return float(np.mean(v)) if v else None
+        def mean(v):  # sorted: the same value whatever order the workers finished in
+            return float(np.mean(sorted(v))) if v else None
 
         def med(v):
             return float(np.median(v)) if v else None
