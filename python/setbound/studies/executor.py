@@ -33,7 +33,7 @@ import time
 from collections import deque
 from dataclasses import dataclass
 
-from .._validate import as_float, as_int, as_str
+from .._validate import as_bool, as_float, as_int, as_str
 from ..progress import Progress
 
 __all__ = ["run_cases", "run_chunk", "resolve_task", "RunStats", "CASE_FIELDS"]
@@ -144,6 +144,10 @@ def run_cases(task: str, cases, sink, *, context=None, engine=None, total: int |
     poll = as_float(poll, "poll", lo=0, lo_open=True, hi=3600)
     if max_in_flight is not None:
         max_in_flight = as_int(max_in_flight, "max_in_flight", lo=1, hi=10**6)
+    if total is not None:
+        total = as_int(total, "total", lo=0)
+    label = as_str(label, "label")
+    quiet = as_bool(quiet, "quiet")
     stats = RunStats()
     chunker = _Chunker(cases, chunk_seconds, max_chunk)
     t0 = time.perf_counter()

@@ -25,6 +25,8 @@ import os
 import re
 from pathlib import Path
 
+from .._validate import as_bool
+
 __all__ = ["ResultStore", "StoreError", "SCHEMA_VERSION", "setbound_version", "is_done"]
 
 #: Version of the manifest and record layout.
@@ -66,6 +68,7 @@ class ResultStore:
     results is refused."""
 
     def __init__(self, out, manifest: dict, *, resume: bool = True):
+        resume = as_bool(resume, "resume")
         self.out = Path(out)
         self.results_dir = self.out / "results"
         want = {"schema": SCHEMA_VERSION, "setbound": setbound_version(), **manifest}

@@ -65,6 +65,7 @@ def run_study(path, *, out=None, client=None, scheduler=None, scheduler_file=Non
     plots = as_bool(plots, "plots")
     quiet = as_bool(quiet, "quiet")
     timeout = as_float(timeout, "timeout", lo=0, lo_open=True, hi=86400)
+    chunk_seconds = as_float(chunk_seconds, "chunk_seconds", lo=0, hi=86400)
     study = load_study(source)
     out = Path(out) if out is not None else Path("out") / Path(source).stem
     n = study.size
