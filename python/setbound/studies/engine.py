@@ -22,6 +22,10 @@ from .._validate import as_float, as_int, as_str
 __all__ = ["Engine", "SchedulerUnreachable", "default_processes"]
 
 
+#: Messages a batched stream of the driver process keeps for debugging (distributed's default: 1000).
+_LOG_LENGTH = 8
+
+
 class SchedulerUnreachable(ConnectionError):
     """The scheduler given (address or file) did not answer within the timeout."""
 
@@ -58,6 +62,7 @@ class Engine:
         self.client = None
         self._cluster = None
         self._own_client = False
+        self._config = None
 
     @property
     def serial(self) -> bool:
@@ -84,7 +89,21 @@ class Engine:
         if self._caller_client is not None:
             self.client = self._caller_client
             return self
+        import dask
         from distributed import Client
+
+        # Every batched stream of this process (the client's to the scheduler, and the embedded
+        # scheduler's to its workers) keeps its last `low-level-log-length` messages (1000 by
+        # default) for debugging, each with a task and its chunk of cases: with long chunks that
+        # is hundreds of MiB held by the driver. Keep a few.
+        self._config = dask.config.set({"distributed.admin.low-level-log-length": _LOG_LENGTH})
+        try:
+            return self._start(Client)
+        except BaseException:
+            self.close()
+            raise
+
+    def _start(self, Client) -> "Engine":
 
         if self.scheduler is not None or self.scheduler_file is not None:
             what = self.scheduler if self.scheduler is not None else f"scheduler file {self.scheduler_file}"
@@ -104,12 +123,7 @@ class Engine:
         n = self.processes or default_processes()
         self._cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
                                      silence_logs=logging.ERROR)
-        try:
-            self.client = Client(self._cluster, timeout=self.timeout, set_as_default=False)
-        except BaseException:
-            self._cluster.close()
-            self._cluster = None
-            raise
+        self.client = Client(self._cluster, timeout=self.timeout, set_as_default=False)
         self._own_client = True
         return self
 
@@ -126,6 +140,9 @@ class Engine:
         if self._cluster is not None:
             self._cluster.close()
             self._cluster = None
+        if self._config is not None:
+            self._config.__exit__(None, None, None)
+            self._config = None
 
     @property
     def threads(self) -> int:
