@@ -330,3 +330,18 @@ def test_study_modules_document_their_public_names():
     missing = [n for m in mods for n in _undocumented(importlib.import_module(m))]
     missing += _undocumented(importlib.import_module("setbound.jobs.study"))
     assert not missing, missing
+
+
+def test_exact_hull_ratio_is_at_least_one(tmp_path):
+    # every guaranteed estimator's hull contains the exact one: mean width ratio >= 1
+    text = STUDY.format(seeds=2, horizon=15).split("[study]")[0] + (
+        "[study]\nseeds = 2\nestimators = [\"segment_min\"]\nexact_hull = true\n"
+        "[study.parameters]\nmax_generators = [3, 12]\n")
+    (tmp_path / "h.toml").write_text(text)
+    res = run_study(tmp_path / "h.toml", out=tmp_path / "o", processes=1, plots=False, quiet=True)
+    recs = records(tmp_path / "o")
+    assert len(recs) == 4 and all(r["status"] == "ok" for r in recs)
+    ratios = {r["params"]["max_generators"]: r["hull_ratio"] for r in recs if r["seed"] == 100}
+    assert all(v >= 1 - 1e-9 for v in ratios.values()), ratios
+    assert ratios[3] >= ratios[12] - 1e-9  # fewer generators: a coarser set
+    assert res.summary.rows[0]["hull_ratio"] >= 1 - 1e-9
