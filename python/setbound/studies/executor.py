@@ -186,6 +186,7 @@ def _distributed(client, engine, task, context, chunker, save, stats, max_in_fli
 
     limit = max_in_flight or 2 * (engine.threads if engine is not None else 1)
     gather_timeout = 10.0
+    regathered = set()
     pending = {}
     isolated = None  # the future of a quarantined case running alone
     down_since = None
@@ -227,12 +228,15 @@ def _distributed(client, engine, task, context, chunker, save, stats, max_in_fli
                     try:
                         # a result held by a worker that died meanwhile: the gather would wait for
                         # the connect timeout (30 s by default); run the chunk again instead
-                        res = fut.result(timeout=gather_timeout)
+                        # (the second time, wait: a large result on a slow network is not lost)
+                        res = fut.result(timeout=None if id(chunk) in regathered else gather_timeout)
                     except TimeoutError:
                         fut.release()
+                        regathered.add(id(chunk))  # the list object stays alive in the queue
                         chunker.again.append(chunk)
                         continue
                     fut.release()
+                    regathered.discard(id(chunk))
                     save(res, len(chunk))
                     continue
                 exc = fut.exception()
