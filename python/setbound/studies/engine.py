@@ -95,8 +95,11 @@ class Engine:
         # Every batched stream of this process (the client's to the scheduler, and the embedded
         # scheduler's to its workers) keeps its last `low-level-log-length` messages (1000 by
         # default) for debugging, each with a task and its chunk of cases: with long chunks that
-        # is hundreds of MiB held by the driver. Keep a few.
-        self._config = dask.config.set({"distributed.admin.low-level-log-length": _LOG_LENGTH})
+        # is hundreds of MiB held by the driver. Keep a few. The event-loop "tick" (a check for a
+        # blocked loop, every 20 ms by default, in the client, the embedded scheduler and, through
+        # the nannies, the embedded workers) is a third of an idle 2-worker cluster's CPU: 1 s.
+        self._config = dask.config.set({"distributed.admin.low-level-log-length": _LOG_LENGTH,
+                                        "distributed.admin.tick.interval": "1s"})
         try:
             return self._start(Client)
         except BaseException:

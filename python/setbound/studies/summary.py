@@ -210,6 +210,7 @@ def write_study_plots(out, summary: StudySummary) -> list:
         if all(min(summary.widths[n]) > 0 for n in names):
             ax.set_yscale("log")
         ax.set_title("distribution of the mean bound width")
+        fig.tight_layout()
         paths.append(save_png(fig, out / "widths.png"))
     for p, per_est in summary.by_param.items():
         numeric = all(isinstance(v, (int, float)) and not isinstance(v, bool) for lst in per_est.values()
@@ -236,6 +237,7 @@ def write_study_plots(out, summary: StudySummary) -> list:
         ax.legend(fontsize=8)
         ax.set_title(f"mean width against {p}")
         safe = "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in p)
+        fig.tight_layout()
         paths.append(save_png(fig, out / f"width_vs_{safe}.png"))
     overall = [r for r in summary.rows if not r["parameter"]]
     if overall:
@@ -243,9 +245,15 @@ def write_study_plots(out, summary: StudySummary) -> list:
         ax = fig.add_subplot()
         rates = [100 * r["containment_rate"] if r["containment_rate"] is not None else 0.0 for r in overall]
         ax.bar(range(len(overall)), rates, color=["tab:green" if v == 100 else "tab:red" for v in rates])
+        for k, r in enumerate(overall):
+            if r["containment_rate"] is None:  # not a guaranteed method, or no truth known
+                ax.text(k, 2, "n/a", ha="center", va="bottom")
+            elif r["containment_rate"] < 1:
+                ax.text(k, rates[k] + 1, f"{rates[k]:.1f} %", ha="center", va="bottom")
         ax.set_xticks(range(len(overall)), [r["estimator"] for r in overall], rotation=20)
         ax.set_ylim(0, 105)
         ax.set_ylabel("truth contained (% of cases)")
         ax.set_title("containment rate (guaranteed methods)")
+        fig.tight_layout()
         paths.append(save_png(fig, out / "containment.png"))
     return paths
