@@ -187,6 +187,7 @@ def _distributed(client, engine, task, context, chunker, save, stats, max_in_fli
     limit = max_in_flight or 2 * (engine.threads if engine is not None else 1)
     gather_timeout = 10.0
     regathered = set()
+    requeued = {}
     pending = {}
     isolated = None  # the future of a quarantined case running alone
     down_since = None
@@ -237,7 +238,18 @@ def _distributed(client, engine, task, context, chunker, save, stats, max_in_fli
                         continue
                     fut.release()
                     regathered.discard(id(chunk))
+                    requeued.pop(id(chunk), None)
                     save(res, len(chunk))
+                    continue
+                if fut.status != "error":
+                    # finished when wait() returned, then "lost" with the worker that held the
+                    # result (or cancelled): its records were never saved, run the chunk again
+                    fut.release()
+                    requeued[id(chunk)] = requeued.get(id(chunk), 0) + 1
+                    if requeued[id(chunk)] > 5:
+                        raise ConnectionError(f"scheduler: a task was lost 5 times in a row (status {fut.status}, "
+                                              f"client {client.status}); rerun to resume")
+                    chunker.again.append(chunk)
                     continue
                 exc = fut.exception()
                 fut.release()
@@ -253,7 +265,7 @@ def _distributed(client, engine, task, context, chunker, save, stats, max_in_fli
                         save({"records": [_crash_record(chunk[0], f"killed its worker repeatedly ({exc})",
                                                         reproduce)], "seconds": 0.0}, 0)
                     continue
-                raise exc
+                raise exc if exc is not None else RuntimeError(f"task {fut.key}: failed without an exception")
     finally:
         for fut in pending:
             fut.release()
