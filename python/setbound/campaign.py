@@ -721,8 +721,8 @@ def run_campaign(estimators=None, steps: int = 100_000, *, processes: int = 2, s
     The cases run on :mod:`setbound.studies` (Dask): an embedded LocalCluster of ``processes``
     worker processes, an existing cluster (``scheduler``, ``scheduler_file``) or the caller's
     ``client`` (left open); ``processes=1`` runs them one after the other in this process. Cases are
-    submitted while the steps (or the time) are not reached, at most twice the cluster's threads
-    in flight, so a few cases past the target may run (all are counted)."""
+    submitted while the steps (or the time) are not reached, one case per task and one task per
+    worker thread in flight, so a few cases past the target may run (all are counted)."""
     from .studies.engine import Engine
     from .studies.executor import run_cases
 
@@ -760,9 +760,13 @@ def run_campaign(estimators=None, steps: int = 100_000, *, processes: int = 2, s
                 for r in records:
                     _accumulate(summ, r)
 
-            # short chunks (0.25 s of work): the steps target is checked between chunks
+            # One case per task and one task per worker thread in flight, as the fork pool had: case
+            # durations are heavy-tailed (a design can take seconds where a run takes milliseconds),
+            # so a chunk sized on the fast cases could hold a few slow ones and run far past the
+            # time limit; and the steps target is checked after every case.
             run_cases("setbound.campaign:campaign_case", cases(), sink, context=context, engine=engine,
-                      chunk_seconds=0.25, reproduce=_reproduce(context), label=name, quiet=True)
+                      max_chunk=1, max_in_flight=engine.threads, reproduce=_reproduce(context), label=name,
+                      quiet=True)
             summ["violations"].sort(key=lambda v: (v["seed"], v["step"]))
             summ["crashed"].sort(key=lambda c: c["seed"])
             summ["seconds"] = round(time.monotonic() - t0, 1)
