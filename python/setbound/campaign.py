@@ -14,11 +14,15 @@ the documented allowance (:func:`ellipsoid_excess`, :func:`box_excess`,
 (``python -m setbound.campaign --estimator NAME --seed SEED``).
 
 Command line: ``python -m setbound.campaign [--steps N] [--processes 2] [--json FILE]
-[--estimator NAME ...] [--seed SEED] [--max-nx 8]``.
+[--estimator NAME ...] [--seed SEED] [--max-nx 8] [--scheduler ADDR | --scheduler-file PATH]``.
+The cases run on the machinery of :mod:`setbound.studies` (Dask; ``--processes 1``: serially in
+this process). A case that kills its worker process is reported as *crashed* with its
+reproduction command and the campaign exits 1.
 """
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import os
@@ -29,6 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import ellipsoidal, hinf, interval_observers, zonotopic
+from ._validate import as_float, as_int
 from .errors import SetboundError
 from .interval import Box, IntervalMatrix
 from .plant import Plant
@@ -37,7 +42,7 @@ from .simulation import simulate
 from .system import DescriptorSystem, LinearSystem
 
 __all__ = ["ESTIMATORS", "TAU", "LOOSE", "Case", "CaseResult", "RandomSystem", "random_system", "random_case", "run_case",
-           "run_campaign", "format_table", "ellipsoid_excess", "box_excess", "zonotope_excess",
+           "run_campaign", "campaign_case", "format_table", "ellipsoid_excess", "box_excess", "zonotope_excess",
            "simulation_error_bound", "main"]
 
 #: Relative allowance of the containment checks: a point counts as contained when it lies in the
@@ -687,60 +692,88 @@ def run_case(estimator: str, seed: int, max_nx: int = 8, max_steps: int | None =
     return res
 
 
-def _worker(args):
-    name, seed, max_nx, max_steps = args
-    return run_case(name, seed, max_nx, max_steps)
+def campaign_case(context: dict, case: dict) -> dict:
+    """The campaign's task (:mod:`setbound.studies.executor`): :func:`run_case` of
+    ``case["estimator"]``, ``case["seed"]`` with ``context["max_nx"]``/``["max_steps"]``, as a
+    plain dict (the :class:`CaseResult` fields, ``violations`` as ``[step, excess]`` pairs, and
+    ``reproduce``)."""
+    r = run_case(case["estimator"], case["seed"], context["max_nx"], context["max_steps"])
+    rec = dataclasses.asdict(r)
+    rec["violations"] = [[int(k), float(e)] for k, e in r.violations]
+    rec.update(i=case["i"], key=case["key"], reproduce=r.reproduce())
+    return rec
+
+
+def _reproduce(context):
+    opts = (f" --max-nx {context['max_nx']}" if context["max_nx"] != 8 else "") + (
+        f" --max-steps {context['max_steps']}" if context["max_steps"] is not None else "")
+
+    def reproduce(case) -> str:
+        return f"python -m setbound.campaign --estimator {case['estimator']} --seed {case['seed']}{opts} --verbose"
+    return reproduce
 
 
 def run_campaign(estimators=None, steps: int = 100_000, *, processes: int = 2, seed0: int = 0,
                  max_nx: int = 8, max_steps: int | None = None, time_limit: float | None = None,
-                 progress=None) -> dict:
+                 progress=None, client=None, scheduler: str | None = None, scheduler_file: str | None = None,
+                 timeout: float = 30.0) -> dict:
     """Runs cases ``seed0, seed0 + 1, …`` of each estimator until ``steps`` steps were checked
     (or ``time_limit`` seconds per estimator passed). Returns ``{name: summary}`` with
     ``systems``, ``design_failed`` (count and the distinct reasons), ``steps``, ``violations``
-    (each with seed, step, excess and the reproduction command), ``max_excess`` and ``seconds``."""
-    import multiprocessing as mp
+    (each with seed, step, excess and the reproduction command), ``crashed`` (cases that killed
+    their worker, with the command), ``max_excess`` and ``seconds``.
+
+    The cases run on :mod:`setbound.studies` (Dask): an embedded LocalCluster of ``processes``
+    worker processes, an existing cluster (``scheduler``, ``scheduler_file``) or the caller's
+    ``client`` (left open); ``processes=1`` runs them one after the other in this process. Cases are
+    submitted while the steps (or the time) are not reached, one case per task and one task per
+    worker thread in flight, so a few cases past the target may run (all are counted)."""
+    from .studies.engine import Engine
+    from .studies.executor import run_cases
 
     names = list(ESTIMATORS) if not estimators else list(estimators)
+    for n in names:
+        if n not in ESTIMATORS:
+            raise ValueError(f"estimators: expected names among {', '.join(ESTIMATORS)}, got {n!r}")
+    steps = as_int(steps, "steps", lo=1, hi=None)
+    seed0 = as_int(seed0, "seed0", lo=0, hi=2**62)
+    max_nx = as_int(max_nx, "max_nx", lo=1, hi=64)
+    if max_steps is not None:
+        max_steps = as_int(max_steps, "max_steps", lo=2, hi=None)
+    if time_limit is not None:
+        time_limit = as_float(time_limit, "time_limit", lo=0, lo_open=True)
+    context = {"max_nx": max_nx, "max_steps": max_steps}
     out = {}
-    ctx = mp.get_context("fork")
-    with ctx.Pool(processes) if processes > 1 else _Serial() as pool:
+    with Engine(client=client, scheduler=scheduler, scheduler_file=scheduler_file, processes=processes,
+                timeout=timeout) as engine:
         for name in names:
             t0 = time.monotonic()
             summ = {"systems": 0, "design_failed": 0, "step_failed": 0, "reasons": {}, "steps": 0, "violations": [],
                     "max_excess": -math.inf, "nx_max": 0, "families": {}, "seeds": [seed0, seed0], "unverified": 0,
-                    "false_alarms": 0}
-            seed = seed0
-            pending = []
+                    "false_alarms": 0, "crashed": []}
 
             def more() -> bool:
                 return summ["steps"] < steps and (time_limit is None or time.monotonic() - t0 < time_limit)
 
-            # keep `processes` cases in flight; stop submitting once the steps (or the time) are reached
-            while True:
-                while more() and len(pending) < max(processes, 1):
-                    pending.append(pool.apply_async(_worker, ((name, seed, max_nx, max_steps),)))
+            def cases(name=name, more=more):
+                seed = seed0
+                while more():
+                    yield {"i": seed - seed0, "key": f"{name}:{seed}", "estimator": name, "seed": seed}
                     seed += 1
-                if not pending:
-                    break
-                r = pending.pop(0).get()
-                summ["systems"] += 1
-                summ["seeds"][1] = max(summ["seeds"][1], r.seed)
-                if r.status != "ok":
-                    summ[r.status] += 1
-                    key = r.reason.split(":")[0] + ": " + r.reason.split(":", 1)[-1].strip()[:90]
-                    summ["reasons"][key] = summ["reasons"].get(key, 0) + 1
-                summ["steps"] += r.steps
-                summ["unverified"] += r.unverified
-                summ["false_alarms"] += r.false_alarms
-                summ["nx_max"] = max(summ["nx_max"], r.nx if r.steps else 0)
-                if r.steps:
-                    summ["families"][r.family] = summ["families"].get(r.family, 0) + r.steps
-                summ["max_excess"] = max(summ["max_excess"], r.max_excess)
-                for k, e in r.violations[:3]:
-                    summ["violations"].append({"seed": r.seed, "step": k, "excess": e, "nx": r.nx,
-                                               "family": r.family, "disturbance": r.disturbance,
-                                               "reproduce": r.reproduce()})
+
+            def sink(records, summ=summ):
+                for r in records:
+                    _accumulate(summ, r)
+
+            # One case per task and one task per worker thread in flight, as the fork pool had: case
+            # durations are heavy-tailed (a design can take seconds where a run takes milliseconds),
+            # so a chunk sized on the fast cases could hold a few slow ones and run far past the
+            # time limit; and the steps target is checked after every case.
+            run_cases("setbound.campaign:campaign_case", cases(), sink, context=context, engine=engine,
+                      max_chunk=1, max_in_flight=engine.threads, reproduce=_reproduce(context), label=name,
+                      quiet=True)
+            summ["violations"].sort(key=lambda v: (v["seed"], v["step"]))
+            summ["crashed"].sort(key=lambda c: c["seed"])
             summ["seconds"] = round(time.monotonic() - t0, 1)
             out[name] = summ
             if progress:
@@ -748,24 +781,29 @@ def run_campaign(estimators=None, steps: int = 100_000, *, processes: int = 2, s
     return out
 
 
-class _Serial:
-    """In-process stand-in for a multiprocessing pool (processes=1)."""
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *a):
-        return False
-
-    def apply_async(self, f, args):
-        """Runs ``f(*args)`` now; ``.get()`` returns the result."""
-        class _Done:
-            def __init__(self, v):
-                self.v = v
-
-            def get(self):
-                return self.v
-        return _Done(f(*args))
+def _accumulate(summ: dict, r: dict) -> None:
+    """Adds one case record (:func:`campaign_case`, or a crashed/error record) to an estimator's
+    summary."""
+    summ["systems"] += 1
+    summ["seeds"][1] = max(summ["seeds"][1], r["seed"])
+    if r["status"] in ("crashed", "error"):  # the case killed its worker, or raised outside SetboundError
+        summ["crashed"].append({"seed": r["seed"], "status": r["status"], "reason": r.get("reason", ""),
+                                "reproduce": r.get("reproduce", "")})
+        return
+    if r["status"] != "ok":
+        summ[r["status"]] += 1
+        key = r["reason"].split(":")[0] + ": " + r["reason"].split(":", 1)[-1].strip()[:90]
+        summ["reasons"][key] = summ["reasons"].get(key, 0) + 1
+    summ["steps"] += r["steps"]
+    summ["unverified"] += r["unverified"]
+    summ["false_alarms"] += r["false_alarms"]
+    summ["nx_max"] = max(summ["nx_max"], r["nx"] if r["steps"] else 0)
+    if r["steps"]:
+        summ["families"][r["family"]] = summ["families"].get(r["family"], 0) + r["steps"]
+    summ["max_excess"] = max(summ["max_excess"], r["max_excess"])
+    for k, e in r["violations"][:3]:
+        summ["violations"].append({"seed": r["seed"], "step": k, "excess": e, "nx": r["nx"], "family": r["family"],
+                                   "disturbance": r["disturbance"], "reproduce": r["reproduce"]})
 
 
 def format_table(summary: dict) -> str:
@@ -787,7 +825,11 @@ def main(argv=None) -> int:
     ap.add_argument("--steps", type=int, default=100_000, help="steps per estimator (default 100000)")
     ap.add_argument("--seed", type=int, help="run this one case (with --estimator) and print it")
     ap.add_argument("--seed0", type=int, default=0, help="first seed of the campaign")
-    ap.add_argument("--processes", type=int, default=2)
+    ap.add_argument("--processes", type=int, default=2,
+                    help="worker processes of the embedded Dask cluster (1: serially in this process)")
+    ap.add_argument("--scheduler", help="run on an existing Dask scheduler (tcp://HOST:PORT)")
+    ap.add_argument("--scheduler-file", help="run on the Dask scheduler of this scheduler file")
+    ap.add_argument("--timeout", type=float, default=30.0, help="seconds to reach the scheduler (default 30)")
     ap.add_argument("--max-nx", type=int, default=8)
     ap.add_argument("--max-steps", type=int, default=None, help="steps per case at most")
     ap.add_argument("--time-limit", type=float, default=None, help="seconds per estimator at most")
@@ -814,8 +856,13 @@ def main(argv=None) -> int:
               f"({s['seconds']} s)",
               file=sys.stderr, flush=True)
 
-    summary = run_campaign(a.estimator, a.steps, processes=a.processes, seed0=a.seed0, max_nx=a.max_nx,
-                           max_steps=a.max_steps, time_limit=a.time_limit, progress=progress)
+    try:
+        summary = run_campaign(a.estimator, a.steps, processes=a.processes, seed0=a.seed0, max_nx=a.max_nx,
+                               max_steps=a.max_steps, time_limit=a.time_limit, progress=progress,
+                               scheduler=a.scheduler, scheduler_file=a.scheduler_file, timeout=a.timeout)
+    except (ValueError, ConnectionError) as exc:
+        print(f"{ap.prog}: error: {exc}", file=sys.stderr)
+        return 2
     print(format_table(summary))
     total = time.monotonic() - t0
     print(f"total {total:.0f} s, {sum(s['steps'] for s in summary.values())} steps, "
@@ -824,12 +871,14 @@ def main(argv=None) -> int:
     for name, s in summary.items():
         for v in s["violations"][:5]:
             print(f"VIOLATION {name} seed={v['seed']} step={v['step']} excess={v['excess']:.3e}: {v['reproduce']}")
+        for c in s["crashed"][:5]:
+            print(f"CRASHED {name} seed={c['seed']} ({c['status']}: {c['reason']}): {c['reproduce']}")
     if a.json:
         os.makedirs(os.path.dirname(os.path.abspath(a.json)), exist_ok=True)
         with open(a.json, "w") as f:
             json.dump({"total_seconds": round(total, 1), "tau": TAU, "estimators": summary}, f, indent=1,
                       default=float)
-    return 1 if any(s["violations"] or s["false_alarms"] for s in summary.values()) else 0
+    return 1 if any(s["violations"] or s["false_alarms"] or s["crashed"] for s in summary.values()) else 0
 
 
 if __name__ == "__main__":

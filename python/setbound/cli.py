@@ -12,6 +12,12 @@
     the same system under several estimators — from several files describing the same system
     (the data of the first file are used for all), or one file with an estimator filter
     (names or methods) —: one table and overlaid plots (default ``out/compare``).
+``setbound study FILE [--scheduler ADDR | --scheduler-file PATH] [--processes N] [--out DIR] [--resume | --no-resume]``
+    a study: the job's ``[study]`` grid (seeds × parameter values × estimators, see
+    :mod:`setbound.jobs.study`) on a Dask cluster (embedded by default, see
+    :mod:`setbound.studies`), the per-case records and the summary in ``DIR`` (default
+    ``out/<file stem>``); an existing folder of the same study is resumed. ``--case KEY`` runs one
+    case here and prints its record.
 ``setbound demo [--out DIR] [--steps N]``
     the main job: the built-in 3-state example with every applicable estimator
     (see :mod:`setbound.demo`), written to ``out/demo``.
@@ -149,6 +155,22 @@ def _parser() -> argparse.ArgumentParser:
     m.add_argument("--out", default="out/compare", help="directory for the results (default out/compare)")
     m.add_argument("--no-plots", action="store_true", help="write no PNG files")
     m.add_argument("--quiet", "-q", action="store_true", default=argparse.SUPPRESS, help="no progress bars")
+    s = sub.add_parser("study", help="a study: the [study] grid of a job file on a Dask cluster")
+    s.add_argument("file")
+    s.add_argument("--out", help="directory for the results (default out/<file stem>)")
+    where = s.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="ADDR", help="an existing Dask scheduler (tcp://HOST:PORT)")
+    where.add_argument("--scheduler-file", metavar="PATH", help="an existing Dask scheduler's file")
+    where.add_argument("--processes", type=int, help="worker processes of the embedded cluster (default: one per "
+                                                      "core; 1: serially in this process)")
+    s.add_argument("--timeout", type=float, default=30.0, help="seconds to reach the scheduler (default 30)")
+    s.add_argument("--resume", dest="resume", action="store_true", default=True,
+                   help="continue the study in --out (the default)")
+    s.add_argument("--no-resume", dest="resume", action="store_false", help="refuse a folder that holds results")
+    s.add_argument("--chunk-seconds", type=float, default=1.0, help="target work per task (default 1 s)")
+    s.add_argument("--case", metavar="KEY", help="run this one case here and print its record")
+    s.add_argument("--no-plots", action="store_true", help="write no PNG files")
+    s.add_argument("--quiet", "-q", action="store_true", default=argparse.SUPPRESS, help="no progress bars")
     d = sub.add_parser("demo", help="the main job: the 3-state example under every estimator")
     d.add_argument("--out", default="out/demo", help="directory for the results (default out/demo)")
     d.add_argument("--steps", type=int, default=None, help="horizon (default: the example's 50 steps)")
@@ -162,6 +184,11 @@ def _check(path) -> int:
     mib = job.memory_estimate / 1024 ** 2
     print(f"{path}: ok — {job.title}: {type(job.system).__name__} (n_x = {job.system.nx}), {job.horizon} steps, "
           f"estimators: {', '.join(s.name for s in job.estimators)} (run needs about {mib:.0f} MiB)")
+    from .studies.cli import check_line
+
+    line = check_line(path)  # a [study] section: validated too
+    if line:
+        print(line)
     return 0
 
 
@@ -181,6 +208,10 @@ def main(argv=None) -> int:
             return code or (1 if any(not r.ok for r in results) else 0)
         if a.command == "check":
             return _check(a.file)
+        if a.command == "study":
+            from .studies.cli import study_command
+
+            return study_command(a)
         job = jobs.load(a.file)
         results = jobs.run(job, keep_going=True)
         out = Path(a.out) if a.out else Path("out") / Path(a.file).stem

@@ -735,6 +735,7 @@ import time
 
 from setbound import interval as sbinterval, invariant, plotting, simulation, system as sbsystem, trajectory
 from setbound import fault as sbfault, sets as sbsets
+from setbound import studies
 
 OPTIONS: dict[str, dict[str, str]] = {
     # ellipsoidal
@@ -877,12 +878,26 @@ OPTIONS: dict[str, dict[str, str]] = {
     "setbound.plotting.ellipse_points": {"rho": "float", "dims": "pair", "n": "int"},
     "setbound.plotting.measurement_strips": {"u": "data"},
     "setbound.plotting.save_png": {"dpi": "int"},
+    # studies (issue 23)
+    "setbound.studies.engine.Engine.__init__": {"client": "data", "scheduler": "str?", "scheduler_file": "data",
+                                               "processes": "int?", "timeout": "float"},
+    "setbound.studies.executor.run_cases": {"context": "data", "engine": "data", "total": "int?",
+                                            "chunk_seconds": "float", "max_in_flight": "int?", "max_chunk": "int",
+                                            "reproduce": "data", "label": "str", "quiet": "bool", "poll": "float"},
+    "setbound.studies.store.ResultStore.__init__": {"resume": "bool"},
+    "setbound.studies.study.run_study": {"out": "data", "client": "data", "scheduler": "str?",
+                                         "scheduler_file": "data", "processes": "int?", "resume": "bool",
+                                         "timeout": "float", "chunk_seconds": "float", "plots": "bool",
+                                         "quiet": "bool", "sink": "data"},
+    "setbound.studies.summary.write_summary": {"extra": "data"},
 }
 
 #: The modules whose public functions the table must cover (the API modules; the job-file modules
 #: config, campaign, cli, demo and thesis_jobs validate their own values).
 API_MODULES = ("ellipsoidal", "zonotopic", "hinf", "interval", "interval_observers", "invariant", "inclusion", "lmi",
-               "sets", "system", "simulation", "plant", "trajectory", "plotting", "benchmarks", "fault")
+               "sets", "system", "simulation", "plant", "trajectory", "plotting", "benchmarks", "fault",
+               "studies", "studies.engine", "studies.executor", "studies.store", "studies.study", "studies.summary",
+               "studies.tasks")
 
 
 def _public_callables():
@@ -1093,7 +1108,31 @@ CALLS = {
     "setbound.plotting.ellipse_points": lambda c, **kw: plotting.ellipse_points(np.eye(2), np.zeros(2), **{"rho": 1.0,
                                                                                                         **kw}),
     "setbound.plotting.save_png": lambda c, **kw: _figure(**kw),
+    # constructing an Engine starts nothing (entering it does)
+    "setbound.studies.engine.Engine.__init__": lambda c, **kw: studies.Engine(**kw),
+    "setbound.studies.executor.run_cases":
+        lambda c, **kw: studies.run_cases("setbound.studies.tasks:busy_case", [{"i": 0, "key": "0"}], list, **kw),
+    "setbound.studies.store.ResultStore.__init__":
+        lambda c, **kw: studies.ResultStore(_TMP / "store", {"kind": "fuzz", "options": {}}, **kw),
+    # every option is checked before any work: the output folder (another study's) then refuses the run
+    "setbound.studies.study.run_study": lambda c, **kw: studies.run_study(_study_file(), **{"out": _other_out(), **kw}),
 }
+
+
+def _study_file():
+    p = _TMP / "study.toml"
+    if not p.exists():
+        p.write_text("[system]\nA = [[0.5]]\nC = [[1.0]]\nE = [[0.1, 0.0]]\nF = [[0.0, 0.1]]\n"
+                     "[initial]\nlower = [-1.0]\nupper = [1.0]\n[simulation]\nhorizon = 5\n"
+                     "[[estimator]]\nmethod = \"segment_min\"\n[study]\nseeds = 2\n")
+    return p
+
+
+def _other_out():
+    out = _TMP / "other-study"
+    if not out.exists():
+        studies.ResultStore(out, {"kind": "another", "options": {}})
+    return out
 
 #: Hostile values drawn for every scalar option (the last ones are valid for most kinds).
 HOSTILE = (2**31, 2**63, 2**1024, -(2**31) - 1, -1, 0, 3.7, "5", True, False, None, math.nan, math.inf, -math.inf,

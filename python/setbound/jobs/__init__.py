@@ -86,6 +86,7 @@ checks the import graph)::
     runner       run, run_estimator, run_trajectory          -> registry, model
     linear       the papers' kinds (registered on import)    -> schema, registry
     thesis       the thesis kinds (registered on import)     -> schema, expressions, registry
+    study        the [study] grid: Study, load_study         -> schema, registry, loader
 
 :mod:`setbound.config` and :mod:`setbound.thesis_jobs` are façades re-exporting these names.
 """

@@ -333,8 +333,9 @@ def from_dict(doc: dict, *, base=Path("."), source: str = "", simulate: bool = T
     under ``base``. Raises ConfigError naming the key on any problem. ``simulate=False``:
     validate only, the job has no data (see the module docstring)."""
     check_document(doc)
-    check_keys(doc, {"title", "system", "initial", "simulation", "data", "estimator", "plots", "fault", "hypothesis"},
-               "job")
+    # "study": the grid of `setbound study` (setbound.jobs.study); `run` and `check` use the base job
+    check_keys(doc, {"title", "system", "initial", "simulation", "data", "estimator", "plots", "fault", "hypothesis",
+                     "study"}, "job")
     system_kind, system, constant_input = _system(require(doc, "system", "job"))
     nu = system.nu - (1 if constant_input else 0)  # the inputs the user gives
     n = system.nx
