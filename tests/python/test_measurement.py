@@ -16,7 +16,7 @@ from setbound.ellipsoidal import (DescriptorEstimator, ImprovedEstimator, Kalman
                                   OnlineEstimator, design_offline)
 from setbound.sets import Ellipsoid, Zonotope
 from setbound.zonotopic import PRadiusEstimator, SegmentMinEstimator, VolumeMinEstimator, design_pradius, exact_hull
-from zono_examples import ex_le13 as le13
+from zono_examples import LE13_JOB_SYSTEM, ex_le13 as le13
 
 
 
@@ -232,12 +232,7 @@ def test_exact_hull_skips_missing_outputs_and_refuses_infinity(rng):
         exact_hull(s, ys, x0=X0)
 
 
-JOB = """
-[system]
-A = [[0.0, -0.5], [1.0, 1.0]]
-C = [[-2.0, 1.0], [1.0, 1.0]]
-E = [[-0.12, 0, 0], [0.02, 0, 0]]
-F = [[0, 0.2, 0], [0, 0, 0.2]]
+JOB = LE13_JOB_SYSTEM + """
 [initial]
 center = [0, 0]
 generators = [[3, 0], [0, 3]]

@@ -12,7 +12,7 @@ from setbound import Box, InconsistentMeasurementError, Plant, hinf
 from setbound import interval_observers as io
 from setbound.measurement import INCONSISTENT, MISSING, USED, MeasurementCheck
 from setbound.zonotopic import exact_hull
-from zono_examples import ex_le13 as le13
+from zono_examples import LE13_JOB_SYSTEM, ex_le13 as le13
 
 KINDS = ["sm", "luenberger", "nonlinear", "invariant"]
 X0 = Box([-3.0, -3.0], [3.0, 3.0])
@@ -180,13 +180,7 @@ def test_policy_options_are_refused_by_name():
         est.step([np.inf, 0.0])
 
 
-JOB = """
-[system]
-A = [[0, -0.5], [1, 1]]
-C = [[-2, 1], [1, 1]]
-E = [[-0.12, 0, 0], [0.02, 0, 0]]
-F = [[0, 0.2, 0], [0, 0, 0.2]]
-
+JOB = LE13_JOB_SYSTEM + """
 [initial]
 center = [0, 0]
 generators = [[3, 0], [0, 3]]

@@ -13,7 +13,7 @@ from setbound.measurement import MISSING
 from setbound.plant import as_plant
 from setbound.sets import Ellipsoid, Zonotope, as_box, as_ellipsoid, as_zonotope
 from setbound.simulation import simulate
-from zono_examples import ex_le13 as le13
+from zono_examples import LE13_JOB_SYSTEM, ex_le13 as le13
 
 
 
@@ -106,12 +106,7 @@ def test_simulate_and_job_files_take_a_box(tmp_path):
     assert np.all(np.abs(sim.x[0]) <= 1)
     corner = simulate(s, Box([-1, -1], [1, 1]), 3, rng=1, disturbance="vertex")
     assert np.all(np.abs(corner.x[0]) == 1)  # a vertex start: a corner of the box
-    (tmp_path / "job.toml").write_text("""
-[system]
-A = [[0, -0.5], [1, 1]]
-C = [[-2, 1], [1, 1]]
-E = [[-0.12, 0, 0], [0.02, 0, 0]]
-F = [[0, 0.2, 0], [0, 0, 0.2]]
+    (tmp_path / "job.toml").write_text(LE13_JOB_SYSTEM + """
 [initial]
 lower = [-2, -2]
 upper = [2, 2]

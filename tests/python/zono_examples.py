@@ -11,3 +11,13 @@ def ex_le13(dt=None) -> sb.LinearSystem:
     E = np.array([[-0.12, 0, 0], [0.02, 0, 0]])
     F = np.array([[0, 0.2, 0], [0, 0, 0.2]])
     return sb.LinearSystem(A, [[-2.0, 1.0], [1.0, 1.0]], E=E, F=F, dt=dt)
+
+
+#: EX-LE13 as the ``[system]`` table of a job file (the same model as :func:`ex_le13`).
+LE13_JOB_SYSTEM = """
+[system]
+A = [[0, -0.5], [1, 1]]
+C = [[-2, 1], [1, 1]]
+E = [[-0.12, 0, 0], [0.02, 0, 0]]
+F = [[0, 0.2, 0], [0, 0, 0.2]]
+"""
