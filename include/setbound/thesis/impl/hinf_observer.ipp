@@ -20,17 +20,26 @@ SETBOUND_INLINE void require_wbar(const Eigen::VectorXd& wbar, Eigen::Index m) {
   if ((wbar.array() < 0).any()) throw InvalidArgumentError("wbar: the bounds must be >= 0");
 }
 
-SETBOUND_INLINE Eigen::VectorXd inverse_diagonal_upper(const Eigen::MatrixXd& P) {
+/// The computed inverse X of P ≻ 0 and a bound err ≥ ‖P⁻¹ − X‖₂ (r ≥ ‖I − P X‖ with the
+/// rounding of the product, err = ‖X‖ r/(1 − r)); `what` names the quantity in the error.
+SETBOUND_INLINE Eigen::MatrixXd inverse_with_error(const Eigen::MatrixXd& P, double& err, const char* what) {
   const Eigen::Index n = P.rows();
   Eigen::LLT<Eigen::MatrixXd> llt(P);
   if (llt.info() != Eigen::Success) throw NotPositiveDefiniteError("P: matrix is not positive definite");
   Eigen::MatrixXd X = llt.solve(Eigen::MatrixXd::Identity(n, n));
   X = 0.5 * (X + X.transpose());
   const Eigen::MatrixXd R = Eigen::MatrixXd::Identity(n, n) - P * X;
-  const double eps = ell_rounding::kEps;
   const double r = R.norm() + ell_rounding::gamma(n + 2) * P.norm() * X.norm();
-  if (!(r < 0.5)) throw NumericalError("P: too ill-conditioned to bound diag(P^-1) reliably");
-  const double err = X.norm() * r / (1.0 - r);
+  if (!(r < 0.5)) throw NumericalError(std::string("P: too ill-conditioned to bound ") + what + " reliably");
+  err = X.norm() * r / (1.0 - r);
+  return X;
+}
+
+SETBOUND_INLINE Eigen::VectorXd inverse_diagonal_upper(const Eigen::MatrixXd& P) {
+  const Eigen::Index n = P.rows();
+  double err = 0;
+  const Eigen::MatrixXd X = inverse_with_error(P, err, "diag(P^-1)");
+  const double eps = ell_rounding::kEps;
   Eigen::VectorXd d(n);
   for (Eigen::Index i = 0; i < n; ++i) d(i) = ell_rounding::round_up(X(i, i) + err + eps * std::abs(X(i, i)));
   return d;
@@ -343,15 +352,8 @@ SETBOUND_INLINE void SMState::update_box() {
 
 SETBOUND_INLINE Eigen::VectorXd output_gram_upper(const Eigen::MatrixXd& P, const Eigen::MatrixXd& C) {
   const Eigen::Index n = P.rows();
-  Eigen::LLT<Eigen::MatrixXd> llt(P);
-  if (llt.info() != Eigen::Success) throw NotPositiveDefiniteError("P: matrix is not positive definite");
-  Eigen::MatrixXd X = llt.solve(Eigen::MatrixXd::Identity(n, n));
-  X = 0.5 * (X + X.transpose());
-  // ‖P⁻¹ − X‖₂ ≤ ‖X‖ r/(1 − r), r ≥ ‖I − P X‖ (as inverse_diagonal_upper)
-  const Eigen::MatrixXd R = Eigen::MatrixXd::Identity(n, n) - P * X;
-  const double r = R.norm() + ell_rounding::gamma(n + 2) * P.norm() * X.norm();
-  if (!(r < 0.5)) throw NumericalError("P: too ill-conditioned to bound C P^-1 C^T reliably");
-  const double err = X.norm() * r / (1.0 - r);
+  double err = 0;
+  const Eigen::MatrixXd X = inverse_with_error(P, err, "C P^-1 C^T");
   const Eigen::MatrixXd Xabs = X.cwiseAbs();
   Eigen::VectorXd q(C.rows());
   for (Eigen::Index i = 0; i < C.rows(); ++i) {
