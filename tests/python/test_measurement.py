@@ -16,25 +16,7 @@ from setbound.ellipsoidal import (DescriptorEstimator, ImprovedEstimator, Kalman
                                   OnlineEstimator, design_offline)
 from setbound.sets import Ellipsoid, Zonotope
 from setbound.zonotopic import PRadiusEstimator, SegmentMinEstimator, VolumeMinEstimator, design_pradius, exact_hull
-from zono_examples import LE13_JOB_SYSTEM, ex_le13 as le13
-
-
-
-
-def record(s, N, rng, vertex, x0=(1.0, 1.0), jump=None):
-    """Truth and readings; ``jump = (k, dx)``: the state jumps by dx before step k (a violation of
-    the model, e.g. a hit on the plant)."""
-    draw = (lambda n: rng.choice([-1.0, 1.0], n)) if vertex else (lambda n: rng.uniform(-1, 1, n))
-    xs, ys = [], []
-    x = np.array(x0, float)
-    for k in range(N):
-        if jump is not None and k == jump[0]:
-            x = x + jump[1]
-        w = draw(s.nw)
-        xs.append(x.copy())
-        ys.append(s.C @ x + s.F @ w)
-        x = s.A @ x + s.E @ w
-    return np.array(xs), np.array(ys)
+from zono_examples import LE13_JOB_SYSTEM, ex_le13 as le13, record
 
 
 X0 = Zonotope([0, 0], 3 * np.eye(2))

@@ -12,26 +12,11 @@ from setbound import Box, InconsistentMeasurementError, Plant, hinf
 from setbound import interval_observers as io
 from setbound.measurement import INCONSISTENT, MISSING, USED, MeasurementCheck
 from setbound.zonotopic import exact_hull
-from zono_examples import LE13_JOB_SYSTEM, ex_le13 as le13
+from zono_examples import LE13_JOB_SYSTEM, ex_le13 as le13, record
 
 KINDS = ["sm", "luenberger", "nonlinear", "invariant"]
 X0 = Box([-3.0, -3.0], [3.0, 3.0])
 _CACHE = {}
-
-
-def record(s, N, rng, vertex, x0=(1.0, 1.0), jump=None):
-    """Truth and readings of EX-LE13 (ω uniform or at the vertices of its box)."""
-    draw = (lambda n: rng.choice([-1.0, 1.0], n)) if vertex else (lambda n: rng.uniform(-1, 1, n))
-    xs, ys = [], []
-    x = np.array(x0, float)
-    for k in range(N):
-        if jump is not None and k == jump[0]:
-            x = x + jump[1]
-        w = draw(s.nw)
-        xs.append(x.copy())
-        ys.append(s.C @ x + s.F @ w)
-        x = s.A @ x + s.E @ w
-    return np.array(xs), np.array(ys)
 
 
 def make(kind, **kw):

@@ -21,3 +21,20 @@ C = [[-2, 1], [1, 1]]
 E = [[-0.12, 0, 0], [0.02, 0, 0]]
 F = [[0, 0.2, 0], [0, 0, 0.2]]
 """
+
+
+def record(s, N, rng, vertex, x0=(1.0, 1.0), jump=None):
+    """Truth and readings of ``s`` from ``x0`` (ω uniform in its box, or at its vertices);
+    ``jump = (k, dx)``: the state jumps by dx before step k (a violation of the model, e.g. a hit
+    on the plant)."""
+    draw = (lambda n: rng.choice([-1.0, 1.0], n)) if vertex else (lambda n: rng.uniform(-1, 1, n))
+    xs, ys = [], []
+    x = np.array(x0, float)
+    for k in range(N):
+        if jump is not None and k == jump[0]:
+            x = x + jump[1]
+        w = draw(s.nw)
+        xs.append(x.copy())
+        ys.append(s.C @ x + s.F @ w)
+        x = s.A @ x + s.E @ w
+    return np.array(xs), np.array(ys)
