@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import ellipsoidal, hinf, interval_observers, zonotopic
-from ._validate import as_float, as_int
+from ._validate import as_bool, as_float, as_int
 from .errors import SetboundError
 from .interval import Box, IntervalMatrix
 from .plant import Plant
@@ -716,7 +716,7 @@ def _reproduce(context):
 def run_campaign(estimators=None, steps: int = 100_000, *, processes: int = 2, seed0: int = 0,
                  max_nx: int = 8, max_steps: int | None = None, time_limit: float | None = None,
                  progress=None, client=None, scheduler: str | None = None, scheduler_file: str | None = None,
-                 timeout: float = 30.0) -> dict:
+                 timeout: float = 30.0, out=None, resume: bool = False) -> dict:
     """Runs cases ``seed0, seed0 + 1, …`` of each estimator until ``steps`` steps were checked
     (or ``time_limit`` seconds per estimator passed). Returns ``{name: summary}`` with
     ``systems``, ``design_failed`` (count and the distinct reasons), ``steps``, ``violations``
@@ -727,7 +727,15 @@ def run_campaign(estimators=None, steps: int = 100_000, *, processes: int = 2, s
     worker processes, an existing cluster (``scheduler``, ``scheduler_file``) or the caller's
     ``client`` (left open); ``processes=1`` runs them one after the other in this process. Cases are
     submitted while the steps (or the time) are not reached, one case per task and one task per
-    worker thread in flight, so a few cases past the target may run (all are counted)."""
+    worker thread in flight, so a few cases past the target may run (all are counted).
+
+    ``out`` (a folder) checkpoints the run: every finished case is appended to a
+    :class:`setbound.studies.store.ResultStore` there (one JSON line per case, fsync-ed), so a
+    killed or timed-out campaign loses at most the cases in flight. With ``resume=True`` the cases
+    already in ``out`` are read back into the summaries and skipped, and the campaign continues
+    until ``steps`` is reached (a larger ``steps`` than the first run extends it; a resume with
+    another ``seed0``, ``max_nx`` or ``max_steps`` is refused, since they decide what each case is).
+    ``seconds`` then counts this run only and ``resumed_cases`` how many came from the folder."""
     from .studies.engine import Engine
     from .studies.executor import run_cases
 
@@ -743,25 +751,34 @@ def run_campaign(estimators=None, steps: int = 100_000, *, processes: int = 2, s
     if time_limit is not None:
         time_limit = as_float(time_limit, "time_limit", lo=0, lo_open=True)
     context = {"max_nx": max_nx, "max_steps": max_steps}
-    out = {}
+    store, previous = _open_store(out, resume, seed0, context)
+    summaries = {}
     with Engine(client=client, scheduler=scheduler, scheduler_file=scheduler_file, processes=processes,
                 timeout=timeout) as engine:
         for name in names:
             t0 = time.monotonic()
             summ = {"systems": 0, "design_failed": 0, "step_failed": 0, "reasons": {}, "steps": 0, "violations": [],
                     "max_excess": -math.inf, "nx_max": 0, "families": {}, "seeds": [seed0, seed0], "unverified": 0,
-                    "false_alarms": 0, "crashed": []}
+                    "false_alarms": 0, "crashed": [], "resumed_cases": 0}
+            done = set()
+            for r in previous.get(name, ()):
+                _accumulate(summ, r)
+                done.add(r["seed"])
+            summ["resumed_cases"] = len(done)
 
             def more() -> bool:
                 return summ["steps"] < steps and (time_limit is None or time.monotonic() - t0 < time_limit)
 
-            def cases(name=name, more=more):
+            def cases(name=name, more=more, done=done):
                 seed = seed0
                 while more():
-                    yield {"i": seed - seed0, "key": f"{name}:{seed}", "estimator": name, "seed": seed}
+                    if seed not in done:
+                        yield {"i": seed - seed0, "key": f"{name}:{seed}", "estimator": name, "seed": seed}
                     seed += 1
 
             def sink(records, summ=summ):
+                if store is not None:
+                    store.append(records)
                 for r in records:
                     _accumulate(summ, r)
 
@@ -775,10 +792,38 @@ def run_campaign(estimators=None, steps: int = 100_000, *, processes: int = 2, s
             summ["violations"].sort(key=lambda v: (v["seed"], v["step"]))
             summ["crashed"].sort(key=lambda c: c["seed"])
             summ["seconds"] = round(time.monotonic() - t0, 1)
-            out[name] = summ
+            summaries[name] = summ
             if progress:
                 progress(name, summ)
-    return out
+    if store is not None:
+        store.close()
+    return summaries
+
+
+def _open_store(out, resume, seed0: int, context: dict):
+    """The checkpoint folder of a campaign (None without ``out``) and the records it already holds,
+    by estimator (empty unless resuming)."""
+    if out is None:
+        return None, {}
+    from .studies.store import ResultStore
+
+    resume = as_bool(resume, "resume")
+    options = {"seed0": seed0, "max_nx": context["max_nx"], "max_steps": context["max_steps"]}
+    store = ResultStore(out, {"kind": "campaign", "options": options, "cases": None}, resume=resume)
+    previous: dict = {}
+    if store.resumed:
+        seen = set()
+        for r in store.records():
+            name, seed = r.get("estimator"), r.get("seed")
+            if name not in ESTIMATORS or not isinstance(seed, int):
+                from .studies.store import StoreError
+                raise StoreError(f"out: {store.out}: a record names estimator {name!r} and seed {seed!r}, "
+                                 f"not a campaign case")
+            if (name, seed) in seen:  # a case re-run after a torn write elsewhere: count it once
+                continue
+            seen.add((name, seed))
+            previous.setdefault(name, []).append(r)
+    return store, previous
 
 
 def _accumulate(summ: dict, r: dict) -> None:
@@ -834,8 +879,13 @@ def main(argv=None) -> int:
     ap.add_argument("--max-steps", type=int, default=None, help="steps per case at most")
     ap.add_argument("--time-limit", type=float, default=None, help="seconds per estimator at most")
     ap.add_argument("--json", help="write the summary to this file")
+    ap.add_argument("--out", help="checkpoint every finished case into this folder (a ResultStore)")
+    ap.add_argument("--resume", action="store_true",
+                    help="with --out: read the cases already there and continue to --steps")
     ap.add_argument("--verbose", action="store_true")
     a = ap.parse_args(argv)
+    if a.resume and not a.out:
+        ap.error("--resume needs --out (the folder to resume)")
     if a.seed is not None:
         bad = 0
         for name in a.estimator or list(ESTIMATORS):
@@ -859,7 +909,8 @@ def main(argv=None) -> int:
     try:
         summary = run_campaign(a.estimator, a.steps, processes=a.processes, seed0=a.seed0, max_nx=a.max_nx,
                                max_steps=a.max_steps, time_limit=a.time_limit, progress=progress,
-                               scheduler=a.scheduler, scheduler_file=a.scheduler_file, timeout=a.timeout)
+                               scheduler=a.scheduler, scheduler_file=a.scheduler_file, timeout=a.timeout,
+                               out=a.out, resume=a.resume)
     except (ValueError, ConnectionError) as exc:
         print(f"{ap.prog}: error: {exc}", file=sys.stderr)
         return 2

@@ -320,6 +320,50 @@ def test_campaign_cli_flags_keep_working(tmp_path):
     assert doc["estimators"]["interval_luenberger"]["steps"] >= 200
 
 
+def test_campaign_checkpoints_every_case_and_resumes_where_it_stopped(tmp_path, monkeypatch):
+    from setbound.studies.store import StoreError
+
+    out = tmp_path / "campaign"
+    kw = dict(processes=1, max_nx=2, max_steps=30)
+    first = campaign.run_campaign(["interval_luenberger"], steps=60, out=out, **kw)["interval_luenberger"]
+    lines = [ln for p in sorted((out / "results").glob("part-*.jsonl")) for ln in p.read_text().splitlines()]
+    assert len(lines) == first["systems"] > 1 and first["resumed_cases"] == 0  # one line per finished case
+
+    calls = []
+    real = campaign.run_case
+
+    def counting(*a, **k):
+        calls.append(a[1])
+        return real(*a, **k)
+
+    monkeypatch.setattr(campaign, "run_case", counting)
+    second = campaign.run_campaign(["interval_luenberger"], steps=150, out=out, resume=True, **kw)["interval_luenberger"]
+    assert second["resumed_cases"] == first["systems"]
+    assert min(calls) == first["systems"] and len(calls) == second["systems"] - first["systems"]  # only new seeds ran
+    assert len(list((out / "results").glob("part-*.jsonl"))) == 2  # the resume wrote a part of its own
+    monkeypatch.setattr(campaign, "run_case", real)
+    fresh = campaign.run_campaign(["interval_luenberger"], steps=150, **kw)["interval_luenberger"]
+    for key in ("systems", "steps", "unverified", "families", "max_excess", "seeds", "false_alarms"):
+        assert second[key] == fresh[key], key  # resuming changes nothing but the time
+    # a resume already past its target runs nothing
+    calls.clear()
+    monkeypatch.setattr(campaign, "run_case", counting)
+    again = campaign.run_campaign(["interval_luenberger"], steps=100, out=out, resume=True, **kw)["interval_luenberger"]
+    assert calls == [] and again["steps"] == second["steps"]
+    # refused: results there without resume, and a resume whose cases would differ
+    with pytest.raises(StoreError, match="already holds results"):
+        campaign.run_campaign(["interval_luenberger"], steps=10, out=out, **kw)
+    with pytest.raises(StoreError, match="max_nx"):
+        campaign.run_campaign(["interval_luenberger"], steps=10, out=out, resume=True, processes=1, max_nx=3, max_steps=30)
+
+
+def test_campaign_cli_resume_needs_out():
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(REPO / "python"), os.environ.get("PYTHONPATH", "")])}
+    p = subprocess.run([sys.executable, "-m", "setbound.campaign", "--resume"], capture_output=True, text=True,
+                       timeout=60, env=env)
+    assert p.returncode == 2 and "--resume needs --out" in p.stderr
+
+
 def test_study_modules_document_their_public_names():
     # test_docs walks the top-level modules; the studies package's own modules are checked here
     import importlib
