@@ -8,7 +8,15 @@ from __future__ import annotations
 
 
 class SetboundError(Exception):
-    """Base class of all setbound errors. ``status`` is the C status code."""
+    """Base class of all setbound errors; ``status`` is the C status code.
+
+    Parameters
+    ----------
+    message : str
+        The library's message (it names the offending argument).
+    status : int, optional
+        The C status code (default: the class's).
+    """
 
     status: int = -10
 

@@ -160,7 +160,7 @@ class BrlRpi:
 
 
 def brl_ellipsoidal_rpi(A, E, wbar) -> BrlRpi:
-    """LMI (1.48) for x⁺ = Ax + Ew, |w| ≤ w̄: minimal γ, Ψ = {xᵀPx ≤ λ_max(P)γ²w̄ᵀw̄} (1.55)."""
+    """LMI (1.48) for ``x⁺ = Ax + Ew``, ``|w| ≤ w̄``: minimal γ, ``Ψ = {xᵀPx ≤ λ_max(P)γ²w̄ᵀw̄}`` (1.55)."""
     A = as_f64(A, "A", ndim=2)
     n = A.shape[0]
     E = as_f64(E, "E", shape=(n, None))

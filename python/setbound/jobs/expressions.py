@@ -59,7 +59,7 @@ def _short(expr: str) -> str:
 def compile_expression(expr: str, key: str, names=("t",)) -> Callable[[dict], Any]:
     """Parses a simple expression once and returns ``f(env)`` evaluating it with the variables of
     ``env`` (a dict name -> number or array). Allowed: numbers, the variables ``names``, + − * /
-    **, sin cos tan exp sqrt abs log sign floor tanh, pi, e; nothing else (an AST whitelist, no
+    ``**``, sin cos tan exp sqrt abs log sign floor tanh, pi, e; nothing else (an AST whitelist, no
     attribute access, no other calls), within the bounds of the module docstring. ``f`` returns
     float64 values; a non-finite result is for the caller to report (see :func:`evaluate`).
     Errors are :class:`ConfigError` naming ``key``."""
@@ -172,7 +172,7 @@ def evaluate(f, env: dict, key: str, *, step: int | None = None) -> float:
 
 
 def eval_expression(expr: str, t: np.ndarray, key: str) -> np.ndarray:
-    """Evaluates a simple expression of ``t`` (numbers, + − * / **, sin cos tan exp sqrt abs log
+    """Evaluates a simple expression of ``t`` (numbers, + − * / ``**``, sin cos tan exp sqrt abs log
     sign floor tanh, pi, e) on the array ``t``; nothing else is allowed. A non-finite value is
     a ConfigError naming ``key``, the first step where it occurs and its cause."""
     t = np.asarray(t, dtype=float)

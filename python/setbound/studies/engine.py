@@ -39,7 +39,9 @@ def default_processes() -> int:
 
 
 class Engine:
-    """The task engine (see the module docstring); a context manager::
+    """The task engine (see the module docstring), a context manager.
+
+    ::
 
         with Engine(processes=2) as eng:
             eng.client    # a distributed.Client, or None on the serial path
