@@ -15,6 +15,7 @@ ROOT = Path(__file__).resolve().parents[1]
 # The package from this checkout (``make docs`` has it installed editable in .venv already; this
 # only matters for a bare ``sphinx-build`` with SETBOUND_LIBRARY pointing at a built library).
 sys.path.insert(0, str(ROOT / "python"))
+sys.path.insert(0, str(Path(__file__).resolve().parent / "_ext"))  # setbound_docs (the gallery scraper)
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 import setbound  # noqa: E402
@@ -58,6 +59,8 @@ numpydoc_xref_param_type = False
 numpydoc_attributes_as_param_list = True
 
 # --- sphinx-gallery: examples/gallery/plot_*.py, executed at build time
+
+
 sphinx_gallery_conf = {
     "examples_dirs": [str(ROOT / "examples" / "gallery")],
     "gallery_dirs": ["auto_examples"],
@@ -70,7 +73,7 @@ sphinx_gallery_conf = {
     "download_all_examples": False,
     "show_memory": False,
     "matplotlib_animations": False,
-    "image_scrapers": ("matplotlib",),
+    "image_scrapers": ("matplotlib", "setbound_docs.figure_scraper"),
     "abort_on_example_error": True,
 }
 
