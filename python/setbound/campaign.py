@@ -248,7 +248,7 @@ class RandomSystem:
 
 def random_system(rng, max_nx: int = 8, *, min_nx: int = 1, family: str | None = None,
                   max_nw: int = 16) -> RandomSystem:
-    """A random detectable system (papers.md §0.3 form): n_x uniform in [min_nx, max_nx],
+    """A random detectable system (the form of Methods › Ellipsoidal estimation › Model): n_x uniform in [min_nx, max_nx],
     n_y in [1, n_x], at most ``max_nw`` disturbances ``ω = (d, v)`` (the ellipsoidal designs
     enumerate the 2^{n_ω} vertices of the disturbance box), ``family`` ``"stable"``, ``"unstable"``, ``"ill_stable"`` or
     ``"ill_unstable"`` (drawn when None). The ill-conditioned families apply

@@ -1,7 +1,6 @@
 """The main job: ``setbound demo`` (``make demo``, ``python -m setbound.demo``).
 
-The built-in default job — EX-BC14, the 3-state example of [BenChabane2014] §5 (papers.md
-§1.4), shipped inside the package as ``setbound/data/demo_bc14.toml`` so it works from a
+The built-in default job — EX-BC14, the 3-state example of [BenChabane2014] §5 (Methods › Ellipsoidal estimation › Examples), shipped inside the package as ``setbound/data/demo_bc14.toml`` so it works from a
 wheel — is run under every estimator that applies to it: the ellipsoidal offline, online,
 scaled and improved estimators, the zonotopic segment-minimisation, volume-minimisation and
 P-radius estimators, and the Kalman filter as the (not guaranteed) contrast. An estimator
@@ -13,7 +12,7 @@ The summary table is printed and the results, ``summary.json`` and the plots are
 
 The module also keeps two small illustrations of the set library used by the gallery:
 :func:`wrapping_effect` (thesis §1.2.7) and :func:`zonotopic_tube` (a hand-written
-zonotopic estimator on the papers' §3.5 system).
+zonotopic estimator on the EX-LE13 system of [Le2013] §5).
 """
 from __future__ import annotations
 
@@ -67,13 +66,13 @@ def wrapping_effect(steps: int = 8):
 
 
 def segment_min_lambda(H: np.ndarray, c: np.ndarray, phi: float) -> np.ndarray:
-    """λ* = H Hᵀ c / (cᵀ H Hᵀ c + φ²) (papers.md §5.1)."""
+    """λ* = H Hᵀ c / (cᵀ H Hᵀ c + φ²) (Methods › Zonotopic estimation › Segment minimisation)."""
     g = H @ (H.T @ c)
     return g / (c @ g + phi * phi)
 
 
 def zonotopic_tube(steps: int, seed: int, vertex: bool):
-    """A hand-written guaranteed zonotopic tube on the papers' §3.5 system (A at δ = 0): exact
+    """A hand-written guaranteed zonotopic tube on the EX-LE13 system of [Le2013] §5 (A at δ = 0): exact
     prediction, one strip per output with the segment-minimising λ, Combastel reduction to 20
     generators. Returns ``(lower, upper, x_true, inside)`` per step."""
     A = np.array([[0.0, -0.5], [1.0, 1.0]])
@@ -140,7 +139,7 @@ def run_demo(out: Path = Path("out/demo"), steps: int | None = None, plots: bool
     """Runs the main job, prints the table, writes results and plots to ``out``; returns the
     exit code (1 if the true state left a guaranteed set)."""
     job, skipped = demo_job(steps)
-    print(f"setbound demo — {len(job.estimators)} estimators on the 3-state example of papers.md §1.4")
+    print(f"setbound demo — {len(job.estimators)} estimators on the 3-state example of Methods › Ellipsoidal estimation › Examples")
     results = jobs.run(job, keep_going=True)
     rows = summary_rows(job, results)
     # a method whose design has no solution on this system (P-radius approach 1: an output that

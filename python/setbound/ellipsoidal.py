@@ -1,15 +1,15 @@
-"""Ellipsoidal estimators (papers.md §1, §2, §4, §6) and the Kalman filter baseline.
+"""Ellipsoidal estimators (Methods › Ellipsoidal estimation) and the Kalman filter baseline.
 
 Sets are ``E(P, c, ρ) = {x : (x − c)ᵀ P (x − c) ≤ ρ}`` (:class:`setbound.Ellipsoid`).
 
-* :func:`design_offline` — the offline LMI design of §1.1 (shape ``P``, gain ``L``, ``β``,
+* :func:`design_offline` — the offline LMI design (Methods › Ellipsoidal estimation › Offline design; shape ``P``, gain ``L``, ``β``,
   ``σ``), for a :class:`~setbound.LinearSystem` (robust over ``vert[A]`` when ``A`` is an
-  interval matrix) or a :class:`~setbound.DescriptorSystem` (§4.1).
-* :class:`OfflineEstimator` (§1.1), :class:`OnlineEstimator` (§1.2, ``scaling=True``: §1.3) —
+  interval matrix) or a :class:`~setbound.DescriptorSystem` (› Descriptor systems).
+* :class:`OfflineEstimator`, :class:`OnlineEstimator` (› Online vertex LMI; ``scaling=True``: › Online with scaling) —
   one-step predictors: ``step(y_k, u_k)`` returns the set for ``x_{k+1}``.
-* :class:`ImprovedEstimator` (§2.2, §6) and :class:`DescriptorEstimator` (§4.1) — filters:
+* :class:`ImprovedEstimator` (› Improved correction) and :class:`DescriptorEstimator` — filters:
   ``step(y_k, u_k)`` returns the set for ``x_k`` after using ``y_k``.
-* :class:`KalmanFilter` (§2.3) — the contrast, not guaranteed.
+* :class:`KalmanFilter` (› Kalman filter) — the contrast, not guaranteed.
 
 Real data (:mod:`setbound.measurement`): NaN entries of ``y`` (``step(None)``) are missing
 outputs; a reading outside the predicted output set (the support of the predicted ellipsoid in
@@ -65,7 +65,7 @@ _PREDICTORS = {
 
 
 class DegenerateDesignWarning(UserWarning):
-    """The printed ``tr P ≤ 1`` normalisation (papers.md §1.1) was asked for: it bounds P from
+    """The printed ``tr P ≤ 1`` normalisation (Methods › Ellipsoidal estimation › Offline design) was asked for: it bounds P from
     above, so the LMI's infimum is at P → 0 and the shape is whatever the solver stops at."""
 
 
@@ -159,7 +159,7 @@ def design_offline(system, normalization: str = "logdet", beta: float | None = N
     system = as_system(system)
     norm = _choice(normalization, _NORMALIZATIONS, "normalization")
     if norm == lib.SB_ELL_NORM_PAPER_TRACE:
-        warnings.warn("normalization='paper_trace' (tr P <= 1, papers.md §1.1) is degenerate: the LMI is "
+        warnings.warn("normalization='paper_trace' (tr P <= 1, Methods › Ellipsoidal estimation › Offline design) is degenerate: the LMI is "
                       "homogeneous, so an upper bound on P drives P towards 0; use 'logdet' or 'ball'",
                       DegenerateDesignWarning, stacklevel=2)
     b = math.nan if beta is None else as_float(beta, "beta", lo=0.0, hi=1.0, lo_open=True, hi_open=True)

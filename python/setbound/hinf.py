@@ -1,4 +1,4 @@
-"""H∞ set-membership observers of the thesis, Chapters 1–3 (thesis.md §3.4, §4, §5).
+"""H∞ set-membership observers of the thesis, Chapters 1–3 (Methods › Invariant sets › Bounded-real-lemma RPI ellipsoid; Methods › H∞ set-membership observers).
 
 * :func:`brl_ellipsoidal_rpi` — Bounded-Real-Lemma RPI ellipsoid (1.48, 1.55);
 * :func:`hinf_observer_gain` — LMI (2.35) (a :class:`~setbound.Plant`) or the vertex LMIs
@@ -13,7 +13,7 @@
 * :func:`polytopic_weights` (closed form for a box in any vertex order, LP otherwise).
 
 Every design is certified in floating point by the C++ library (see docs/thesis_hinf.md).
-The optimal γ is unique, L and P are not (thesis.md §4.2).
+The optimal γ is unique, L and P are not (Methods › H∞ set-membership observers › Observer gain).
 """
 from __future__ import annotations
 

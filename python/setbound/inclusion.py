@@ -1,4 +1,4 @@
-"""Inclusion functions (thesis §1.2.8; spec thesis.md §1 and §3.2).
+"""Inclusion functions ([Loukkas2018] §1.2.8; Methods › Sets, intervals and LMI tools › Inclusion functions).
 
 ``[f]`` is an inclusion function of ``f`` when ``f([x]) ⊆ [f]([x])`` for every box. The three
 forms below take Python callables that work on :class:`setbound.Interval` (scalar functions) or

@@ -1,14 +1,14 @@
-"""Thesis Chapter 4: interval observers with an explicit error enclosure (thesis.md §6).
+"""Thesis Chapter 4: interval observers with an explicit error enclosure (Methods › Interval observers).
 
-* :func:`interval_error_recursion` — the error boxes of ``e⁺ = A_o e + E w`` (§6.2):
+* :func:`interval_error_recursion` — the error boxes of ``e⁺ = A_o e + E w`` (› Error recursions):
   ``"tight"`` (exact interval hull ``A_o^k[e_0] + Σ (A_o^i E)[w]``, attained), ``"wrapped"``
   (the thesis's formula, ``[g_0] = E[w]`` boxed first) or ``"naive"`` (4.15, wraps every step).
 * :func:`interval_error_limit` — the limit box ``[g] = Σ_{i≥0} A_o^i E[w]``.
-* :class:`IntervalLuenbergerObserver` — §6.2 online observer ``x̂_k + [e_k]``.
-* :func:`offline_error_sequence` + :class:`IntervalInvariantObserver` — §6.3: a precomputed
+* :class:`IntervalLuenbergerObserver` — online observer ``x̂_k + [e_k]``.
+* :func:`offline_error_sequence` + :class:`IntervalInvariantObserver` — a precomputed
   box sequence ``[s_0..s_k*]`` with a polyhedral-invariant-set tail; online only the point
   observer runs.
-* :class:`NonlinearIntervalObserver` — §6.6: ``x⁺ = A x + h(p, x, k) + B u`` with an inclusion
+* :class:`NonlinearIntervalObserver` — ``x⁺ = A x + h(p, x, k) + B u`` with an inclusion
   box of ``h`` per step (a callable, or a constant :class:`~setbound.Box`).
 
 All observers are one-step predictors: ``run(y, u)`` returns a :class:`~setbound.Trajectory`
@@ -431,7 +431,7 @@ class NonlinearIntervalObserver(_OnlineObserver):
         p = self.plant = _plant(plant)
         if p.nd != p.nx or not np.array_equal(p.F, np.eye(p.nx)):
             raise InvalidArgumentError("plant.F: the nonlinear observer needs F = I (h enters the state directly, "
-                                       "E = [I, -L Z], thesis.md §6.6)")
+                                       "E = [I, -L Z], Methods › Interval observers › Nonlinear interval observer)")
         x0 = _box(x0, p.nx, "x0")
         v = _box(v if v is not None else (-np.ones(p.nv), np.ones(p.nv)), p.nv, "v")
         xh = as_f64(xhat0, "xhat0", shape=(p.nx,))

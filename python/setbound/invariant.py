@@ -1,9 +1,9 @@
-"""Thesis Chapter 1 invariant sets (Loukkas 2018; spec thesis.md §3.3–3.6).
+"""Thesis Chapter 1 invariant sets (Loukkas 2018; Methods › Invariant sets).
 
 * :class:`Polytope` — a full-dimensional polytope with its vertices and its H-rep
   ``{x : H x <= b}`` (Qhull hulls in the C library).
 * :func:`ellipsoid_bounding_box` (1.40), :func:`expanded_ellipsoid_levels` (1.57–1.58),
-  :func:`polyhedral_rpi_between_ellipsoids` (§3.5), :func:`contraction_rate` (β),
+  :func:`polyhedral_rpi_between_ellipsoids` (Methods › Invariant sets), :func:`contraction_rate` (β),
   :func:`mrpi_outer_shrinking` (Algorithm 1, with a box-only variant).
 
 ``eps`` of Algorithm 1 is always a *radius*: the stop rule guarantees ``A^k Φ_0 ⊆ {‖x‖₂ ≤ eps}``

@@ -1,4 +1,4 @@
-"""The plant of the thesis methods (thesis.md §2), in the thesis's own letters.
+"""The plant of the thesis methods (Methods › H∞ set-membership observers › Model), in the thesis's own letters.
 
 ``x⁺ = A x + B u + F d``, ``y = C x + Z v``, ``w = (d, v)`` with ``m = n_d + n_v``. The
 thesis's ``F`` (state disturbance) is passed as ``Fd=`` so it cannot be confused with

@@ -1,4 +1,4 @@
-"""Ellipsoids, zonotopes and strips (spec papers.md §0.1, thesis.md §1), through the C ABI.
+"""Ellipsoids, zonotopes and strips (Methods › Sets, intervals and LMI tools › Ellipsoids, Methods › Sets, intervals and LMI tools › Intervals and interval arithmetic), through the C ABI.
 
 * :class:`Ellipsoid` — ``E(P, c, rho) = {x : (x - c)ᵀ P (x - c) <= rho}``; ``rho`` is a
   *level*, not a squared radius, so ``(P, rho)`` and ``(tP, t rho)`` are the same set.

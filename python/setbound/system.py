@@ -1,4 +1,4 @@
-"""System models: ``LinearSystem`` (papers.md §0.3).
+"""System models: ``LinearSystem`` (Methods › Ellipsoidal estimation › Model).
 
 ``x⁺ = A x + B u + E ω``, ``y = C x + D u + F ω``, ``ω`` in the unit box ``[-1, 1]^{n_ω}``.
 ``A`` may be an :class:`~setbound.IntervalMatrix` (``A ∈ [A]``); the estimators then use

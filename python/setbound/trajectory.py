@@ -11,7 +11,7 @@ family of [BenChabane2014]) have used ``y_0 … y_{k-1}``.
 ``TimeResponseData``, or a job's ``[simulation.time]``). The state names are 0-based everywhere
 (``x0 … x{n−1}``: Python, the command line, the plots and ``to_pandas``).
 
-``radius[k]`` is the level ``ρ_k`` of an ellipsoidal set ``E(P, c_k, ρ_k)`` (papers.md §0.1:
+``radius[k]`` is the level ``ρ_k`` of an ellipsoidal set ``E(P, c_k, ρ_k)`` (Methods › Sets, intervals and LMI tools › Ellipsoids:
 a level, not a squared radius) and NaN for other set types. ``guaranteed`` is False only for
 the Kalman filter baseline, whose box is ``mean ± 3σ``.
 """

@@ -1,14 +1,14 @@
-"""Zonotopic estimators (papers.md §3, §5).
+"""Zonotopic estimators (Methods › Zonotopic estimation).
 
-The estimator structure of papers.md §3.1: exact prediction ``A X ⊕ E B`` (or the
+The estimator structure of Methods › Zonotopic estimation › Estimator structure: exact prediction ``A X ⊕ E B`` (or the
 [Le2013] inclusion for an interval ``A``), correction strip by strip with a gain ``λ``,
 reduction to at most ``max_generators`` generators. The true state is in the set for any
 ``λ``; the gain rule only decides the size.
 
-Available: :class:`SegmentMinEstimator` ([Alamo2005] segment minimisation, §5.1),
-:class:`VolumeMinEstimator` ([Alamo2005] volume minimisation, an LP per strip, §5.2),
+Available: :class:`SegmentMinEstimator` ([Alamo2005] segment minimisation, Methods › Zonotopic estimation › Segment minimisation),
+:class:`VolumeMinEstimator` ([Alamo2005] volume minimisation, an LP per strip, › Volume minimisation),
 :class:`PRadiusEstimator` with the offline gains of :func:`design_pradius` ([Le2013],
-§3.2 approach 1 and §3.3 approach 2), and the accuracy reference :func:`exact_hull`.
+approaches 1 and 2, › P-radius designs), and the accuracy reference :func:`exact_hull`.
 """
 from __future__ import annotations
 
@@ -51,7 +51,7 @@ class _ZonotopicEstimator(ReadingChecks, StateMixin):
     """Common options: ``max_generators`` (the reduction limit; the pending rounding box of
     relative size ~1e-15 is not counted, so before the first reduction a set may carry up to
     n_x more axis-aligned generators), ``use_first_measurement``, ``strip_order`` and
-    ``reduction``: ``"combastel"`` (default, papers.md §0.1), ``"girard"`` (CORA's default) or
+    ``reduction``: ``"combastel"`` (default, Methods › Sets, intervals and LMI tools › Ellipsoids), ``"girard"`` (CORA's default) or
     ``"pca"`` (CORA's ``reduce(Z,'pca',order)``, used by its observer examples).
 
     ``max_generators`` is an integer in [n_x, ``MAX_GENERATORS``] (100000: the reduction sorts
