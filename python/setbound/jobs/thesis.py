@@ -218,7 +218,17 @@ class ThesisSystem(LinearSystem):
     :class:`~setbound.LinearSystem` (so every estimator of the papers applies). ``plant`` is the
     unscaled :class:`~setbound.Plant`, ``d``/``v`` the boxes of d and v (``None`` when n_d or
     n_v is 0) and ``offset`` True when the boxes are not centred (then the last input of the
-    LinearSystem is the constant 1)."""
+    LinearSystem is the constant 1).
+
+    Parameters
+    ----------
+    plant : Plant
+        The unscaled plant.
+    dlo, dhi : ndarray
+        Box of the state disturbance ``d``.
+    vlo, vhi : ndarray
+        Box of the measurement noise ``v``.
+    """
 
     simulation_keys = ()
 
@@ -264,7 +274,29 @@ class ThesisSystem(LinearSystem):
 
     def simulate_job(self, sim, initial, N, t, u, x0, seed) -> ThesisSimulation:
         """The ``[simulation]`` of a job in the thesis letters (d, v sampled in their boxes or
-        given as expressions of t, k); ``u`` includes the constant offset column, if any."""
+        given as expressions of t, k); ``u`` includes the constant offset column, if any.
+
+        Parameters
+        ----------
+        sim : dict
+            The ``[simulation]`` table.
+        initial : set
+            The initial set.
+        N : int
+            Number of steps.
+        t : ndarray, shape (N,)
+            Time values.
+        u : ndarray, shape (N, n_u)
+            Inputs.
+        x0 : ndarray, optional
+            True initial state (default: drawn in ``initial``).
+        seed : int
+            Random seed.
+
+        Returns
+        -------
+        ThesisSimulation
+        """
         p = self.plant
         rng, src, xt = _sim_common(sim, initial, x0, seed, p.nd, p.nv, self.dlo, self.dhi, self.vlo, self.vhi)
         _check_x0_inside(initial, xt)
@@ -327,7 +359,19 @@ def _thesis_system(tab):
 
 # ---------------------------------------------------------------- kind = "lpv"
 def polytopic_weights_lp(theta: np.ndarray, rho: np.ndarray) -> np.ndarray | None:
-    """Weights α ≥ 0, Σα = 1, Σ α_i θ_i = ρ (a feasibility LP; None when ρ ∉ conv{θ_i})."""
+    """Weights α ≥ 0, Σα = 1, Σ α_i θ_i = ρ (a feasibility LP; None when ρ ∉ conv{θ_i}).
+
+    Parameters
+    ----------
+    theta : ndarray, shape (N, n_ρ)
+        Vertices.
+    rho : ndarray, shape (n_ρ,)
+        The point.
+
+    Returns
+    -------
+    ndarray or None
+    """
     from scipy.optimize import linprog
 
     N = theta.shape[0]
@@ -353,7 +397,25 @@ class _OutputModel:
 
 
 class LpvSystem(_OutputModel):
-    """Polytopic LPV plant with its scheduling signal (see the module docstring)."""
+    """Polytopic LPV plant with its scheduling signal (see the module docstring).
+
+    Parameters
+    ----------
+    A, B, F : list of ndarray
+        Vertex matrices (one per row of ``theta``).
+    C, Z : ndarray
+        Common output and noise matrices.
+    theta : ndarray, shape (N, n_ρ)
+        Vertices of the scheduling polytope.
+    dlo, dhi : ndarray
+        Box of the state disturbance ``d``.
+    vlo, vhi : ndarray
+        Box of the measurement noise ``v``.
+    scheduling : callable
+        ``ρ(t, k, x)`` (compiled from the job file).
+    clip : bool
+        Clip ``ρ`` into the box of ``theta`` instead of refusing it.
+    """
 
     simulation_keys = ()
 
@@ -389,7 +451,19 @@ class LpvSystem(_OutputModel):
                                            self.vlo, self.vhi))
 
     def matrices_at(self, rho, k: int):
-        """(A(ρ), B(ρ), F(ρ)) after the clip/validation of ρ; raises ConfigError naming the key."""
+        """(A(ρ), B(ρ), F(ρ)) after the clip/validation of ρ; raises ConfigError naming the key.
+
+        Parameters
+        ----------
+        rho : ndarray, shape (n_ρ,)
+            Scheduling vector.
+        k : int
+            Step (for messages).
+
+        Returns
+        -------
+        A, B, F : ndarray
+        """
         if self.clip:
             rho = np.clip(rho, self.rho_lo, self.rho_hi)
         a = polytopic_weights_lp(self.theta, rho)
@@ -402,7 +476,29 @@ class LpvSystem(_OutputModel):
 
     def simulate_job(self, sim, initial, N, t, u, x0, seed) -> ThesisSimulation:
         """Simulates with the state-dependent scheduling ρ_k (validated or clipped, see
-        :meth:`matrices_at`); ``extra["rho"]`` is the N × n_ρ signal."""
+        :meth:`matrices_at`); ``extra["rho"]`` is the N × n_ρ signal.
+
+        Parameters
+        ----------
+        sim : dict
+            The ``[simulation]`` table.
+        initial : set
+            The initial set.
+        N : int
+            Number of steps.
+        t : ndarray, shape (N,)
+            Time values.
+        u : ndarray, shape (N, n_u)
+            Inputs.
+        x0 : ndarray, optional
+            True initial state (default: drawn in ``initial``).
+        seed : int
+            Random seed.
+
+        Returns
+        -------
+        ThesisSimulation
+        """
         n, nu = self.nx, self.nu
         rng, src, xt = _sim_common(sim, initial, x0, seed, self.dlo.size, self.vlo.size, self.dlo, self.dhi,
                                    self.vlo, self.vhi)
@@ -459,7 +555,21 @@ def _lpv_system(tab):
 
 # ---------------------------------------------------------------- kind = "nonlinear"
 class NonlinearSystem(_OutputModel):
-    """``x⁺ = A x + h(p, x, k) + B u``, ``y = C x + Z v`` with the inclusion box [h] (Methods › Interval observers › Nonlinear interval observer)."""
+    """``x⁺ = A x + h(p, x, k) + B u``, ``y = C x + Z v`` with the inclusion box [h] (Methods › Interval observers › Nonlinear interval observer).
+
+    Parameters
+    ----------
+    A, B, C, Z : ndarray
+        The linear part.
+    h : callable
+        ``h(p, x, k)`` (compiled from the job file).
+    plo, phi : ndarray
+        Bounds of the parameter ``p``.
+    hlo, hhi : ndarray
+        The inclusion box ``[h]``.
+    vlo, vhi : ndarray
+        Box of the measurement noise ``v``.
+    """
 
     simulation_keys = ("parameter",)
 
@@ -487,7 +597,29 @@ class NonlinearSystem(_OutputModel):
 
     def simulate_job(self, sim, initial, N, t, u, x0, seed) -> ThesisSimulation:
         """Simulates with the parameter ``[simulation] parameter``; every h(p, x_k, k) is
-        checked against [h]; ``extra["h"]`` holds the values."""
+        checked against [h]; ``extra["h"]`` holds the values.
+
+        Parameters
+        ----------
+        sim : dict
+            The ``[simulation]`` table.
+        initial : set
+            The initial set.
+        N : int
+            Number of steps.
+        t : ndarray, shape (N,)
+            Time values.
+        u : ndarray, shape (N, n_u)
+            Inputs.
+        x0 : ndarray, optional
+            True initial state (default: drawn in ``initial``).
+        seed : int
+            Random seed.
+
+        Returns
+        -------
+        ThesisSimulation
+        """
         n = self.nx
         p = as_float(sim.get("parameter", float(self.phi)), "simulation.parameter")
         if not self.plo <= p <= self.phi:
