@@ -34,6 +34,7 @@ extensions = [
     "sphinx.ext.viewcode",
     "numpydoc",
     "sphinx_gallery.gen_gallery",
+    "setbound_docs",  # docs/_ext: method citations in docstrings become links
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}

@@ -27,3 +27,47 @@ def figure_scraper(block, block_vars, gallery_conf, **kwargs):
         fig.savefig(path, dpi=80)
         paths.append(path)
     return figure_rst(paths, gallery_conf["src_dir"])
+
+
+# --------------------------------------------------------------------------- method citations
+def _method_targets(theory_dir):
+    """``{(page title, section title or None): rst role}`` from docs/theory/*.md: each page's
+    ``# Title`` (a :doc: target) and each ``(label)=`` + ``## Section`` (a :ref: target)."""
+    import re
+    from pathlib import Path
+
+    targets = {}
+    for page in sorted(Path(theory_dir).glob("*.md")):
+        text = page.read_text()
+        title = re.search(r"^# (.+)$", text, flags=re.M).group(1).strip()
+        targets[(title, None)] = f":doc:`Methods › {title} </theory/{page.stem}>`"
+        for label, section in re.findall(r"^\(([\w-]+)\)=\n## (.+)$", text, flags=re.M):
+            targets[(title, section.strip())] = f":ref:`Methods › {title} › {section.strip()} <{label}>`"
+    return targets
+
+
+def _link_citations(app, what, name, obj, options, lines):
+    """Docstrings cite the method pages as plain text ("Methods › page › section", readable in
+    ``help()``); on the site the citation becomes a link to that page or section."""
+    targets = app.env.setbound_method_targets
+    keys = sorted(targets, key=lambda k: -len(f"{k[0]} › {k[1]}" if k[1] else k[0]))
+    for i, line in enumerate(lines):
+        if "Methods › " not in line or "`" in line.split("Methods › ", 1)[0][-1:]:
+            continue
+        for page, section in keys:
+            text = f"Methods › {page}" + (f" › {section}" if section else "")
+            if text in line:
+                lines[i] = line.replace(text, targets[(page, section)], 1)
+                break
+
+
+def _load_targets(app):
+    from pathlib import Path
+
+    app.env.setbound_method_targets = _method_targets(Path(app.srcdir) / "theory")
+
+
+def setup(app):
+    app.connect("builder-inited", _load_targets)
+    app.connect("autodoc-process-docstring", _link_citations)
+    return {"parallel_read_safe": True, "parallel_write_safe": True}
