@@ -249,7 +249,8 @@ class _EllipsoidalEstimator(ReadingChecks, StateMixin):
     def step(self, y, u=None) -> Ellipsoid:
         """Use ``y_k`` (and ``u_k``).
 
-        Predictors return the set for ``x_{k+1}``, filters the set for ``x_k``. See ``last_check`` for
+        Predictors return the set for ``x_{k+1}``, filters the set for ``x_k``. Missing outputs
+        (None or NaN entries) are not accepted by the descriptor estimator. See ``last_check`` for
         what the step did with each output. On error (wrong shape, ±inf, policy ``"raise"``) the
         estimator is unchanged.
 
@@ -409,8 +410,11 @@ class OnlineEstimator(_EllipsoidalEstimator):
 
     @property
     def reuse_tolerance(self) -> float:
-        """Relative change of ``ρ_k`` below which the last online solution is reused.
-        """
+        """The LMI is solved again only when ρ_k moved by more than this relative amount since
+        the last solve; otherwise the last certified (β, L, σ) is reused, which is at most
+        ``|Δρ|`` above the optimum (the LMI does not depend on ρ_k; the optimal value is concave
+        in ρ with supergradient β ∈ (0, 1)). 0 solves at every step. A finite number >= 0
+        (every value is sound; a large one only reuses more). Not used with an interval A."""
         return self._reuse_tolerance
 
     @reuse_tolerance.setter
