@@ -396,6 +396,17 @@ class OnlineEstimator(_EllipsoidalEstimator):
         or a restart from ``reset_set``.
     reset_set : optional
         The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+    ...                             E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+    >>> design = setbound.ellipsoidal.design_offline(sys)
+    >>> x0 = setbound.Ellipsoid(np.eye(2), [0.0, 0.0], 1.0)
+    >>> online = setbound.ellipsoidal.OnlineEstimator(design, x0).run(np.zeros((6, 1)))
+    >>> offline = setbound.ellipsoidal.OfflineEstimator(design, x0).run(np.zeros((6, 1)))
+    >>> bool(np.all(online.radius <= offline.radius * (1 + 1e-9)))
+    True
     """
 
     def __init__(self, design: EllDesign, x0: Ellipsoid, scaling: bool = False,
@@ -460,6 +471,16 @@ class ImprovedEstimator(_EllipsoidalEstimator):
         or a restart from ``reset_set``.
     reset_set : optional
         The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+    ...                             E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+    >>> design = setbound.ellipsoidal.design_offline(sys)
+    >>> x0 = setbound.Ellipsoid(np.eye(2), [0.0, 0.0], 1.0)
+    >>> traj = setbound.ellipsoidal.ImprovedEstimator(design, x0).run(np.zeros((3, 1)))
+    >>> bool(traj.contains(np.zeros((3, 2))).all())
+    True
     """
 
     _method = lib.SB_ELL_IMPROVED
@@ -519,6 +540,14 @@ class KalmanFilter(StateMixin):
         Covariance of ``ω`` (default: identity).
     nsigma : float, optional
         Half-width of the reported boxes in standard deviations.
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9]], C=[[1.0]], E=[[0.1, 0.0]], F=[[0.0, 0.1]])
+    >>> kf = setbound.ellipsoidal.KalmanFilter(sys, [0.0], [[1.0]])
+    >>> traj = kf.run(np.zeros((3, 1)))
+    >>> traj.guaranteed, traj.covariance.shape
+    (False, (3, 1, 1))
     """
 
     #: row k of a trajectory used y_k (Trajectory.filter)

@@ -16,6 +16,14 @@ class SetboundError(Exception):
         The library's message (it names the offending argument).
     status : int, optional
         The C status code (default: the class's).
+
+    Examples
+    --------
+    >>> try:
+    ...     setbound.Ellipsoid([[1.0, 2.0], [0.0, 1.0]], [0.0, 0.0], 1.0)
+    ... except setbound.SetboundError as e:
+    ...     print(type(e).__name__, isinstance(e, ValueError))
+    NotSymmetricError True
     """
 
     status: int = -10

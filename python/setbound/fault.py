@@ -317,6 +317,16 @@ def detect(estimator, y, u=None) -> Detection:
     Returns
     -------
     Detection
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.5]], C=[[1.0]], E=[[0.1, 0.0]], F=[[0.0, 0.1]])
+    >>> x0 = setbound.Box([-1.0], [1.0])
+    >>> sim = setbound.fault.simulate_faulty(sys, x0, 30, [setbound.fault.Fault("sensor_bias", start=20, output=0,
+    ...                                                                      magnitude=2.0)], rng=1)
+    >>> det = setbound.fault.detect(setbound.zonotopic.SegmentMinEstimator(sys, x0), sim.y)
+    >>> det.alarm is not None and det.alarm >= 20
+    True
     """
     policy = getattr(estimator, "on_inconsistency", None)
     if policy is None:

@@ -73,6 +73,13 @@ class LpvPlant:
         Common measurement-noise matrix.
     **wrong
         Refused (``F=`` gets a message pointing to ``Fd=``).
+
+    Examples
+    --------
+    >>> lpv = setbound.LpvPlant([[[0.5, 0.1], [0.0, 0.4]], [[0.6, 0.1], [0.0, 0.4]]], [[1.0, 0.0]], [[0.0], [1.0]],
+    ...                         Fd=[0.1 * np.eye(2), 0.1 * np.eye(2)], Z=[[0.1]])
+    >>> lpv.weights([0.25]).round(6).tolist()
+    [0.75, 0.25]
     """
 
     def __init__(self, A, C, theta, *, B=None, Fd=None, Z=None, **wrong):
@@ -252,6 +259,14 @@ def brl_ellipsoidal_rpi(A, E, wbar) -> BrlRpi:
     Returns
     -------
     BrlRpi
+
+    Examples
+    --------
+    The system of [Loukkas2018] Example 1.5:
+
+    >>> r = setbound.hinf.brl_ellipsoidal_rpi([[0.2, 0.2], [-0.2, 0.5]], [[0.0], [1.0]], [1.0])
+    >>> bool(r.gamma > 0 and r.level > 0)
+    True
     """
     A = as_f64(A, "A", ndim=2)
     n = A.shape[0]
@@ -561,6 +576,15 @@ def design_ellipsoidal_sm_observer(plant: Plant, wbar=None, *, W=None, lambda_ro
     Returns
     -------
     EllipsoidalSMDesign
+
+    Examples
+    --------
+    The example of [Loukkas2018] §2.5:
+
+    >>> plant = setbound.Plant([[0.2, 0.2], [0.0, 0.5]], [[1.0, 0.0]], B=[[1.0], [1.0]], Fd=[[0.0], [0.1]], Z=[[0.1]])
+    >>> design = setbound.hinf.design_ellipsoidal_sm_observer(plant)
+    >>> bool(0 < design.lambda_ <= 1), design.e_inf.shape
+    (True, (2,))
     """
     if isinstance(plant, LpvPlant):
         raise InvalidArgumentError("plant: an LpvPlant needs design_ellipsoidal_sm_observer_lpv")
@@ -825,6 +849,15 @@ class EllipsoidalSMObserver(_Observer):
         or a restart from ``reset_set``.
     reset_set : optional
         The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.2, 0.2], [0.0, 0.5]], [[1.0, 0.0]], Fd=[[0.0], [0.1]], Z=[[0.1]])
+    >>> obs = setbound.hinf.EllipsoidalSMObserver(setbound.hinf.design_ellipsoidal_sm_observer(plant),
+    ...                                          setbound.Box([-1, -1], [1, 1]))
+    >>> traj = obs.run(np.zeros((5, 1)))
+    >>> bool(traj.in_bounds(np.zeros((5, 2))).all()), bool(traj.mu[-1] < traj.mu[0])
+    (True, True)
     """
 
     def step(self, y, u=None) -> Box:

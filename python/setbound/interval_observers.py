@@ -171,6 +171,12 @@ def interval_error_limit(Ao, E, w, variant: str = "tight") -> Box:
     Returns
     -------
     Box
+
+    Examples
+    --------
+    >>> g = setbound.interval_error_limit([[0.5]], [[1.0]], setbound.Box([-1.0], [1.0]))
+    >>> print(np.round(g.lo, 9), np.round(g.hi, 9))  # 1 + 0.5 + 0.25 + ... = 2, rounded outward
+    [-2.] [2.]
     """
     Ao = as_f64(Ao, "Ao", ndim=2)
     n = Ao.shape[0]
@@ -419,6 +425,17 @@ class NonlinearIntervalObserver(_OnlineObserver):
         or a restart from ``reset_set``.
     reset_set : optional
         The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    A constant inclusion box ``[h] = [−0.1, 0.1]²``:
+
+    >>> plant = setbound.Plant([[0.3, -0.7], [0.6, -0.5]], [[1.0, 0.0]], Fd=np.eye(2), Z=[[1.0]])
+    >>> obs = setbound.NonlinearIntervalObserver(plant, setbound.Box([-1, -1], [1, 1]), [0.0, 0.0],
+    ...                                          v=setbound.Box([-0.1], [0.1]), h=setbound.Box([-0.1, -0.1], [0.1, 0.1]))
+    >>> traj = obs.run(np.zeros((4, 1)))
+    >>> bool(traj.in_bounds(np.zeros((4, 2))).all())
+    True
     """
 
     _prefix = "sb_interval_nonlinear"
@@ -613,6 +630,13 @@ def offline_error_sequence(plant: Plant, x0, xhat0, d=None, v=None, *, L=None, P
     Returns
     -------
     InvariantObserverDesign
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.5, 0.1], [0.0, 0.6]], [[1.0, 0.0]], Fd=0.1 * np.eye(2), Z=[[0.05]])
+    >>> design = setbound.offline_error_sequence(plant, setbound.Box([-1, -1], [1, 1]), [0.0, 0.0])
+    >>> design.k_star >= 0, design.box_at(design.k_star + 5).subset(design.box_at(0))
+    (True, True)
     """
     call = ((plant, x0, xhat0, d, v), dict(L=L, P=P, gamma=gamma, mu=mu, inflation=inflation, epsilon=epsilon,
                                             variant=variant))
@@ -661,6 +685,14 @@ class IntervalInvariantObserver(_OnlineObserver):
         or a restart from ``reset_set``.
     reset_set : optional
         The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.5, 0.1], [0.0, 0.6]], [[1.0, 0.0]], Fd=0.1 * np.eye(2), Z=[[0.05]])
+    >>> design = setbound.offline_error_sequence(plant, setbound.Box([-1, -1], [1, 1]), [0.0, 0.0])
+    >>> traj = setbound.IntervalInvariantObserver(design).run(np.zeros((4, 1)))
+    >>> bool(traj.in_bounds(np.zeros((4, 2))).all())
+    True
     """
 
     _prefix = "sb_interval_invariant"

@@ -382,6 +382,12 @@ def polyhedral_rpi_between_ellipsoids(P, c_in: float, c_out: float, *, max_verti
     Returns
     -------
     Polytope
+
+    Examples
+    --------
+    >>> Phi = setbound.invariant.polyhedral_rpi_between_ellipsoids(np.eye(2), 1.0, 2.0)
+    >>> bool(np.all(np.sum(Phi.vertices ** 2, axis=1) <= 2.0 + 1e-9))
+    True
     """
     c_in, c_out = as_float(c_in, "c_in"), as_float(c_out, "c_out")
     maxv = 0 if max_vertices is None else as_int(max_vertices, "max_vertices", lo=1, hi=MAX_VERTICES)  # C: 0 = default
@@ -539,6 +545,15 @@ def mrpi_outer_shrinking(A, E, wbar=None, *, eps: float, mu: float = 2.0, stop: 
     Returns
     -------
     MrpiResult
+
+    Examples
+    --------
+    [Loukkas2018] Example 1.5 with the interval hulls only:
+
+    >>> res = setbound.invariant.mrpi_outer_shrinking([[0.2, 0.2], [-0.2, 0.5]], [[0.0], [1.0]], [1.0],
+    ...                                               eps=1e-3, boxes_only=True)
+    >>> bool(res.boxes[-1].subset(res.boxes[0])), res.k_star > 0
+    (True, True)
     """
     stop = as_choice(stop, "stop", _STOP_RULES)
     eps = as_float(eps, "eps")

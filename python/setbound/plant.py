@@ -52,6 +52,12 @@ class Plant:
         ``LinearSystem``.
     **wrong
         Refused: ``F=`` gets a message pointing to ``Fd=``; any other keyword is a TypeError.
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.2, 0.2], [0.0, 0.5]], [[1.0, 0.0]], B=[[1.0], [1.0]], Fd=[[0.0], [0.1]], Z=[[0.1]])
+    >>> plant.nx, plant.ny, plant.nd, plant.nv
+    (2, 1, 1, 1)
     """
 
     def __init__(self, A, C, *, B=None, Fd=None, Z=None, dt=None, **wrong):

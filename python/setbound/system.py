@@ -293,6 +293,19 @@ class DescriptorSystem:
     ------
     NotDetectableError
         When a rank condition fails (the message names it).
+
+    Examples
+    --------
+    The example of [Merhy2019] (singular ``E``):
+
+    >>> E = [[1, 0, 0], [0, 1, 0], [0, 0, 0]]
+    >>> A = [[0.5, 0, 0], [0.8, 0.95, 0], [-1, 0.5, 1]]
+    >>> C = [[1, 0, 1], [1, -1, 0]]
+    >>> D = np.hstack([np.diag([0.1, 1.5, 0.6]), np.zeros((3, 2))])
+    >>> F = np.hstack([np.zeros((2, 3)), np.diag([0.5, 1.5])])
+    >>> ds = setbound.DescriptorSystem(E, A, C, B=[[1, 0], [0, 1], [0, 0]], D=D, F=F)
+    >>> bool(np.allclose(ds.T @ np.asarray(E) + ds.N @ np.asarray(C), np.eye(3)))
+    True
     """
 
     def __init__(self, E, A, C, *, B=None, D, F):

@@ -51,6 +51,15 @@ class Trajectory:
     filter : bool, optional
         Whether row ``k`` used ``y_k`` (a filter) or only ``y_0 … y_{k−1}`` (a predictor); None when
         unknown.
+
+    Examples
+    --------
+    Every estimator's ``run`` returns one:
+
+    >>> sys = setbound.LinearSystem(A=[[0.9]], C=[[1.0]], E=[[0.1, 0.0]], F=[[0.0, 0.1]])
+    >>> traj = setbound.zonotopic.SegmentMinEstimator(sys, setbound.Box([-1], [1])).run(np.zeros((4, 1)))
+    >>> len(traj), traj.width.shape, bool(traj.contains(np.zeros((4, 1))).all())
+    (4, (4, 1), True)
     """
 
     center: np.ndarray  # (N, n_x)

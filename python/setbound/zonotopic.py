@@ -276,6 +276,14 @@ class VolumeMinEstimator(_ZonotopicEstimator):
         or a restart from ``reset_set``.
     reset_set : optional
         The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.0, -0.5], [1.0, 1.0]], C=[[-2.0, 1.0], [1.0, 1.0]],
+    ...                             E=[[-0.12, 0, 0], [0.02, 0, 0]], F=[[0, 0.2, 0], [0, 0, 0.2]])
+    >>> est = setbound.zonotopic.VolumeMinEstimator(sys, setbound.Box([-3, -3], [3, 3]))
+    >>> bool(est.run(np.zeros((3, 2))).contains(np.zeros((3, 2))).all())
+    True
     """
 
     _gain = lib.SB_ZONO_GAIN_VOLUME_MIN
@@ -323,6 +331,17 @@ def exact_hull(system: LinearSystem, y, u=None, *, x0: Zonotope, use_first_measu
     ------
     InfeasibleError
         When no state can produce the data.
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.0, -0.5], [1.0, 1.0]], C=[[-2.0, 1.0], [1.0, 1.0]],
+    ...                             E=[[-0.12, 0, 0], [0.02, 0, 0]], F=[[0, 0.2, 0], [0, 0, 0.2]])
+    >>> x0 = setbound.Zonotope([0.0, 0.0], 3 * np.eye(2))
+    >>> y = np.zeros((3, 2))
+    >>> hull = setbound.exact_hull(sys, y, x0=x0)
+    >>> est = setbound.zonotopic.SegmentMinEstimator(sys, x0).run(y)
+    >>> bool(np.all(est.lower <= hull.lower + 1e-9) and np.all(hull.upper <= est.upper + 1e-9))
+    True
     """
     use_first_measurement = as_bool(use_first_measurement, "use_first_measurement")
     system = as_system(system)
@@ -402,6 +421,16 @@ def design_pradius(system: LinearSystem, approach: int = 1, order=None, *,
     ------
     InfeasibleError
         When no gain contracts.
+
+    Examples
+    --------
+    The system of [Le2013] with a known ``A``:
+
+    >>> sys = setbound.LinearSystem(A=[[0.0, -0.5], [1.0, 1.0]], C=[[-2.0, 1.0], [1.0, 1.0]],
+    ...                             E=[[-0.12, 0, 0], [0.02, 0, 0]], F=[[0, 0.2, 0], [0, 0, 0.2]])
+    >>> d = setbound.zonotopic.design_pradius(sys, approach=2)
+    >>> d.lambdas.shape, bool(np.all((0 < d.beta) & (d.beta < 1)))
+    ((2, 2), True)
     """
     system = as_system(system)
     if not isinstance(system, LinearSystem):
