@@ -117,7 +117,10 @@ def zonotopic_tube(steps: int, seed: int, vertex: bool):
 
     Returns
     -------
-    lower, upper, x_true, inside : ndarray
+    lower : ndarray
+    upper : ndarray
+    x_true : ndarray
+    inside : ndarray
     """
     A = np.array([[0.0, -0.5], [1.0, 1.0]])
     Fw = np.array([[-0.12], [0.02]])
