@@ -10,7 +10,8 @@ def figure_scraper(block, block_vars, gallery_conf, **kwargs):
     """setbound's plotting functions return ``matplotlib.figure.Figure`` objects made without
     pyplot (so a library call never opens a window), which sphinx-gallery's matplotlib scraper
     does not see. This one saves every Figure the block left in the example's namespace (a
-    variable, or a list/tuple/dict of them) that no earlier block saved."""
+    variable holding a Figure or an Axes, or a list/tuple/dict of them) that no earlier block saved."""
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
     from sphinx_gallery.scrapers import figure_rst
 
@@ -19,6 +20,7 @@ def figure_scraper(block, block_vars, gallery_conf, **kwargs):
     for value in list(block_vars["example_globals"].values()):
         items = value.values() if isinstance(value, dict) else value if isinstance(value, (list, tuple)) else [value]
         for fig in items:
+            fig = fig.figure if isinstance(fig, Axes) else fig  # e.g. Detection.plot returns its axes
             if isinstance(fig, Figure) and not hasattr(fig, "number") and id(fig) not in done:  # pyplot's: scraped already
                 done.add(id(fig))
                 found.append(fig)

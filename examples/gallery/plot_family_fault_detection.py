@@ -22,7 +22,7 @@ sim = simulate_faulty(system, x0, 100, [Fault("sensor_bias", start=60, output=0,
 
 det = detect(zonotopic.SegmentMinEstimator(system, x0), sim.y)
 print("alarm at step", det.alarm, "- delay", det.delay(60))
-fig = det.plot(fault_start=60)
+ax = det.plot(fault_start=60)  # the margin of each step; above 0: impossible reading
 
 # %%
 # Isolation: each hypothesis is rejected at the first reading its own model cannot produce.

@@ -264,7 +264,8 @@ class Detection:
 
         Returns
         -------
-        matplotlib.figure.Figure
+        matplotlib.axes.Axes
+            The axes drawn on (``ax.figure`` is the figure).
         """
         fault_start = None if fault_start is None else as_int(fault_start, "fault_start", lo=0)
         title = None if title is None else as_str(title, "title")
