@@ -509,6 +509,19 @@ class DescriptorEstimator(_EllipsoidalEstimator):
         A design from ``design_offline(DescriptorSystem(...))``.
     x0 : Ellipsoid, Box or Zonotope
         Initial set.
+
+    Examples
+    --------
+    >>> E = [[1, 0, 0], [0, 1, 0], [0, 0, 0]]
+    >>> A = [[0.5, 0, 0], [0.8, 0.95, 0], [-1, 0.5, 1]]
+    >>> C = [[1, 0, 1], [1, -1, 0]]
+    >>> D = np.hstack([np.diag([0.1, 1.5, 0.6]), np.zeros((3, 2))])
+    >>> F = np.hstack([np.zeros((2, 3)), np.diag([0.5, 1.5])])
+    >>> ds = setbound.DescriptorSystem(E, A, C, D=D, F=F)
+    >>> est = setbound.ellipsoidal.DescriptorEstimator(setbound.ellipsoidal.design_offline(ds),
+    ...                                               setbound.Ellipsoid(np.eye(3), np.zeros(3), 1.0))
+    >>> bool(est.run(np.zeros((3, 2))).contains(np.zeros((3, 3))).all())
+    True
     """
 
     _method = lib.SB_ELL_DESCRIPTOR

@@ -465,6 +465,13 @@ def stuck_sensor(system, x0, output: int, name: str | None = None) -> Hypothesis
     Returns
     -------
     Hypothesis
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.5]], C=[[1.0], [1.0]], E=[[0.1, 0.0, 0.0]], F=[[0.0, 0.1, 0.0], [0.0, 0.0, 0.1]])
+    >>> x0 = setbound.Box([-1.0], [1.0])
+    >>> setbound.fault.stuck_sensor(sys, x0, 0).ignore_outputs
+    (0,)
     """
     name = None if name is None else as_str(name, "name")
     s = as_system(system)
@@ -595,6 +602,17 @@ class FaultBank:
         The models to test.
     estimator : callable, optional
         ``estimator(system, x0)`` returning an estimator.
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.5]], C=[[1.0], [1.0]], E=[[0.1, 0.0, 0.0]], F=[[0.0, 0.1, 0.0], [0.0, 0.0, 0.1]])
+    >>> x0 = setbound.Box([-1.0], [1.0])
+    >>> sim = setbound.fault.simulate_faulty(sys, x0, 30, [setbound.fault.Fault("sensor_bias", start=10, output=1,
+    ...                                                                      magnitude=1.0)], rng=2)
+    >>> bank = setbound.fault.FaultBank(sys, x0, [setbound.fault.nominal(sys, x0),
+    ...                                          setbound.fault.sensor_bias(sys, x0, 1, bound=2.0)])
+    >>> bank.run(sim.y).consistent_at_end
+    ['sensor_bias[y1]']
     """
 
     def __init__(self, system, x0, hypotheses: Sequence[Hypothesis], *,

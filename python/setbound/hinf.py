@@ -208,6 +208,14 @@ def hinf_observer_gain(plant, Q=None) -> HinfGain:
     Returns
     -------
     HinfGain
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.2, 0.2], [0.0, 0.5]], [[1.0, 0.0]], Fd=[[0.0], [0.1]], Z=[[0.1]])
+    >>> gain = setbound.hinf.hinf_observer_gain(plant)
+    >>> Ao = np.asarray(plant.A) - gain.L @ np.asarray(plant.C)
+    >>> bool(max(abs(np.linalg.eigvals(Ao))) < 1)
+    True
     """
     N, p0, As, Fs = _vertex_data(plant)
     n, ny = p0.nx, p0.ny
@@ -313,6 +321,14 @@ def ellipsoidal_error_rpi(P, Q, g, wbar) -> ErrorRpi:
     Returns
     -------
     ErrorRpi
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.2, 0.2], [0.0, 0.5]], [[1.0, 0.0]], Fd=[[0.0], [0.1]], Z=[[0.1]])
+    >>> gain = setbound.hinf.hinf_observer_gain(plant)
+    >>> rpi = setbound.hinf.ellipsoidal_error_rpi(gain.P, gain.Q, gain.g, [1.0, 1.0])
+    >>> bool(0 < rpi.lambda_ <= 1), rpi.e_inf.shape
+    (True, (2,))
     """
     P = as_f64(P, "P", ndim=2)
     n = P.shape[0]
@@ -410,6 +426,12 @@ def chebyshev_error_ellipsoid(V, t):
         ``t²``.
     probability : float
         ``1 − n/t²``.
+
+    Examples
+    --------
+    >>> Vinv, t2, p = setbound.hinf.chebyshev_error_ellipsoid(np.eye(2), 3.0)
+    >>> t2, round(p, 6)
+    (9.0, 0.777778)
     """
     V = as_f64(V, "V", ndim=2)
     n = V.shape[0]
@@ -612,6 +634,14 @@ def design_ellipsoidal_sm_observer_lpv(plant: LpvPlant, wbar, *, W=None, lambda_
     Returns
     -------
     EllipsoidalSMDesign
+
+    Examples
+    --------
+    >>> lpv = setbound.LpvPlant([[[0.5, 0.1], [0.0, 0.4]], [[0.6, 0.1], [0.0, 0.4]]], [[1.0, 0.0]], [[0.0], [1.0]],
+    ...                         Fd=[0.1 * np.eye(2), 0.1 * np.eye(2)], Z=[[0.1]])
+    >>> design = setbound.hinf.design_ellipsoidal_sm_observer_lpv(lpv, np.ones(3))
+    >>> design.L.shape
+    (2, 2, 1)
     """
     if not isinstance(plant, LpvPlant):
         raise InvalidArgumentError("plant: expected a setbound.hinf.LpvPlant")
@@ -631,6 +661,13 @@ def mu0_from_ball(design: EllipsoidalSMDesign, radius: float) -> float:
     Returns
     -------
     float
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.2, 0.2], [0.0, 0.5]], [[1.0, 0.0]], Fd=[[0.0], [0.1]], Z=[[0.1]])
+    >>> design = setbound.hinf.design_ellipsoidal_sm_observer(plant)
+    >>> setbound.hinf.mu0_from_ball(design, 1.0) >= 1
+    True
     """
     out = ffi.new("double*")
     check(lib.sb_hinf_design_mu0_ball(design._handle, as_float(radius, "radius", lo=0.0), out))

@@ -115,6 +115,14 @@ def centered_inclusion(f, df, x):
     Returns
     -------
     Interval or Box
+
+    Examples
+    --------
+    >>> f = lambda x: x * x - 2 * x
+    >>> df = lambda x: 2 * x - 2
+    >>> r = setbound.inclusion.centered_inclusion(f, df, setbound.Interval(0.9, 1.1))
+    >>> print(round(r.lo, 9), round(r.hi, 9))  # the natural form gives [-1.39, -0.59]
+    -1.02 -0.98
     """
     kind = _check_arg(x, bounded=True)
     if kind == "scalar":
@@ -154,6 +162,14 @@ def taylor2_inclusion(f, df, d2f, x):
     Returns
     -------
     Interval or Box
+
+    Examples
+    --------
+    >>> f = lambda x: x * x - 2 * x
+    >>> r = setbound.inclusion.taylor2_inclusion(f, lambda x: 2 * x - 2, lambda x: setbound.Interval(2.0),
+    ...                                          setbound.Interval(0.9, 1.1))
+    >>> r.contains(-1.0) and r.hi - r.lo < 0.05
+    True
     """
     kind = _check_arg(x, bounded=True)
     if kind == "scalar":

@@ -387,6 +387,11 @@ def sqr(x) -> Interval:
     Returns
     -------
     Interval
+
+    Examples
+    --------
+    >>> setbound.interval.sqr(setbound.Interval(-1.0, 2.0))
+    Interval(0.0, 4.0)
     """
     return _require_interval(x, "x").sqr()
 
@@ -402,6 +407,11 @@ def sqrt(x) -> Interval:
     Returns
     -------
     Interval
+
+    Examples
+    --------
+    >>> setbound.interval.sqrt(setbound.Interval(4.0, 9.0))
+    Interval(2.0, 3.0)
     """
     return _require_interval(x, "x").sqrt()
 
@@ -417,6 +427,11 @@ def exp(x) -> Interval:
     Returns
     -------
     Interval
+
+    Examples
+    --------
+    >>> setbound.interval.exp(setbound.Interval(0.0, 0.0)).contains(1.0)
+    True
     """
     return _require_interval(x, "x").exp()
 
@@ -432,6 +447,11 @@ def sin(x) -> Interval:
     Returns
     -------
     Interval
+
+    Examples
+    --------
+    >>> setbound.interval.sin(setbound.Interval(0.0, 3.2)).contains(1.0)
+    True
     """
     return _require_interval(x, "x").sin()
 
@@ -447,6 +467,11 @@ def cos(x) -> Interval:
     Returns
     -------
     Interval
+
+    Examples
+    --------
+    >>> setbound.interval.cos(setbound.Interval(-0.1, 0.1)).contains(1.0)
+    True
     """
     return _require_interval(x, "x").cos()
 
@@ -462,6 +487,11 @@ def abs_(x) -> Interval:
     Returns
     -------
     Interval
+
+    Examples
+    --------
+    >>> setbound.interval.abs_(setbound.Interval(-3.0, 1.0))
+    Interval(0.0, 3.0)
     """
     return _require_interval(x, "x").abs()
 
@@ -477,6 +507,11 @@ def reciprocal(x) -> Interval:
     Returns
     -------
     Interval
+
+    Examples
+    --------
+    >>> setbound.interval.reciprocal(setbound.Interval(2.0, 4.0))
+    Interval(0.25, 0.5)
     """
     return _require_interval(x, "x").reciprocal()
 
@@ -494,6 +529,11 @@ def power(x, n: int) -> Interval:
     Returns
     -------
     Interval
+
+    Examples
+    --------
+    >>> setbound.interval.power(setbound.Interval(-2.0, 1.0), 3)
+    Interval(-8.0, 1.0)
     """
     iv = _require_interval(x, "x")
     n = as_int(n, "n", lo=-INT_MAX - 1, hi=INT_MAX)  # a C int exponent (the work does not grow with it)

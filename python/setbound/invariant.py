@@ -137,6 +137,11 @@ class Polytope:
         Returns
         -------
         Polytope
+
+        Examples
+        --------
+        >>> setbound.Polytope.from_box(setbound.Box([0, 0], [1, 2])).vertices.shape
+        (4, 2)
         """
         lo, hi = np.asarray(box.lo), np.asarray(box.hi)
         n = lo.size
@@ -233,6 +238,13 @@ class Polytope:
         Returns
         -------
         Polytope
+
+        Examples
+        --------
+        >>> P = setbound.Polytope.from_box(setbound.Box([0, 0], [1, 1]))
+        >>> S = P.minkowski_sum(setbound.Box([-1, -1], [1, 1]))
+        >>> bool(S.contains([1.9, -0.9]))
+        True
         """
         out = ffi.new("sb_polytope**")
         if isinstance(other, Polytope):
@@ -331,6 +343,14 @@ def ellipsoid_bounding_box(P, c, rho: float) -> Box:
     Returns
     -------
     Box
+
+    Examples
+    --------
+    The ellipse of [Loukkas2018] Example 1.3 (the box comes from ``P⁻¹``, not from ``P``):
+
+    >>> b = setbound.invariant.ellipsoid_bounding_box([[1.0, 1.0], [1.0, 4.0]], [0.0, 0.0], 1.0)
+    >>> print(np.round(b.hi, 6))
+    [1.154701 0.57735 ]
     """
     rho = as_float(rho, "rho", lo=0.0, lo_open=True)
     Pa = _square(P, "P")
@@ -358,6 +378,12 @@ def expanded_ellipsoid_levels(P, gamma: float, wbar_sq: float, mu: float) -> tup
     Returns
     -------
     (float, float)
+
+    Examples
+    --------
+    >>> c_in, c_out = setbound.invariant.expanded_ellipsoid_levels(np.eye(2), 1.0, 1.0, 2.0)
+    >>> c_in < c_out
+    True
     """
     Pa = _square(P, "P")
     ci, co = ffi.new("double*"), ffi.new("double*")

@@ -171,6 +171,13 @@ def as_plant(system) -> Plant:
     Returns
     -------
     Plant
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.5]], C=[[1.0]], E=[[0.1, 0.0]], F=[[0.0, 0.2]])
+    >>> p = setbound.plant.as_plant(sys)
+    >>> p.nd, p.nv
+    (1, 1)
     """
     name = "plant"
     if isinstance(system, Plant):

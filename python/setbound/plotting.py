@@ -269,6 +269,12 @@ def plot_widths(trajectories, names=None, *, reference=None, t=None, components=
     Returns
     -------
     matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> traj = setbound.Trajectory(np.zeros((3, 1)), -np.ones((3, 1)), np.ones((3, 1)))
+    >>> len(setbound.plotting.plot_widths({'box': traj}).axes)
+    1
     """
     title, figsize = _title(title), _figsize(figsize)
     log = None if log is None else as_bool(log, "log")
@@ -445,6 +451,12 @@ def ellipse_points(P, center, rho, dims=(0, 1), n: int = 200) -> np.ndarray:
     Returns
     -------
     ndarray, shape (n, 2)
+
+    Examples
+    --------
+    >>> pts = setbound.plotting.ellipse_points(np.eye(2), [0.0, 0.0], 4.0, n=8)
+    >>> bool(np.allclose(np.hypot(pts[:, 0], pts[:, 1]), 2.0))
+    True
     """
     rho = as_float(rho, "rho", lo=0.0)
     n = as_int(n, "n", lo=2, hi=MAX_POINTS)
@@ -488,6 +500,13 @@ def measurement_strips(system, y, u=None):
     Returns
     -------
     C, lower, upper : ndarray
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[1.0, 0.0], [0.0, 1.0]], C=[[1.0, 0.0]], E=[[0.0], [0.0]], F=[[0.5]])
+    >>> C, lo, hi = setbound.plotting.measurement_strips(sys, [2.0])
+    >>> lo.tolist(), hi.tolist()
+    ([1.5], [2.5])
     """
     C = np.asarray(system.C, dtype=float)
     F = np.asarray(system.F, dtype=float)
@@ -653,6 +672,12 @@ def save_png(fig, path, dpi: int = DEFAULT_DPI) -> Path:
     Returns
     -------
     Path
+
+    Examples
+    --------
+    >>> traj = setbound.Trajectory(np.zeros((3, 1)), -np.ones((3, 1)), np.ones((3, 1)))
+    >>> setbound.plotting.save_png(traj.plot(), "out/bounds.png", dpi=50).name
+    'bounds.png'
     """
     dpi = as_int(dpi, "dpi", lo=1, hi=MAX_DPI)
     w, h = fig.get_size_inches()

@@ -572,6 +572,14 @@ def interval_linear_map(mid, rad, Z: Zonotope) -> Zonotope:
     Returns
     -------
     Zonotope
+
+    Examples
+    --------
+    >>> Z = setbound.Zonotope([1.0, 0.0], np.eye(2))
+    >>> out = setbound.sets.interval_linear_map(np.eye(2), 0.1 * np.eye(2), Z)
+    >>> lo, hi = out.interval_hull()
+    >>> print(np.round(lo, 6), np.round(hi, 6))
+    [-0.2 -1.1] [2.2 1.1]
     """
     if not isinstance(Z, Zonotope):
         raise InvalidArgumentError(f"Z: expected a setbound.sets.Zonotope, got {type(Z).__name__}")
@@ -617,6 +625,12 @@ def as_box(X, name: str = "x0"):
     Returns
     -------
     Box
+
+    Examples
+    --------
+    >>> b = setbound.sets.as_box(setbound.Zonotope([0.0, 0.0], [[1.0, 1.0], [0.0, 1.0]]))
+    >>> print(np.round(b.lo, 9), np.round(b.hi, 9))  # rounded outward by a few ulps
+    [-2. -1.] [2. 1.]
     """
     name = as_str(name, "name")
     from .interval import Box
@@ -640,6 +654,12 @@ def as_zonotope(X, name: str = "x0") -> Zonotope:
     Returns
     -------
     Zonotope
+
+    Examples
+    --------
+    >>> Z = setbound.sets.as_zonotope(setbound.Box([0.0, -1.0], [2.0, 1.0]))
+    >>> Z.center.tolist(), Z.generators.tolist()
+    ([1.0, 0.0], [[1.0, 0.0], [0.0, 1.0]])
     """
     name = as_str(name, "name")
     if isinstance(X, Zonotope):
@@ -666,6 +686,12 @@ def as_ellipsoid(X, name: str = "x0") -> Ellipsoid:
     Returns
     -------
     Ellipsoid
+
+    Examples
+    --------
+    >>> E = setbound.sets.as_ellipsoid(setbound.Box([-1.0, -1.0], [1.0, 1.0]))
+    >>> bool(E.contains([1.0, 1.0]))  # the corners of the box are inside
+    True
     """
     name = as_str(name, "name")
     if isinstance(X, Ellipsoid):

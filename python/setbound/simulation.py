@@ -81,6 +81,12 @@ def disturbances(kind: str, N: int, n: int, rng: np.random.Generator) -> np.ndar
     Returns
     -------
     ndarray, shape (N, n)
+
+    Examples
+    --------
+    >>> w = setbound.simulation.disturbances("vertex", 4, 2, np.random.default_rng(0))
+    >>> bool(np.all(np.abs(w) == 1))
+    True
     """
     kind = as_choice(kind, "kind", _KINDS)
     N, n = as_int(N, "N", lo=0, hi=MAX_STEPS), as_int(n, "n", lo=0)
@@ -112,6 +118,12 @@ def sample_in(x0, rng: np.random.Generator, *, boundary: bool = False) -> np.nda
     Returns
     -------
     ndarray
+
+    Examples
+    --------
+    >>> x = setbound.simulation.sample_in(setbound.Box([0, 0], [1, 1]), np.random.default_rng(0))
+    >>> bool(setbound.Box([0, 0], [1, 1]).contains(x))
+    True
     """
     from .interval import Box
 

@@ -488,6 +488,15 @@ class PRadiusEstimator(_ZonotopicEstimator):
         or a restart from ``reset_set``.
     reset_set : optional
         The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.0, -0.5], [1.0, 1.0]], C=[[-2.0, 1.0], [1.0, 1.0]],
+    ...                             E=[[-0.12, 0, 0], [0.02, 0, 0]], F=[[0, 0.2, 0], [0, 0, 0.2]])
+    >>> est = setbound.zonotopic.PRadiusEstimator(setbound.zonotopic.design_pradius(sys),
+    ...                                             setbound.Box([-3, -3], [3, 3]))
+    >>> bool(est.run(np.zeros((5, 2))).contains(np.zeros((5, 2))).all())
+    True
     """
 
     _gain = lib.SB_ZONO_GAIN_FIXED
