@@ -168,4 +168,15 @@ def dptr(a: np.ndarray):
 
 
 def version() -> str:
+    """The version of the loaded C library (``setbound.__version__``).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> setbound.version() == setbound.__version__
+    True
+    """
     return ffi.string(lib.sb_version()).decode()

@@ -330,9 +330,16 @@ class StateMixin(ThreadSafe):
         return buf.astype("<f8", copy=False).tobytes()
 
     def restore_state(self, state) -> None:
-        """Restores a state returned by ``save_state`` of an estimator of the same kind and
-        design. A corrupted state, one of another estimator kind or design raises
-        ``InvalidArgumentError`` (message starting with ``state``) and leaves this one unchanged."""
+        """Restore a state returned by ``save_state`` of an estimator of the same kind and design.
+
+        A corrupted state, one of another estimator kind or design raises ``InvalidArgumentError``
+        (message starting with ``state``) and leaves this one unchanged.
+
+        Parameters
+        ----------
+        state : bytes
+            The saved state.
+        """
         if isinstance(state, np.ndarray):
             state = state.tobytes()
         if not isinstance(state, (bytes, bytearray, memoryview)):

@@ -24,6 +24,31 @@ from .system import LinearSystem
 
 @dataclass
 class CoraBenchmark:
+    """One of CORA's observer examples (``linearSysDT/observe``), as setbound objects.
+
+    Parameters
+    ----------
+    name : str
+        Example name.
+    system : LinearSystem
+        The model.
+    x0 : Zonotope
+        Initial set.
+    y : ndarray, shape (N, n_y)
+        Measurements.
+    u : ndarray, shape (N, n_u + 1)
+        CORA's inputs and the constant 1.
+    truth : ndarray, shape (N, n_x) or None
+        True trajectory (3 decimals) when the file has one.
+    zonotope_order : float
+        CORA's zonotope order.
+    reduction : str
+        CORA's reduction method.
+    golden : dict, optional
+        CORA's saved results per observer: ``(lower, upper)`` arrays.
+    dt : float, optional
+        Sampling time.
+    """
     name: str
     system: LinearSystem
     x0: Zonotope
@@ -63,7 +88,17 @@ def _golden(d) -> dict[str, tuple[np.ndarray, np.ndarray]]:
 
 
 def load_cora(path: str | Path) -> CoraBenchmark:
-    """Reads one JSON file of CORA's observer examples (see the data's README)."""
+    """Reads one JSON file of CORA's observer examples (see the data's README).
+
+    Parameters
+    ----------
+    path : str or Path
+        The JSON file.
+
+    Returns
+    -------
+    CoraBenchmark
+    """
     path = Path(path)
     d = json.loads(path.read_text())
     A = np.asarray(d["A"], float)

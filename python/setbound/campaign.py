@@ -66,7 +66,23 @@ def simulation_error_bound(A_abs, terms_abs, N: int, m: int | None = None) -> np
     (``terms_abs``, N × n) the magnitudes summed by one simulation step and γ_m = m u/(1 − m u)
     the dot-product rounding factor (``m`` products summed per component; default n + 2 + the
     number of columns of ``E`` is the caller's to give). ``A_abs`` is ``|A|`` (for an interval
-    or LPV matrix: an entrywise bound of ``|A_k|``)."""
+    or LPV matrix: an entrywise bound of ``|A_k|``).
+
+    Parameters
+    ----------
+    A_abs : ndarray, shape (n, n)
+        ``|A|`` (or an entrywise bound).
+    terms_abs : ndarray, shape (N, n)
+        Magnitudes summed by each simulation step.
+    N : int
+        Number of steps.
+    m : int, optional
+        Products summed per component.
+
+    Returns
+    -------
+    ndarray, shape (N, n)
+    """
     n = A_abs.shape[0]
     g = _gamma(m if m is not None else 2 * n + 2)
     r = g * np.asarray(terms_abs, float)
@@ -105,7 +121,25 @@ def ellipsoid_excess(P, c, rho, x, delta) -> float:
     """How far ``x`` is outside ``E(P, c, ρ)`` beyond the allowance, in units of the set's
     ``√ρ``: ``(√q − (1+TAU)√ρ − √(δᵀ|P|δ) − √e_q)/√ρ`` with ``q = (x−c)ᵀP(x−c)``, ``e_q`` the
     rounding bound ``γ_{n+2}|x−c|ᵀ|P||x−c|`` of that evaluation and ``√(δᵀ|P|δ)`` a bound on
-    the P-norm of the simulation error. Positive means a violation."""
+    the P-norm of the simulation error. Positive means a violation.
+
+    Parameters
+    ----------
+    P : ndarray, shape (n, n)
+        Shape.
+    c : ndarray, shape (n,)
+        Centre.
+    rho : float
+        Level.
+    x : ndarray, shape (n,)
+        The true state.
+    delta : ndarray, shape (n,)
+        Bound of the simulation error (:func:`simulation_error_bound`).
+
+    Returns
+    -------
+    float
+    """
     d = np.asarray(x, float) - np.asarray(c, float)
     n = d.size
     q = float(d @ P @ d)
@@ -121,7 +155,21 @@ def ellipsoid_excess(P, c, rho, x, delta) -> float:
 def box_excess(lo, hi, x, delta) -> float:
     """Largest distance of ``x`` outside the box ``[lo, hi]`` scaled by ``1 + TAU`` about its
     centre and widened by the simulation error ``δ``, relative to the box's largest half-width
-    (exact interval test; positive means a violation)."""
+    (exact interval test; positive means a violation).
+
+    Parameters
+    ----------
+    lo, hi : ndarray, shape (n,)
+        The box.
+    x : ndarray, shape (n,)
+        The true state.
+    delta : ndarray, shape (n,)
+        Bound of the simulation error (:func:`simulation_error_bound`).
+
+    Returns
+    -------
+    float
+    """
     lo, hi, x = np.asarray(lo, float), np.asarray(hi, float), np.asarray(x, float)
     if np.isnan(lo).any() or np.isnan(hi).any():
         return math.inf  # a NaN bound is never a valid answer
@@ -145,7 +193,23 @@ def zonotope_excess(c, G, x, delta) -> float:
     (beyond the LP's own 1e-9 feasibility tolerance, which is added to the allowance); a
     violation the LP reports is confirmed by the library's exact facet test
     (:meth:`setbound.Zonotope.contains` with ``rel_tol = TAU``) of the zonotope widened by the
-    δ box, because the LP is badly scaled when generator lengths span many orders of magnitude."""
+    δ box, because the LP is badly scaled when generator lengths span many orders of magnitude.
+
+    Parameters
+    ----------
+    c : ndarray, shape (n,)
+        Centre.
+    G : ndarray, shape (n, m)
+        Generators.
+    x : ndarray, shape (n,)
+        The true state.
+    delta : ndarray, shape (n,)
+        Bound of the simulation error (:func:`simulation_error_bound`).
+
+    Returns
+    -------
+    float
+    """
     c, G, x = np.asarray(c, float), np.asarray(G, float), np.asarray(x, float)
     r = x - c
     n, m = G.shape
@@ -215,7 +279,21 @@ def _random_A(rng, n: int, unstable: bool) -> np.ndarray:
 class RandomSystem:
     """One random system of a case: ``x⁺ = A x + E ω``, ``y = C x + F ω``, ``ω ∈ [−1, 1]^{n_ω}``
     with ``ω = (d, v)``: ``E = [Fd, 0]``, ``F = [0, Z]``; ``T`` the diagonal similarity applied
-    (identity unless ill-conditioned)."""
+    (identity unless ill-conditioned).
+
+    Parameters
+    ----------
+    A, C : ndarray
+        State and output matrices.
+    Fd, Z : ndarray
+        State-disturbance and noise matrices.
+    T : ndarray
+        The similarity applied.
+    family : str
+        The family.
+    nx, ny : int
+        Dimensions.
+    """
 
     A: np.ndarray
     C: np.ndarray
@@ -238,7 +316,17 @@ class RandomSystem:
 
     def linear_system(self, A=None) -> LinearSystem:
         """The system as a :class:`~setbound.LinearSystem` (``A`` may replace the matrix, e.g. by an
-        IntervalMatrix)."""
+        IntervalMatrix).
+
+        Parameters
+        ----------
+        A : array_like or IntervalMatrix, optional
+            Replaces the matrix.
+
+        Returns
+        -------
+        LinearSystem
+        """
         return LinearSystem(self.A if A is None else A, self.C, E=self.E, F=self.F)
 
     def plant(self) -> Plant:
@@ -248,12 +336,30 @@ class RandomSystem:
 
 def random_system(rng, max_nx: int = 8, *, min_nx: int = 1, family: str | None = None,
                   max_nw: int = 16) -> RandomSystem:
-    """A random detectable system (papers.md §0.3 form): n_x uniform in [min_nx, max_nx],
+    """A random detectable system (the form of Methods › Ellipsoidal estimation › Model): n_x uniform in [min_nx, max_nx],
     n_y in [1, n_x], at most ``max_nw`` disturbances ``ω = (d, v)`` (the ellipsoidal designs
     enumerate the 2^{n_ω} vertices of the disturbance box), ``family`` ``"stable"``, ``"unstable"``, ``"ill_stable"`` or
     ``"ill_unstable"`` (drawn when None). The ill-conditioned families apply
     ``x → T x`` with ``T = diag(10^U(−2, 2))``: the entries of A, C, E then span about
-    1e-4 … 1e4."""
+    1e-4 … 1e4.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        Random source.
+    max_nx : int, optional
+        Largest state dimension.
+    min_nx : int, optional
+        Smallest state dimension.
+    family : str, optional
+        The family (drawn when None).
+    max_nw : int, optional
+        Largest number of disturbances.
+
+    Returns
+    -------
+    RandomSystem
+    """
     nx = int(rng.integers(min_nx, max_nx + 1))
     if family is None:
         family = str(rng.choice(["stable", "unstable", "ill_stable", "ill_unstable"]))
@@ -276,7 +382,23 @@ def random_system(rng, max_nx: int = 8, *, min_nx: int = 1, family: str | None =
 
 @dataclass
 class Case:
-    """What :func:`random_case` drew for one (estimator, seed)."""
+    """What :func:`random_case` drew for one (estimator, seed).
+
+    Parameters
+    ----------
+    estimator : str
+        Estimator name.
+    seed : int
+        Seed of the case.
+    system : RandomSystem
+        The system drawn.
+    disturbance : str
+        Disturbance profile.
+    N : int
+        Number of steps.
+    options : dict, optional
+        Estimator options.
+    """
 
     estimator: str
     seed: int
@@ -298,7 +420,21 @@ _IMPROVED_PREDICTORS = ("online", "scaled", "offline")
 
 
 def random_case(estimator: str, seed: int, max_nx: int = 8) -> Case:
-    """Draws the case ``(estimator, seed)`` (deterministic)."""
+    """Draws the case ``(estimator, seed)`` (deterministic).
+
+    Parameters
+    ----------
+    estimator : str
+        Estimator name.
+    seed : int
+        Seed.
+    max_nx : int, optional
+        Largest state dimension.
+
+    Returns
+    -------
+    Case
+    """
     if estimator not in ESTIMATORS:
         raise ValueError(f"estimator: expected one of {', '.join(ESTIMATORS)}, got {estimator!r}")
     spec = ESTIMATORS[estimator]
@@ -348,7 +484,41 @@ class CaseResult:
     (steps whose simulation-error allowance exceeded ``LOOSE`` times the set's size: not
     counted in ``steps``). A case of an estimator with ``runs_per_design > 1`` simulates that many
     trajectories with one design; a violation's step index then counts over the runs (run r,
-    step k → ``r · (N + 1) + k``)."""
+    step k → ``r · (N + 1) + k``).
+
+    Parameters
+    ----------
+    estimator : str
+        Estimator name.
+    seed : int
+        Seed.
+    nx : int
+        State dimension.
+    family : str
+        System family.
+    disturbance : str
+        Disturbance profile.
+    status : str
+        ``"ok"`` or ``"design_failed"``.
+    steps : int, optional
+        Steps checked.
+    reason : str, optional
+        The library's message.
+    violations : list, optional
+        ``(step, excess)`` pairs.
+    max_excess : float, optional
+        Largest excess.
+    options : dict, optional
+        Estimator options.
+    unverified : int, optional
+        Steps not counted.
+    false_alarms : int, optional
+        Readings flagged as impossible on fault-free data (must stay 0).
+    step_offset : int, optional
+        ``r · (N + 1)`` while run ``r`` of a multi-run case is checked.
+    command_options : str, optional
+        Options for the reproduction command.
+    """
 
     estimator: str
     seed: int
@@ -672,7 +842,23 @@ ESTIMATORS = {
 
 def run_case(estimator: str, seed: int, max_nx: int = 8, max_steps: int | None = None) -> CaseResult:
     """Runs the case ``(estimator, seed)`` (n_x at most ``max_nx``, at most ``max_steps`` steps)
-    and checks containment at every step."""
+    and checks containment at every step.
+
+    Parameters
+    ----------
+    estimator : str
+        Estimator name.
+    seed : int
+        Seed.
+    max_nx : int, optional
+        Largest state dimension.
+    max_steps : int, optional
+        Largest horizon.
+
+    Returns
+    -------
+    CaseResult
+    """
     case = random_case(estimator, seed, max_nx)
     if max_steps is not None:
         case.N = max(2, min(case.N, int(max_steps)))
@@ -696,7 +882,19 @@ def campaign_case(context: dict, case: dict) -> dict:
     """The campaign's task (:mod:`setbound.studies.executor`): :func:`run_case` of
     ``case["estimator"]``, ``case["seed"]`` with ``context["max_nx"]``/``["max_steps"]``, as a
     plain dict (the :class:`CaseResult` fields, ``violations`` as ``[step, excess]`` pairs, and
-    ``reproduce``)."""
+    ``reproduce``).
+
+    Parameters
+    ----------
+    context : dict
+        ``max_nx``, ``max_steps``.
+    case : dict
+        ``estimator``, ``seed``.
+
+    Returns
+    -------
+    dict
+    """
     r = run_case(case["estimator"], case["seed"], context["max_nx"], context["max_steps"])
     rec = dataclasses.asdict(r)
     rec["violations"] = [[int(k), float(e)] for k, e in r.violations]
@@ -735,7 +933,40 @@ def run_campaign(estimators=None, steps: int = 100_000, *, processes: int = 2, s
     already in ``out`` are read back into the summaries and skipped, and the campaign continues
     until ``steps`` is reached (a larger ``steps`` than the first run extends it; a resume with
     another ``seed0``, ``max_nx`` or ``max_steps`` is refused, since they decide what each case is).
-    ``seconds`` then counts this run only and ``resumed_cases`` how many came from the folder."""
+    ``seconds`` then counts this run only and ``resumed_cases`` how many came from the folder.
+
+    Parameters
+    ----------
+    estimators : list of str, optional
+        Estimator names (default: every guaranteed one).
+    steps : int, optional
+        Steps to check per estimator.
+    processes : int, optional
+        Workers of the embedded cluster (1: serial).
+    seed0 : int, optional
+        First seed.
+    max_nx : int, optional
+        Largest state dimension.
+    max_steps : int, optional
+        Largest horizon of a case.
+    time_limit : float, optional
+        Seconds per estimator.
+    progress : callable, optional
+        Called with progress reports.
+    client, scheduler, scheduler_file : optional
+        An existing Dask cluster (see :class:`setbound.studies.Engine`).
+    timeout : float, optional
+        Seconds to reach a scheduler.
+    out : str or path-like, optional
+        Checkpoint folder (a :class:`setbound.studies.store.ResultStore`).
+    resume : bool, optional
+        Continue the run checkpointed in ``out``.
+
+    Returns
+    -------
+    dict
+        ``{estimator: summary}``.
+    """
     from .studies.engine import Engine
     from .studies.executor import run_cases
 
@@ -852,7 +1083,17 @@ def _accumulate(summ: dict, r: dict) -> None:
 
 
 def format_table(summary: dict) -> str:
-    """The campaign table (one row per estimator)."""
+    """The campaign table (one row per estimator).
+
+    Parameters
+    ----------
+    summary : dict
+        From :func:`run_campaign`.
+
+    Returns
+    -------
+    str
+    """
     head = (f"{'estimator':22} {'systems':>7} {'failed':>6} {'steps':>8} {'viol.':>5} {'false al.':>9} "
             f"{'max excess':>11} {'s':>6}")
     lines = [head, "-" * len(head)]
@@ -864,7 +1105,17 @@ def format_table(summary: dict) -> str:
 
 
 def main(argv=None) -> int:
-    """Command line (see the module docstring); exits 1 when a violation was found."""
+    """Command line (see the module docstring); exits 1 when a violation was found.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments.
+
+    Returns
+    -------
+    int
+    """
     ap = argparse.ArgumentParser(prog="python -m setbound.campaign", description=__doc__.split("\n\n")[0])
     ap.add_argument("--estimator", action="append", choices=list(ESTIMATORS))
     ap.add_argument("--steps", type=int, default=100_000, help="steps per estimator (default 100000)")

@@ -85,7 +85,19 @@ def load_compare(files, estimators: str | None = None):
     """The job of ``setbound compare``: the first file's system, initial set and data, with the
     estimators of every file (renamed ``<file stem>:<name>`` when names clash), filtered by
     ``estimators`` (comma-separated names or methods). Raises ConfigError when the files describe
-    different systems or the filter selects nothing."""
+    different systems or the filter selects nothing.
+
+    Parameters
+    ----------
+    files : list of str or Path
+        Job files.
+    estimators : str, optional
+        Comma-separated estimator names or methods.
+
+    Returns
+    -------
+    Job
+    """
     loaded = []
     for f in files:
         try:
@@ -193,7 +205,17 @@ def _check(path) -> int:
 
 
 def main(argv=None) -> int:
-    """Entry point of the ``setbound`` command; returns the exit code (see the module docstring)."""
+    """Entry point of the ``setbound`` command; returns the exit code (see the module docstring).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments (default: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+    """
     a = _parser().parse_args(argv)
     set_quiet(bool(getattr(a, "quiet", False)))
     try:

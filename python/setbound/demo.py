@@ -1,7 +1,6 @@
 """The main job: ``setbound demo`` (``make demo``, ``python -m setbound.demo``).
 
-The built-in default job — EX-BC14, the 3-state example of [BenChabane2014] §5 (papers.md
-§1.4), shipped inside the package as ``setbound/data/demo_bc14.toml`` so it works from a
+The built-in default job — EX-BC14, the 3-state example of [BenChabane2014] §5 (Methods › Ellipsoidal estimation › Examples), shipped inside the package as ``setbound/data/demo_bc14.toml`` so it works from a
 wheel — is run under every estimator that applies to it: the ellipsoidal offline, online,
 scaled and improved estimators, the zonotopic segment-minimisation, volume-minimisation and
 P-radius estimators, and the Kalman filter as the (not guaranteed) contrast. An estimator
@@ -13,7 +12,7 @@ The summary table is printed and the results, ``summary.json`` and the plots are
 
 The module also keeps two small illustrations of the set library used by the gallery:
 :func:`wrapping_effect` (thesis §1.2.7) and :func:`zonotopic_tube` (a hand-written
-zonotopic estimator on the papers' §3.5 system).
+zonotopic estimator on the EX-LE13 system of [Le2013] §5).
 """
 from __future__ import annotations
 
@@ -52,7 +51,23 @@ THESIS_NOT_APPLICABLE: dict[str, str] = {
 
 def wrapping_effect(steps: int = 8):
     """Rows ``(k, width of the re-boxed box, width of the zonotope's hull)`` for a unit box rotated
-    by π/4 ``k`` times: re-boxing wraps (×√2 per step), the zonotope image is exact."""
+    by π/4 ``k`` times: re-boxing wraps (×√2 per step), the zonotope image is exact.
+
+    Parameters
+    ----------
+    steps : int, optional
+        Number of rotations.
+
+    Returns
+    -------
+    list of tuple
+
+    Examples
+    --------
+    >>> rows = setbound.demo.wrapping_effect(2)
+    >>> [(k, round(box, 6), round(zono, 6)) for k, box, zono in rows]
+    [(1, 2.828427, 2.828427), (2, 4.0, 2.0)]
+    """
     theta = math.pi / 4
     R = np.array([[math.cos(theta), math.sin(theta)], [-math.sin(theta), math.cos(theta)]])
     box = Box([-1.0, -1.0], [1.0, 1.0])
@@ -67,15 +82,46 @@ def wrapping_effect(steps: int = 8):
 
 
 def segment_min_lambda(H: np.ndarray, c: np.ndarray, phi: float) -> np.ndarray:
-    """λ* = H Hᵀ c / (cᵀ H Hᵀ c + φ²) (papers.md §5.1)."""
+    """λ* = H Hᵀ c / (cᵀ H Hᵀ c + φ²) (Methods › Zonotopic estimation › Segment minimisation).
+
+    Parameters
+    ----------
+    H : ndarray, shape (n, m)
+        Generators.
+    c : ndarray, shape (n,)
+        Strip normal.
+    phi : float
+        Strip half-width.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+    """
     g = H @ (H.T @ c)
     return g / (c @ g + phi * phi)
 
 
 def zonotopic_tube(steps: int, seed: int, vertex: bool):
-    """A hand-written guaranteed zonotopic tube on the papers' §3.5 system (A at δ = 0): exact
+    """A hand-written guaranteed zonotopic tube on the EX-LE13 system of [Le2013] §5 (A at δ = 0): exact
     prediction, one strip per output with the segment-minimising λ, Combastel reduction to 20
-    generators. Returns ``(lower, upper, x_true, inside)`` per step."""
+    generators. Returns ``(lower, upper, x_true, inside)`` per step.
+
+    Parameters
+    ----------
+    steps : int
+        Horizon.
+    seed : int
+        Seed.
+    vertex : bool
+        Vertex (±1) disturbances instead of uniform ones.
+
+    Returns
+    -------
+    lower : ndarray
+    upper : ndarray
+    x_true : ndarray
+    inside : ndarray
+    """
     A = np.array([[0.0, -0.5], [1.0, 1.0]])
     Fw = np.array([[-0.12], [0.02]])
     C = np.array([[-2.0, 1.0], [1.0, 1.0]])
@@ -105,7 +151,18 @@ def zonotopic_tube(steps: int, seed: int, vertex: bool):
 def demo_job(steps: int | None = None):
     """The demo job (a :class:`setbound.config.Job`), with ``steps`` overriding the horizon and the
     registered :data:`THESIS_OBSERVERS` appended. Returns ``(job, skipped)``: the thesis
-    observers not registered yet."""
+    observers not registered yet.
+
+    Parameters
+    ----------
+    steps : int, optional
+        Horizon.
+
+    Returns
+    -------
+    job : Job
+    skipped : list of str
+    """
     doc = tomllib.loads(resources.files("setbound").joinpath("data", DEMO_JOB).read_text(encoding="utf-8"))
     if steps is not None:
         if not (isinstance(steps, int) and steps >= 1):
@@ -138,9 +195,23 @@ def _why_not(error: str) -> str:
 
 def run_demo(out: Path = Path("out/demo"), steps: int | None = None, plots: bool = True) -> int:
     """Runs the main job, prints the table, writes results and plots to ``out``; returns the
-    exit code (1 if the true state left a guaranteed set)."""
+    exit code (1 if the true state left a guaranteed set).
+
+    Parameters
+    ----------
+    out : Path, optional
+        Output folder.
+    steps : int, optional
+        Horizon.
+    plots : bool, optional
+        Write the plots.
+
+    Returns
+    -------
+    int
+    """
     job, skipped = demo_job(steps)
-    print(f"setbound demo — {len(job.estimators)} estimators on the 3-state example of papers.md §1.4")
+    print(f"setbound demo — {len(job.estimators)} estimators on the 3-state example of Methods › Ellipsoidal estimation › Examples")
     results = jobs.run(job, keep_going=True)
     rows = summary_rows(job, results)
     # a method whose design has no solution on this system (P-radius approach 1: an output that
@@ -169,7 +240,17 @@ def run_demo(out: Path = Path("out/demo"), steps: int | None = None, plots: bool
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m setbound.demo [--out DIR] [--steps N] [--no-plots]`` (same as ``setbound demo``)."""
+    """``python -m setbound.demo [--out DIR] [--steps N] [--no-plots]`` (same as ``setbound demo``).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments.
+
+    Returns
+    -------
+    int
+    """
     from .errors import SetboundError
     from .progress import set_quiet
 

@@ -1,15 +1,15 @@
-"""Ellipsoidal estimators (papers.md §1, §2, §4, §6) and the Kalman filter baseline.
+"""Ellipsoidal estimators (Methods › Ellipsoidal estimation) and the Kalman filter baseline.
 
 Sets are ``E(P, c, ρ) = {x : (x − c)ᵀ P (x − c) ≤ ρ}`` (:class:`setbound.Ellipsoid`).
 
-* :func:`design_offline` — the offline LMI design of §1.1 (shape ``P``, gain ``L``, ``β``,
+* :func:`design_offline` — the offline LMI design (Methods › Ellipsoidal estimation › Offline design; shape ``P``, gain ``L``, ``β``,
   ``σ``), for a :class:`~setbound.LinearSystem` (robust over ``vert[A]`` when ``A`` is an
-  interval matrix) or a :class:`~setbound.DescriptorSystem` (§4.1).
-* :class:`OfflineEstimator` (§1.1), :class:`OnlineEstimator` (§1.2, ``scaling=True``: §1.3) —
+  interval matrix) or a :class:`~setbound.DescriptorSystem` (› Descriptor systems).
+* :class:`OfflineEstimator`, :class:`OnlineEstimator` (› Online vertex LMI; ``scaling=True``: › Online with scaling) —
   one-step predictors: ``step(y_k, u_k)`` returns the set for ``x_{k+1}``.
-* :class:`ImprovedEstimator` (§2.2, §6) and :class:`DescriptorEstimator` (§4.1) — filters:
+* :class:`ImprovedEstimator` (› Improved correction) and :class:`DescriptorEstimator` — filters:
   ``step(y_k, u_k)`` returns the set for ``x_k`` after using ``y_k``.
-* :class:`KalmanFilter` (§2.3) — the contrast, not guaranteed.
+* :class:`KalmanFilter` (› Kalman filter) — the contrast, not guaranteed.
 
 Real data (:mod:`setbound.measurement`): NaN entries of ``y`` (``step(None)``) are missing
 outputs; a reading outside the predicted output set (the support of the predicted ellipsoid in
@@ -65,7 +65,7 @@ _PREDICTORS = {
 
 
 class DegenerateDesignWarning(UserWarning):
-    """The printed ``tr P ≤ 1`` normalisation (papers.md §1.1) was asked for: it bounds P from
+    """The printed ``tr P ≤ 1`` normalisation (Methods › Ellipsoidal estimation › Offline design) was asked for: it bounds P from
     above, so the LMI's infimum is at P → 0 and the shape is whatever the solver stops at."""
 
 
@@ -78,9 +78,28 @@ def _choice(value: str, table: dict, name: str) -> int:
 class EllDesign(MadeByCall):
     """An offline ellipsoidal design: every estimator of this module starts from one.
 
-    ``P`` shape, ``L`` gain (n_x × n_y), ``beta`` and ``sigma`` of ``ρ⁺ ≤ βρ + σ``,
-    ``rho_inf = σ/(1−β)``, ``volume_inf`` the volume of the steady-state ellipsoid
-    ``E(P, ·, rho_inf)``, ``vertex_blocks`` the number of LMI blocks imposed."""
+    Made by :func:`design_offline`; ``ρ⁺ ≤ βρ + σ`` is the level recursion it certifies
+    (Methods › Ellipsoidal estimation › Offline design).
+
+    Parameters
+    ----------
+    P : ndarray, shape (n_x, n_x)
+        Shape of the ellipsoids.
+    L : ndarray, shape (n_x, n_y)
+        Observer gain.
+    beta, sigma : float
+        Contraction and growth of the level, ``ρ⁺ ≤ βρ + σ``.
+    rho_inf : float
+        Steady-state level ``σ/(1−β)``.
+    volume_inf : float
+        Volume of the steady-state ellipsoid ``E(P, ·, rho_inf)``.
+    normalization : str
+        The normalisation used (see :func:`design_offline`).
+    vertex_blocks : int
+        Number of LMI blocks imposed.
+    system : LinearSystem or DescriptorSystem
+        The system designed for.
+    """
 
     P: np.ndarray
     L: np.ndarray
@@ -100,19 +119,47 @@ class EllDesign(MadeByCall):
 
 
 def design_offline(system, normalization: str = "logdet", beta: float | None = None) -> EllDesign:
-    """The offline design of papers.md §1.1 (§4.1 for a :class:`DescriptorSystem`).
+    """The offline LMI design of [BenChabane2014] (Theorem 1), or of [Merhy2019] for a descriptor system.
 
-    ``normalization``: ``"logdet"`` (``log det P ≥ 0``: the minimum steady-state volume; the
-    default), ``"ball"`` (``P ⪰ I``), or ``"paper_trace"`` (``tr P ≤ 1`` as printed; degenerate,
-    warns). ``beta``: a fixed value in (0, 1), or ``None`` to choose it by a scalar search on the
-    steady-state volume (logdet) or on ``ρ∞`` (ball). Raises ``NotDetectableError`` when
-    ``(C, A)`` is not detectable and ``InfeasibleError`` when no design exists.
+    Methods › Ellipsoidal estimation › Offline design (and › Descriptor systems). With an interval
+    ``A`` the design is robust over the vertices of ``[A]``.
+
+    Parameters
+    ----------
+    system : LinearSystem or DescriptorSystem
+        The model.
+    normalization : {"logdet", "ball", "paper_trace"}, optional
+        ``"logdet"`` (``log det P ≥ 0``: the minimum steady-state volume; the default), ``"ball"``
+        (``P ⪰ I``), or ``"paper_trace"`` (``tr P ≤ 1`` as printed; degenerate, warns with
+        :class:`DegenerateDesignWarning`).
+    beta : float, optional
+        A fixed value in (0, 1), or ``None`` to choose it by a scalar search on the steady-state
+        volume (logdet) or on ``ρ∞`` (ball).
+
+    Returns
+    -------
+    EllDesign
+
+    Raises
+    ------
+    NotDetectableError
+        When ``(C, A)`` is not detectable.
+    InfeasibleError
+        When no design exists.
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+    ...                             E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+    >>> d = setbound.ellipsoidal.design_offline(sys)
+    >>> 0 < d.beta < 1 and d.L.shape == (2, 1)
+    True
     """
     args = (system, normalization, beta)
     system = as_system(system)
     norm = _choice(normalization, _NORMALIZATIONS, "normalization")
     if norm == lib.SB_ELL_NORM_PAPER_TRACE:
-        warnings.warn("normalization='paper_trace' (tr P <= 1, papers.md §1.1) is degenerate: the LMI is "
+        warnings.warn("normalization='paper_trace' (tr P <= 1, Methods › Ellipsoidal estimation › Offline design) is degenerate: the LMI is "
                       "homogeneous, so an upper bound on P drives P towards 0; use 'logdet' or 'ball'",
                       DegenerateDesignWarning, stacklevel=2)
     b = math.nan if beta is None else as_float(beta, "beta", lo=0.0, hi=1.0, lo_open=True, hi_open=True)
@@ -200,10 +247,24 @@ class _EllipsoidalEstimator(ReadingChecks, StateMixin):
                                       dptr(self._lo), dptr(self._hi)))
 
     def step(self, y, u=None) -> Ellipsoid:
-        """Uses ``y_k`` (and ``u_k``). Predictors return the set for ``x_{k+1}``, filters the set
-        for ``x_k``. ``y`` None or NaN entries: missing outputs (not for the descriptor estimator);
-        see ``last_check`` for what the step did with each. On error (wrong shape, ±inf, policy
-        ``"raise"``) the estimator is unchanged."""
+        """Use ``y_k`` (and ``u_k``).
+
+        Predictors return the set for ``x_{k+1}``, filters the set for ``x_k``. Missing outputs
+        (None or NaN entries) are not accepted by the descriptor estimator. See ``last_check`` for
+        what the step did with each output. On error (wrong shape, ±inf, policy ``"raise"``) the
+        estimator is unchanged.
+
+        Parameters
+        ----------
+        y : array_like, shape (n_y,), or None
+            The measurement ``y_k`` (None or NaN entries: missing outputs).
+        u : array_like, shape (n_u,), optional
+            The input ``u_k``.
+
+        Returns
+        -------
+        Ellipsoid
+        """
         self._step(y, u)
         return self._snapshot()[0]
 
@@ -221,10 +282,30 @@ class _EllipsoidalEstimator(ReadingChecks, StateMixin):
 
     @run_from_initial_set
     def run(self, y, u=None) -> Trajectory:
-        """Processes the rows of ``y`` (N × n_y; NaN entries: missing outputs) and ``u`` (N × n_u)
-        from the initial set; row k of the result is about ``x_k`` (see the module docstring for
-        what each row has used). The trajectory's ``status``, ``margin`` and ``resets`` row k say
-        what the step did with ``y_k``."""
+        """Process a record from the initial set; row ``k`` of the result is about ``x_k``.
+
+        Predictors: row 0 is the initial set and row ``k`` used ``y_0 … y_{k-1}``; filters: row ``k``
+        used ``y_0 … y_k``.
+
+        Parameters
+        ----------
+        y : array_like, shape (N, n_y), or control.TimeResponseData
+            Measurements (NaN entries: missing outputs). A python-control ``TimeResponseData`` gives the
+            outputs, known inputs and time.
+        u : array_like, shape (N, n_u), optional
+            Known inputs.
+        reset : bool, optional
+            Start from the initial set (default). ``False`` continues from the current state, to process
+            a record in pieces. A failed run leaves the estimator as it was.
+        t : array_like, shape (N,), optional
+            Time of the rows (default: ``k·dt`` with the system's sampling time, else the step index).
+
+        Returns
+        -------
+        Trajectory
+            Row ``k`` is about ``x_k``; ``status``, ``margin`` and ``resets`` say what each step did
+            with each reading.
+        """
         s = self.system
         y, u = run_inputs(s, y, u)
         if self._method == lib.SB_ELL_DESCRIPTOR:
@@ -251,8 +332,35 @@ class _EllipsoidalEstimator(ReadingChecks, StateMixin):
 
 @reconstructible
 class OfflineEstimator(_EllipsoidalEstimator):
-    """papers.md §1.1: fixed gain ``L``, ``x̄⁺ = A x̄ + B u + L (y − C x̄ − D u)``, ``ρ⁺ = βρ + σ``.
-    A one-step predictor. ``x0`` is converted to the design's shape (§0.1)."""
+    """The offline ellipsoidal estimator: fixed gain ``L``, ``x̄⁺ = A x̄ + B u + L (y − C x̄ − D u)``, ``ρ⁺ = βρ + σ``.
+
+    A one-step predictor: ``step(y_k)`` returns the set for ``x_{k+1}``
+    (Methods › Ellipsoidal estimation › Offline design, [BenChabane2014]).
+
+    Parameters
+    ----------
+    design : EllDesign
+        An offline design (:func:`design_offline`).
+    x0 : Ellipsoid, Box or Zonotope
+        Initial set (a box or a zonotope is replaced by the ellipsoid through its hull's corners);
+        converted to the design's shape.
+    on_inconsistency : {"flag", "raise", "reset"}, optional
+        What a reading outside the predicted output set does (:mod:`setbound.measurement`):
+        skipped and flagged (default), an :class:`~setbound.errors.InconsistentMeasurementError`,
+        or a restart from ``reset_set``.
+    reset_set : optional
+        The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+    ...                             E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+    >>> est = setbound.ellipsoidal.OfflineEstimator(setbound.ellipsoidal.design_offline(sys),
+    ...                                            setbound.Ellipsoid(np.eye(2), [0.0, 0.0], 1.0))
+    >>> traj = est.run(np.zeros((5, 1)))
+    >>> traj.center.shape, bool(traj.contains(np.zeros((5, 2))).all())
+    ((5, 2), True)
+    """
 
     _method = lib.SB_ELL_OFFLINE
 
@@ -263,10 +371,43 @@ class OfflineEstimator(_EllipsoidalEstimator):
 
 @reconstructible
 class OnlineEstimator(_EllipsoidalEstimator):
-    """papers.md §1.2: per step, the LMI in ``(β_k, L_k, ρ_{k+1})`` with the design's shape ``P``
-    (vertex enumeration); ``scaling=True``: the scaling technique of §1.3 (one LMI, no vertex
-    enumeration; never smaller than the vertex version). With an interval ``A`` the centre term
-    of §6.7 is included. A one-step predictor."""
+    """The online ellipsoidal estimator: per step, the LMI in ``(β_k, L_k, ρ_{k+1})`` with the design's shape.
+
+    Methods › Ellipsoidal estimation › Online vertex LMI and › Online with scaling
+    ([BenChabane2014]). With an interval ``A`` the centre term of Methods › Ellipsoidal estimation
+    › Interval uncertainty on A is included. A one-step predictor.
+
+    Parameters
+    ----------
+    design : EllDesign
+        An offline design (:func:`design_offline`).
+    x0 : Ellipsoid, Box or Zonotope
+        Initial set (a box or a zonotope is replaced by the ellipsoid through its hull's corners);
+        converted to the design's shape.
+    scaling : bool, optional
+        ``True``: the scaling technique (one LMI, no vertex enumeration; never smaller than the
+        vertex version).
+    reuse_tolerance : float, optional
+        The step's LMI is solved again only when ``ρ_k`` moved by more than this (relative);
+        otherwise the last certified solution is reused.
+    on_inconsistency : {"flag", "raise", "reset"}, optional
+        What a reading outside the predicted output set does (:mod:`setbound.measurement`):
+        skipped and flagged (default), an :class:`~setbound.errors.InconsistentMeasurementError`,
+        or a restart from ``reset_set``.
+    reset_set : optional
+        The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+    ...                             E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+    >>> design = setbound.ellipsoidal.design_offline(sys)
+    >>> x0 = setbound.Ellipsoid(np.eye(2), [0.0, 0.0], 1.0)
+    >>> online = setbound.ellipsoidal.OnlineEstimator(design, x0).run(np.zeros((6, 1)))
+    >>> offline = setbound.ellipsoidal.OfflineEstimator(design, x0).run(np.zeros((6, 1)))
+    >>> bool(np.all(online.radius <= offline.radius * (1 + 1e-9)))
+    True
+    """
 
     def __init__(self, design: EllDesign, x0: Ellipsoid, scaling: bool = False,
                  reuse_tolerance: float = 1e-9, *, on_inconsistency: str = "flag",
@@ -282,7 +423,7 @@ class OnlineEstimator(_EllipsoidalEstimator):
     def reuse_tolerance(self) -> float:
         """The LMI is solved again only when ρ_k moved by more than this relative amount since
         the last solve; otherwise the last certified (β, L, σ) is reused, which is at most
-        |Δρ| above the optimum (the LMI does not depend on ρ_k; the optimal value is concave
+        ``|Δρ|`` above the optimum (the LMI does not depend on ρ_k; the optimal value is concave
         in ρ with supergradient β ∈ (0, 1)). 0 solves at every step. A finite number >= 0
         (every value is sound; a large one only reuses more). Not used with an interval A."""
         return self._reuse_tolerance
@@ -303,15 +444,43 @@ class OnlineEstimator(_EllipsoidalEstimator):
 
 @reconstructible
 class ImprovedEstimator(_EllipsoidalEstimator):
-    """papers.md §2.2 / §6: a prediction with the design's shape followed by the
-    measurement-based correction with the new measurement (a filter).
+    """The measurement-based improved correction of [Merhy2017]: a prediction, then an LMI correction with the new measurement.
 
-    ``option`` (§6.5): ``"det_normalized"`` (min ρ' with ``det P' ≥ det P``: the minimum-volume
-    corrected set; default), ``"fixed_shape"`` (``P' = P``), ``"ball_normalized"``.
-    ``feedback`` (§6.6): ``"fixed_shape"`` (default: solve the fixed-shape correction too and feed
-    back the better P-shaped bound), ``"outer_bound"`` (feed back the P-shaped bound of the
-    corrected set when smaller: cheaper, rarely helps), ``"none"`` (report only). ``predictor``: ``"online"`` (§1.2, default, as [Merhy2017]),
-    ``"scaled"`` or ``"offline"``. The reported bounds intersect the corrected and predicted hulls.
+    A filter (Methods › Ellipsoidal estimation › Improved correction). The reported bounds intersect
+    the corrected and predicted hulls.
+
+    Parameters
+    ----------
+    design : EllDesign
+        An offline design (:func:`design_offline`).
+    x0 : Ellipsoid, Box or Zonotope
+        Initial set (a box or a zonotope is replaced by the ellipsoid through its hull's corners);
+        converted to the design's shape.
+    option : {"det_normalized", "fixed_shape", "ball_normalized"}, optional
+        Normalisation of the correction: minimum ``ρ'`` with ``det P' ≥ det P`` (the minimum-volume
+        corrected set; default), ``P' = P``, or ``P' ⪰ I``.
+    feedback : {"fixed_shape", "outer_bound", "none"}, optional
+        What the next prediction starts from: ``"fixed_shape"`` (default: solve the fixed-shape
+        correction too and feed back the better P-shaped bound), ``"outer_bound"`` (the P-shaped
+        bound of the corrected set when smaller: cheaper, rarely helps), ``"none"`` (report only).
+    predictor : {"online", "scaled", "offline"}, optional
+        The prediction step (default ``"online"``, as [Merhy2017]).
+    on_inconsistency : {"flag", "raise", "reset"}, optional
+        What a reading outside the predicted output set does (:mod:`setbound.measurement`):
+        skipped and flagged (default), an :class:`~setbound.errors.InconsistentMeasurementError`,
+        or a restart from ``reset_set``.
+    reset_set : optional
+        The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+    ...                             E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+    >>> design = setbound.ellipsoidal.design_offline(sys)
+    >>> x0 = setbound.Ellipsoid(np.eye(2), [0.0, 0.0], 1.0)
+    >>> traj = setbound.ellipsoidal.ImprovedEstimator(design, x0).run(np.zeros((3, 1)))
+    >>> bool(traj.contains(np.zeros((3, 2))).all())
+    True
     """
 
     _method = lib.SB_ELL_IMPROVED
@@ -329,9 +498,31 @@ class ImprovedEstimator(_EllipsoidalEstimator):
 
 @reconstructible
 class DescriptorEstimator(_EllipsoidalEstimator):
-    """papers.md §4.1: ``x̄_{k+1} = T A x̄_k + T B u_k + N y_{k+1} + L (y_k − C x̄_k)``,
-    ``ρ⁺ = βρ + σ``, with a design from ``design_offline(DescriptorSystem(...))``. A filter:
-    row ``k`` uses ``y_0 … y_k`` (row 0 is ``x0`` in the design's shape)."""
+    """The descriptor-system estimator of [Merhy2019]: ``x̄_{k+1} = T A x̄_k + T B u_k + N y_{k+1} + L (y_k − C x̄_k)``, ``ρ⁺ = βρ + σ``.
+
+    A filter: row ``k`` uses ``y_0 … y_k`` (row 0 is ``x0`` in the design's shape). It needs every
+    output at every step (Methods › Ellipsoidal estimation › Descriptor systems).
+
+    Parameters
+    ----------
+    design : EllDesign
+        A design from ``design_offline(DescriptorSystem(...))``.
+    x0 : Ellipsoid, Box or Zonotope
+        Initial set.
+
+    Examples
+    --------
+    >>> E = [[1, 0, 0], [0, 1, 0], [0, 0, 0]]
+    >>> A = [[0.5, 0, 0], [0.8, 0.95, 0], [-1, 0.5, 1]]
+    >>> C = [[1, 0, 1], [1, -1, 0]]
+    >>> D = np.hstack([np.diag([0.1, 1.5, 0.6]), np.zeros((3, 2))])
+    >>> F = np.hstack([np.zeros((2, 3)), np.diag([0.5, 1.5])])
+    >>> ds = setbound.DescriptorSystem(E, A, C, D=D, F=F)
+    >>> est = setbound.ellipsoidal.DescriptorEstimator(setbound.ellipsoidal.design_offline(ds),
+    ...                                               setbound.Ellipsoid(np.eye(3), np.zeros(3), 1.0))
+    >>> bool(est.run(np.zeros((3, 2))).contains(np.zeros((3, 3))).all())
+    True
+    """
 
     _method = lib.SB_ELL_DESCRIPTOR
     is_filter = True
@@ -344,12 +535,32 @@ class DescriptorEstimator(_EllipsoidalEstimator):
 
 @reconstructible
 class KalmanFilter(StateMixin):
-    """The Kalman filter of papers.md §2.3 in Joseph form — the contrast, **not guaranteed**.
+    """The Kalman filter in Joseph form — the contrast, **not guaranteed**.
 
-    ``ω ~ N(0, omega_cov)`` (identity by default) drives ``x⁺ = Ax + Bu + Eω`` and
-    ``y = Cx + Du + Fω`` (correlated state/output noise handled); ``x_0 ~ N(mean0, cov0)``.
-    ``run`` returns a Trajectory with ``guaranteed = False``, ``center`` the mean, ``lower`` /
-    ``upper`` the ``mean ∓ nsigma·σ`` box, and ``covariance`` (N × n × n); row k uses y_0 … y_k.
+    ``ω ~ N(0, omega_cov)`` drives ``x⁺ = Ax + Bu + Eω`` and ``y = Cx + Du + Fω`` (correlated
+    state/output noise handled); ``x_0 ~ N(mean0, cov0)`` (Methods › Ellipsoidal estimation › Kalman
+    filter, as written in [Merhy2017]).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model.
+    mean0 : array_like, shape (n_x,)
+        Initial mean.
+    cov0 : array_like, shape (n_x, n_x)
+        Initial covariance.
+    omega_cov : array_like, shape (n_ω, n_ω), optional
+        Covariance of ``ω`` (default: identity).
+    nsigma : float, optional
+        Half-width of the reported boxes in standard deviations.
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9]], C=[[1.0]], E=[[0.1, 0.0]], F=[[0.0, 0.1]])
+    >>> kf = setbound.ellipsoidal.KalmanFilter(sys, [0.0], [[1.0]])
+    >>> traj = kf.run(np.zeros((3, 1)))
+    >>> traj.guaranteed, traj.covariance.shape
+    (False, (3, 1, 1))
     """
 
     #: row k of a trajectory used y_k (Trajectory.filter)
@@ -386,8 +597,21 @@ class KalmanFilter(StateMixin):
         return int(s[0])
 
     def step(self, y, u=None):
-        """Correction with ``y_k`` (None or NaN entries: missing outputs, the correction uses the
-        others), then prediction; returns ``(mean, covariance)`` of ``x_k``."""
+        """Correction with ``y_k``, then prediction.
+
+        Parameters
+        ----------
+        y : array_like, shape (n_y,), or None
+            The measurement ``y_k`` (None or NaN entries: missing outputs).
+        u : array_like, shape (n_u,), optional
+            The input ``u_k``.
+
+        Returns
+        -------
+        mean : ndarray, shape (n_x,)
+        covariance : ndarray, shape (n_x, n_x)
+            Of ``x_k`` given ``y_0 … y_k``.
+        """
         s = self.system
         y, up = step_inputs(s, measurement_or_missing(y, s.ny), u)
         m, G = np.empty(s.nx), np.empty((s.nx, s.nx))
@@ -397,8 +621,29 @@ class KalmanFilter(StateMixin):
 
     @run_from_initial_set
     def run(self, y, u=None) -> Trajectory:
-        """Processes the rows of ``y`` (N × n_y) and ``u``; returns the Trajectory of means and
-        ``mean ± nsigma·σ`` boxes (``guaranteed = False``) with ``covariance`` (N × n × n); row k uses y_0 … y_k."""
+        """Filter a record: the Trajectory of means and ``mean ± nsigma·σ`` boxes (``guaranteed = False``).
+
+        Row ``k`` uses ``y_0 … y_k``; ``covariance`` (N × n × n) is attached.
+
+        Parameters
+        ----------
+        y : array_like, shape (N, n_y), or control.TimeResponseData
+            Measurements (NaN entries: missing outputs). A python-control ``TimeResponseData`` gives the
+            outputs, known inputs and time.
+        u : array_like, shape (N, n_u), optional
+            Known inputs.
+        reset : bool, optional
+            Start from the initial set (default). ``False`` continues from the current state, to process
+            a record in pieces. A failed run leaves the estimator as it was.
+        t : array_like, shape (N,), optional
+            Time of the rows (default: ``k·dt`` with the system's sampling time, else the step index).
+
+        Returns
+        -------
+        Trajectory
+            Row ``k`` is about ``x_k``; ``status``, ``margin`` and ``resets`` say what each step did
+            with each reading.
+        """
         s = self.system
         y, u = run_inputs(s, y, u)
         N = y.shape[0]

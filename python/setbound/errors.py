@@ -8,7 +8,23 @@ from __future__ import annotations
 
 
 class SetboundError(Exception):
-    """Base class of all setbound errors. ``status`` is the C status code."""
+    """Base class of all setbound errors; ``status`` is the C status code.
+
+    Parameters
+    ----------
+    message : str
+        The library's message (it names the offending argument).
+    status : int, optional
+        The C status code (default: the class's).
+
+    Examples
+    --------
+    >>> try:
+    ...     setbound.Ellipsoid([[1.0, 2.0], [0.0, 1.0]], [0.0, 0.0], 1.0)
+    ... except setbound.SetboundError as e:
+    ...     print(type(e).__name__, isinstance(e, ValueError))
+    NotSymmetricError True
+    """
 
     status: int = -10
 

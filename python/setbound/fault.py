@@ -61,6 +61,23 @@ class Fault:
     * ``"actuator_loss"``: input j acts as ``(1 − magnitude) u_j`` (``magnitude`` in [0, 1]:
       the fraction of effectiveness lost);
     * ``"parameter_change"``: ``A`` becomes ``A + delta_A``.
+
+    Parameters
+    ----------
+    kind : {"sensor_bias", "stuck_sensor", "actuator_loss", "parameter_change"}
+        The kind of fault.
+    start : int
+        First faulty step.
+    output : int, optional
+        The output (sensor faults).
+    input : int, optional
+        The input (actuator faults).
+    magnitude : float, optional
+        Bias, stuck value or lost fraction (see above).
+    delta_A : ndarray, optional
+        Change of ``A`` (parameter change).
+    value_given : bool, optional
+        The stuck sensor froze at ``magnitude``.
     """
 
     kind: str
@@ -86,7 +103,13 @@ class Fault:
 
     def check(self, system: LinearSystem) -> None:
         """Raises a clear error when the fault does not fit ``system`` (an output, input or
-        shape out of range)."""
+        shape out of range).
+
+        Parameters
+        ----------
+        system : LinearSystem
+            The simulated system.
+        """
         if self.output is not None and not 0 <= int(self.output) < system.ny:
             raise DimensionError(f"output: {self.output} is out of range, the system has {system.ny} outputs")
         if self.input is not None and not 0 <= int(self.input) < system.nu:
@@ -104,7 +127,29 @@ def simulate_faulty(system, x0, N: int, faults: Sequence[Fault] = (), *, disturb
     """``N`` steps of ``system`` (a known-``A`` :class:`~setbound.LinearSystem`) with ``faults``
     injected; the same conventions as :func:`setbound.simulate` (row k is time k; ``u`` the
     *commanded* inputs, which an actuator fault scales before they reach the plant; the
-    readings carry the sensor faults)."""
+    readings carry the sensor faults).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The nominal model (known ``A``).
+    x0 : set or array_like
+        Initial set (the true state is drawn from it) or the true initial state.
+    N : int
+        Number of steps.
+    faults : sequence of Fault, optional
+        Faults injected.
+    disturbance : str, optional
+        Disturbance profile (see :func:`setbound.simulation.disturbances`).
+    rng : numpy.random.Generator or int, optional
+        Random source or seed.
+    u : array_like, shape (N, n_u), optional
+        Commanded inputs.
+
+    Returns
+    -------
+    Simulation
+    """
     s = as_system(system)
     if not isinstance(s, LinearSystem):
         raise InvalidArgumentError(f"system: expected a LinearSystem, got {type(s).__name__}")
@@ -153,7 +198,19 @@ class Detection:
     ``alarm``: the first step with an impossible reading (None: no alarm); ``flagged`` (N bools);
     ``margin`` (N): the largest margin over the outputs tested at each step, in noise bounds
     (> 0: outside the predicted output set; NaN when no output was tested); ``trajectory``: the
-    estimator's :class:`~setbound.Trajectory` (its ``status`` and ``margin`` per output)."""
+    estimator's :class:`~setbound.Trajectory` (its ``status`` and ``margin`` per output).
+
+    Parameters
+    ----------
+    alarm : int or None
+        First step with an impossible reading.
+    flagged : ndarray of bool, shape (N,)
+        Steps with an impossible reading.
+    margin : ndarray, shape (N,)
+        Largest margin per step.
+    trajectory : Trajectory, optional
+        The estimator's trajectory.
+    """
 
     alarm: int | None
     flagged: np.ndarray
@@ -162,19 +219,54 @@ class Detection:
 
     @classmethod
     def from_trajectory(cls, traj) -> "Detection":
-        """The detection a trajectory of an estimator that tested its readings records."""
+        """The detection a trajectory of an estimator that tested its readings records.
+
+        Parameters
+        ----------
+        traj : Trajectory
+            A trajectory with ``status`` and ``margin``.
+
+        Returns
+        -------
+        Detection
+        """
         flagged = np.asarray(traj.flagged, dtype=bool)
         hits = np.flatnonzero(flagged)
         return cls(int(hits[0]) if hits.size else None, flagged, _largest_margin(traj.margin), traj)
 
     def delay(self, fault_start: int) -> int | None:
-        """Steps from ``fault_start`` to the first alarm at or after it (None: not detected)."""
+        """Steps from ``fault_start`` to the first alarm at or after it (None: not detected).
+
+        Parameters
+        ----------
+        fault_start : int
+            Step at which the fault starts.
+
+        Returns
+        -------
+        int or None
+        """
         later = np.flatnonzero(self.flagged[fault_start:])
         return int(later[0]) if later.size else None
 
     def plot(self, ax=None, *, fault_start: int | None = None, title: str | None = None):
         """The margin over time with the alarm (and the fault's start when given): a margin above 0
-        is a reading no state of the model can produce."""
+        is a reading no state of the model can produce.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw (default: a new figure).
+        fault_start : int, optional
+            Marks the fault's start.
+        title : str, optional
+            Axes title.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+            The axes drawn on (``ax.figure`` is the figure).
+        """
         fault_start = None if fault_start is None else as_int(fault_start, "fault_start", lo=0)
         title = None if title is None else as_str(title, "title")
         if ax is None:
@@ -210,7 +302,33 @@ def detect(estimator, y, u=None) -> Detection:
     """Runs ``estimator`` (from its initial set) on ``y`` (N × n_y; NaN entries: missing) and
     ``u``; the alarm is the first step with a reading outside the predicted output set. The
     estimator must screen its readings (zonotopic or ellipsoidal family) and use the ``"flag"``
-    policy (the default): ``"raise"`` would stop at the alarm, ``"reset"`` changes what follows."""
+    policy (the default): ``"raise"`` would stop at the alarm, ``"reset"`` changes what follows.
+
+    Methods › Fault detection and isolation.
+
+    Parameters
+    ----------
+    estimator : estimator object
+        A zonotopic or ellipsoidal estimator with the ``"flag"`` policy.
+    y : array_like, shape (N, n_y)
+        Measurements.
+    u : array_like, shape (N, n_u), optional
+        Inputs.
+
+    Returns
+    -------
+    Detection
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.5]], C=[[1.0]], E=[[0.1, 0.0]], F=[[0.0, 0.1]])
+    >>> x0 = setbound.Box([-1.0], [1.0])
+    >>> sim = setbound.fault.simulate_faulty(sys, x0, 30, [setbound.fault.Fault("sensor_bias", start=20, output=0,
+    ...                                                                      magnitude=2.0)], rng=1)
+    >>> det = setbound.fault.detect(setbound.zonotopic.SegmentMinEstimator(sys, x0), sim.y)
+    >>> det.alarm is not None and det.alarm >= 20
+    True
+    """
     policy = getattr(estimator, "on_inconsistency", None)
     if policy is None:
         raise InvalidArgumentError(f"estimator: {type(estimator).__name__} does not test its readings "
@@ -233,7 +351,19 @@ class Hypothesis:
     """A model under which the data may be explained: ``system`` and initial set ``x0`` (a
     zonotope or box of its state, which may be augmented by a user-defined model), and
     ``ignore_outputs``: outputs whose readings the model does not explain (their readings are
-    treated as missing). User-defined hypotheses are built directly."""
+    treated as missing). User-defined hypotheses are built directly.
+
+    Parameters
+    ----------
+    name : str
+        Name.
+    system : LinearSystem
+        The model.
+    x0 : Zonotope or Box
+        Its initial set.
+    ignore_outputs : tuple of int, optional
+        Outputs the model does not explain.
+    """
 
     name: str
     system: LinearSystem
@@ -241,7 +371,17 @@ class Hypothesis:
     ignore_outputs: tuple = ()
 
     def data(self, y: np.ndarray) -> np.ndarray:
-        """The readings this model explains (ignored outputs set to NaN)."""
+        """The readings this model explains (ignored outputs set to NaN).
+
+        Parameters
+        ----------
+        y : ndarray, shape (N, n_y)
+            Measurements.
+
+        Returns
+        -------
+        ndarray
+        """
         if not self.ignore_outputs:
             return y
         y = np.array(y, dtype=float, copy=True)
@@ -250,7 +390,21 @@ class Hypothesis:
 
 
 def nominal(system, x0, name: str = "nominal") -> Hypothesis:
-    """No fault."""
+    """No fault.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The nominal model.
+    x0 : Zonotope or Box
+        Initial set.
+    name : str, optional
+        Name of the hypothesis.
+
+    Returns
+    -------
+    Hypothesis
+    """
     name = as_str(name, "name")
     s = as_system(system)
     return Hypothesis(name, s, _zonotope(x0, s.nx))
@@ -261,7 +415,25 @@ def sensor_bias(system, x0, output: int, bound: float, name: str | None = None) 
     and vary: an extra noise column of size ``bound`` on that output (an outer model of every
     bias within the bound, whenever it starts). A constant bias as an augmented state
     (``b⁺ = b``) would be tighter, but it cannot explain a bias that appears mid-record, which
-    is what a fault does."""
+    is what a fault does.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The nominal model.
+    x0 : Zonotope or Box
+        Initial set.
+    output : int
+        The output.
+    bound : float
+        Bound of the bias.
+    name : str, optional
+        Name of the hypothesis (default: from the kind and index).
+
+    Returns
+    -------
+    Hypothesis
+    """
     name = None if name is None else as_str(name, "name")
     s = as_system(system)
     i = as_int(output, "output", lo=0, hi=s.ny - 1)
@@ -277,7 +449,30 @@ def sensor_bias(system, x0, output: int, bound: float, name: str | None = None) 
 
 def stuck_sensor(system, x0, output: int, name: str | None = None) -> Hypothesis:
     """Output ``output`` reads nothing about the state (stuck, dead or drifting): its readings
-    are not explained, the others are."""
+    are not explained, the others are.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The nominal model.
+    x0 : Zonotope or Box
+        Initial set.
+    output : int
+        The output.
+    name : str, optional
+        Name of the hypothesis (default: from the kind and index).
+
+    Returns
+    -------
+    Hypothesis
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.5]], C=[[1.0], [1.0]], E=[[0.1, 0.0, 0.0]], F=[[0.0, 0.1, 0.0], [0.0, 0.0, 0.1]])
+    >>> x0 = setbound.Box([-1.0], [1.0])
+    >>> setbound.fault.stuck_sensor(sys, x0, 0).ignore_outputs
+    (0,)
+    """
     name = None if name is None else as_str(name, "name")
     s = as_system(system)
     i = as_int(output, "output", lo=0, hi=s.ny - 1)
@@ -287,7 +482,27 @@ def stuck_sensor(system, x0, output: int, name: str | None = None) -> Hypothesis
 def actuator_loss(system, x0, input: int, max_loss: float, u_max: float, name: str | None = None) -> Hypothesis:
     """Input ``input`` loses up to ``max_loss`` (in [0, 1]) of its effectiveness: the plant sees
     ``θ u_j`` with ``θ ∈ [1 − max_loss, 1]``. With ``|u_j| ≤ u_max`` the difference
-    ``(θ − 1) u_j`` is an extra disturbance column ``B_j · max_loss · u_max`` (an outer model)."""
+    ``(θ − 1) u_j`` is an extra disturbance column ``B_j · max_loss · u_max`` (an outer model).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The nominal model.
+    x0 : Zonotope or Box
+        Initial set.
+    input : int
+        The input.
+    max_loss : float
+        Largest lost fraction, in [0, 1].
+    u_max : float
+        Bound of ``|u_j|``.
+    name : str, optional
+        Name of the hypothesis (default: from the kind and index).
+
+    Returns
+    -------
+    Hypothesis
+    """
     name = None if name is None else as_str(name, "name")
     s = as_system(system)
     if s.nu == 0:
@@ -303,7 +518,23 @@ def actuator_loss(system, x0, input: int, max_loss: float, u_max: float, name: s
 
 
 def parameter_change(system, x0, A, name: str = "parameter_change") -> Hypothesis:
-    """The plant's ``A`` changed to ``A`` (a matrix or an interval matrix)."""
+    """The plant's ``A`` changed to ``A`` (a matrix or an interval matrix).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The nominal model.
+    x0 : Zonotope or Box
+        Initial set.
+    A : array_like or IntervalMatrix
+        The changed matrix.
+    name : str, optional
+        Name of the hypothesis.
+
+    Returns
+    -------
+    Hypothesis
+    """
     name = as_str(name, "name")
     s = as_system(system)
     changed = LinearSystem(A, s.C, B=s.B if s.nu else None, D=s.D if s.nu else None, E=s.E, F=s.F)
@@ -323,7 +554,19 @@ class Isolation:
     """What a :class:`FaultBank` concluded. ``names`` of the hypotheses; ``consistent`` (N × H
     bools): hypothesis h is still consistent after step k (once rejected, always rejected);
     ``rejected_at`` per hypothesis the step of its rejection (None: never); ``detections`` the
-    :class:`Detection` of each hypothesis' estimator."""
+    :class:`Detection` of each hypothesis' estimator.
+
+    Parameters
+    ----------
+    names : list of str
+        Hypothesis names.
+    consistent : ndarray of bool, shape (N, H)
+        Consistency per step and hypothesis.
+    rejected_at : list of int or None
+        Step of each rejection.
+    detections : list of Detection, optional
+        Per hypothesis.
+    """
 
     names: list
     consistent: np.ndarray
@@ -345,7 +588,32 @@ class Isolation:
 class FaultBank:
     """A bank of guaranteed estimators, one per :class:`Hypothesis`; ``estimator(system, x0)``
     builds each (default: :class:`~setbound.zonotopic.SegmentMinEstimator`; any estimator that
-    tests its readings with the ``"flag"`` policy works)."""
+    tests its readings with the ``"flag"`` policy works).
+
+    Methods › Fault detection and isolation.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The nominal model.
+    x0 : Zonotope or Box
+        Initial set.
+    hypotheses : sequence of Hypothesis
+        The models to test.
+    estimator : callable, optional
+        ``estimator(system, x0)`` returning an estimator.
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.5]], C=[[1.0], [1.0]], E=[[0.1, 0.0, 0.0]], F=[[0.0, 0.1, 0.0], [0.0, 0.0, 0.1]])
+    >>> x0 = setbound.Box([-1.0], [1.0])
+    >>> sim = setbound.fault.simulate_faulty(sys, x0, 30, [setbound.fault.Fault("sensor_bias", start=10, output=1,
+    ...                                                                      magnitude=1.0)], rng=2)
+    >>> bank = setbound.fault.FaultBank(sys, x0, [setbound.fault.nominal(sys, x0),
+    ...                                          setbound.fault.sensor_bias(sys, x0, 1, bound=2.0)])
+    >>> bank.run(sim.y).consistent_at_end
+    ['sensor_bias[y1]']
+    """
 
     def __init__(self, system, x0, hypotheses: Sequence[Hypothesis], *,
                  estimator: Callable | None = None):
@@ -369,7 +637,19 @@ class FaultBank:
         self.x0 = x0
 
     def run(self, y, u=None) -> Isolation:
-        """Runs every hypothesis on the record; see :class:`Isolation`."""
+        """Runs every hypothesis on the record; see :class:`Isolation`.
+
+        Parameters
+        ----------
+        y : array_like, shape (N, n_y)
+            Measurements.
+        u : array_like, shape (N, n_u), optional
+            Inputs.
+
+        Returns
+        -------
+        Isolation
+        """
         y = np.asarray(y, dtype=float)
         if y.ndim != 2 or y.shape[1] != self.system.ny:
             raise DimensionError(f"y: expected shape (N, {self.system.ny}), got {y.shape}")

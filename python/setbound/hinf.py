@@ -1,4 +1,4 @@
-"""H∞ set-membership observers of the thesis, Chapters 1–3 (thesis.md §3.4, §4, §5).
+"""H∞ set-membership observers of the thesis, Chapters 1–3 (Methods › Invariant sets › Bounded-real-lemma RPI ellipsoid; Methods › H∞ set-membership observers).
 
 * :func:`brl_ellipsoidal_rpi` — Bounded-Real-Lemma RPI ellipsoid (1.48, 1.55);
 * :func:`hinf_observer_gain` — LMI (2.35) (a :class:`~setbound.Plant`) or the vertex LMIs
@@ -13,7 +13,7 @@
 * :func:`polytopic_weights` (closed form for a box in any vertex order, LP otherwise).
 
 Every design is certified in floating point by the C++ library (see docs/thesis_hinf.md).
-The optimal γ is unique, L and P are not (thesis.md §4.2).
+The optimal γ is unique, L and P are not (Methods › H∞ set-membership observers › Observer gain).
 """
 from __future__ import annotations
 
@@ -53,10 +53,34 @@ MAX_PASSES = lib.SB_HINF_MAX_PASSES  # 100, the C library refuses more too
 
 
 class LpvPlant:
-    """Polytopic LPV plant (3.5): ``x⁺ = A(ρ)x + B(ρ)u + F(ρ)d``, ``y = Cx + Zv`` with
-    ``M(ρ) = Σ α_i(ρ) M_i`` and ``ρ ∈ conv{θ_i}``. ``A``, ``B``, ``Fd`` (the thesis's ``F``) are
-    lists of vertex matrices (one per row θ_i of ``theta``, in the same order); ``C`` and ``Z``
-    are common."""
+    """A polytopic LPV plant ``x⁺ = A(ρ)x + B(ρ)u + F(ρ)d``, ``y = Cx + Zv``, ``M(ρ) = Σ α_i(ρ) M_i``, ``ρ ∈ conv{θ_i}``.
+
+    Methods › H∞ set-membership observers › LPV systems.
+
+    Parameters
+    ----------
+    A : sequence of array_like
+        Vertex matrices ``A_i`` (one per row θ_i of ``theta``, in the same order).
+    C : array_like, shape (n_y, n_x)
+        Common output matrix.
+    theta : array_like, shape (N, n_ρ)
+        Vertices of the scheduling polytope.
+    B : sequence of array_like, optional
+        Vertex input matrices.
+    Fd : sequence of array_like, optional
+        Vertex disturbance matrices (the thesis's ``F``).
+    Z : array_like, optional
+        Common measurement-noise matrix.
+    **wrong
+        Refused (``F=`` gets a message pointing to ``Fd=``).
+
+    Examples
+    --------
+    >>> lpv = setbound.LpvPlant([[[0.5, 0.1], [0.0, 0.4]], [[0.6, 0.1], [0.0, 0.4]]], [[1.0, 0.0]], [[0.0], [1.0]],
+    ...                         Fd=[0.1 * np.eye(2), 0.1 * np.eye(2)], Z=[[0.1]])
+    >>> lpv.weights([0.25]).round(6).tolist()
+    [0.75, 0.25]
+    """
 
     def __init__(self, A, C, theta, *, B=None, Fd=None, Z=None, **wrong):
         if "F" in wrong:
@@ -101,11 +125,31 @@ class LpvPlant:
     n_rho = property(lambda self: self.theta.shape[1], doc="dimension of the scheduling vector ρ")
 
     def weights(self, rho) -> np.ndarray:
-        """Barycentric weights α(ρ) of the scheduling vector ρ (thesis (3.2))."""
+        """Barycentric weights ``α(ρ)`` of a scheduling vector (thesis (3.2)).
+
+        Parameters
+        ----------
+        rho : array_like, shape (n_ρ,)
+            Scheduling vector.
+
+        Returns
+        -------
+        ndarray, shape (N,)
+        """
         return polytopic_weights(self.theta, rho)
 
     def at(self, rho) -> Plant:
-        """The frozen plant at ρ: ``Σ α_i(ρ)·(A_i, B_i, F_i)``."""
+        """The frozen plant at ``ρ``: ``Σ α_i(ρ)·(A_i, B_i, F_i)``.
+
+        Parameters
+        ----------
+        rho : array_like, shape (n_ρ,)
+            Scheduling vector.
+
+        Returns
+        -------
+        Plant
+        """
         a = self.weights(rho)
         return Plant(sum(w * p.A for w, p in zip(a, self.vertices)), self.C,
                      B=sum(w * p.B for w, p in zip(a, self.vertices)),
@@ -128,6 +172,21 @@ def _vertex_data(plant):
 
 @dataclass
 class HinfGain:
+    """Result of :func:`hinf_observer_gain`.
+
+    Parameters
+    ----------
+    P : ndarray, shape (n_x, n_x)
+        Lyapunov matrix of the error.
+    U : ndarray
+        ``P L``: (n_x, n_y) for a Plant, (N, n_x, n_y) for an LpvPlant.
+    L : ndarray
+        Observer gain(s) ``P⁻¹U``, same shape as ``U``.
+    Q : ndarray, shape (n_x, n_x)
+        Dissipation matrix used.
+    gamma, g : float
+        The H∞ level γ and ``g = γ²``.
+    """
     P: np.ndarray
     U: np.ndarray  # (n_x, n_y) for a Plant, (N, n_x, n_y) for an LpvPlant
     L: np.ndarray  # P⁻¹U, same shape as U
@@ -137,7 +196,27 @@ class HinfGain:
 
 
 def hinf_observer_gain(plant, Q=None) -> HinfGain:
-    """LMI (2.35) for a Plant (or (3.13) for an LpvPlant): minimise g = γ²; L = P⁻¹U."""
+    """The H∞ observer gain: LMI (2.35) for a Plant, (3.13) for an LpvPlant; minimises ``g = γ²``, ``L = P⁻¹U`` (Methods › H∞ set-membership observers › Observer gain).
+
+    Parameters
+    ----------
+    plant : Plant or LpvPlant
+        The plant.
+    Q : array_like, shape (n_x, n_x), optional
+        Dissipation matrix (default: identity).
+
+    Returns
+    -------
+    HinfGain
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.2, 0.2], [0.0, 0.5]], [[1.0, 0.0]], Fd=[[0.0], [0.1]], Z=[[0.1]])
+    >>> gain = setbound.hinf.hinf_observer_gain(plant)
+    >>> Ao = np.asarray(plant.A) - gain.L @ np.asarray(plant.C)
+    >>> bool(max(abs(np.linalg.eigvals(Ao))) < 1)
+    True
+    """
     N, p0, As, Fs = _vertex_data(plant)
     n, ny = p0.nx, p0.ny
     Qa = None if Q is None else as_f64(Q, "Q", shape=(n, n))
@@ -153,6 +232,17 @@ def hinf_observer_gain(plant, Q=None) -> HinfGain:
 
 @dataclass
 class BrlRpi:
+    """Result of :func:`brl_ellipsoidal_rpi`: the RPI ellipsoid ``Ψ = {xᵀPx ≤ level}``.
+
+    Parameters
+    ----------
+    P : ndarray, shape (n, n)
+        Shape.
+    gamma, g : float
+        The bounded-real-lemma level γ and ``g = γ²``.
+    level : float
+        Level of Ψ.
+    """
     P: np.ndarray
     gamma: float
     g: float
@@ -160,7 +250,32 @@ class BrlRpi:
 
 
 def brl_ellipsoidal_rpi(A, E, wbar) -> BrlRpi:
-    """LMI (1.48) for x⁺ = Ax + Ew, |w| ≤ w̄: minimal γ, Ψ = {xᵀPx ≤ λ_max(P)γ²w̄ᵀw̄} (1.55)."""
+    """The bounded-real-lemma RPI ellipsoid of ``x⁺ = Ax + Ew``, ``|w| ≤ w̄`` (thesis LMI (1.48), set (1.55)).
+
+    Minimal γ; ``Ψ = {xᵀPx ≤ λ_max(P)γ²w̄ᵀw̄}`` (Methods › Invariant sets › Bounded-real-lemma RPI
+    ellipsoid).
+
+    Parameters
+    ----------
+    A : array_like, shape (n, n)
+        Schur-stable matrix.
+    E : array_like, shape (n, m)
+        Disturbance matrix.
+    wbar : array_like, shape (m,)
+        Bounds of ``|w_i|``.
+
+    Returns
+    -------
+    BrlRpi
+
+    Examples
+    --------
+    The system of [Loukkas2018] Example 1.5:
+
+    >>> r = setbound.hinf.brl_ellipsoidal_rpi([[0.2, 0.2], [-0.2, 0.5]], [[0.0], [1.0]], [1.0])
+    >>> bool(r.gamma > 0 and r.level > 0)
+    True
+    """
     A = as_f64(A, "A", ndim=2)
     n = A.shape[0]
     E = as_f64(E, "E", shape=(n, None))
@@ -173,13 +288,48 @@ def brl_ellipsoidal_rpi(A, E, wbar) -> BrlRpi:
 
 @dataclass
 class ErrorRpi:
+    """Result of :func:`ellipsoidal_error_rpi`.
+
+    Parameters
+    ----------
+    lambda_ : float
+        ``λ = λ_min(Q, P)``.
+    cbar : float
+        Level ``c̄`` of the invariant error ellipsoid ``{eᵀPe ≤ c̄}``.
+    e_inf : ndarray, shape (n,)
+        Half-widths ``ē∞`` of its bounding box.
+    """
     lambda_: float
     cbar: float
     e_inf: np.ndarray
 
 
 def ellipsoidal_error_rpi(P, Q, g, wbar) -> ErrorRpi:
-    """Prop 2.2/2.3: λ = λ_min(Q, P), c̄ = γ²w̄ᵀw̄/λ, ē∞ = sqrt(diag(c̄P⁻¹))."""
+    """The invariant error ellipsoid of [Loukkas2018] Prop 2.2/2.3 (Methods › H∞ set-membership observers › Error RPI ellipsoid).
+
+    ``λ = λ_min(Q, P)``, ``c̄ = γ²w̄ᵀw̄/λ``, ``ē∞ = sqrt(diag(c̄P⁻¹))``.
+
+    Parameters
+    ----------
+    P, Q : array_like, shape (n, n)
+        Lyapunov and dissipation matrices.
+    g : float
+        ``γ²``.
+    wbar : array_like
+        Half-widths of ``w``.
+
+    Returns
+    -------
+    ErrorRpi
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.2, 0.2], [0.0, 0.5]], [[1.0, 0.0]], Fd=[[0.0], [0.1]], Z=[[0.1]])
+    >>> gain = setbound.hinf.hinf_observer_gain(plant)
+    >>> rpi = setbound.hinf.ellipsoidal_error_rpi(gain.P, gain.Q, gain.g, [1.0, 1.0])
+    >>> bool(0 < rpi.lambda_ <= 1), rpi.e_inf.shape
+    (True, (2,))
+    """
     P = as_f64(P, "P", ndim=2)
     n = P.shape[0]
     Q = as_f64(Q, "Q", shape=(n, n))
@@ -191,8 +341,28 @@ def ellipsoidal_error_rpi(P, Q, g, wbar) -> ErrorRpi:
 
 
 def refine_dissipation_matrix(plant, P, L, g, route: str = "logdet"):
-    """(2.36)/(3.20) with P, L, g fixed. ``route="logdet"``: maximise log det Q → (Q_ref,
-    λ_min(Q_ref, P)); ``route="direct"`` [proposed]: the largest λ with Q = λP → (λP, λ)."""
+    """Refine the dissipation matrix with ``P``, ``L`` and ``g`` fixed (thesis (2.36), (3.20); Methods › H∞ set-membership observers › Dissipation matrix refinement).
+
+    Parameters
+    ----------
+    plant : Plant or LpvPlant
+        The plant.
+    P : array_like, shape (n_x, n_x)
+        Lyapunov matrix.
+    L : array_like
+        Gain(s).
+    g : float
+        ``γ²``.
+    route : {"logdet", "direct"}, optional
+        ``"logdet"``: maximise ``log det Q``; ``"direct"`` [proposed]: the largest ``λ`` with
+        ``Q = λP``.
+
+    Returns
+    -------
+    Q : ndarray
+    lam : float
+        ``λ_min(Q, P)``.
+    """
     N, p0, As, Fs = _vertex_data(plant)
     n, ny = p0.nx, p0.ny
     r = {"logdet": 0, "direct": 1}[as_choice(route, "route", ("logdet", "direct"))]
@@ -208,8 +378,23 @@ def refine_dissipation_matrix(plant, P, L, g, route: str = "logdet"):
 
 
 def covariance_dissipation_matrix(Ao, E, W):
-    """(2.43)/(3.60–3.61): V = mean V_i with A_o,i V_i A_o,iᵀ − V_i = −E_i W E_iᵀ; returns (V, Q = V⁻¹).
-    ``Ao`` and ``E`` may be single matrices or lists of vertex matrices."""
+    """The error covariance ``V`` and ``Q = V⁻¹`` (thesis (2.43), (3.60)–(3.61)).
+
+    ``V`` is the mean of the ``V_i`` with ``A_o,i V_i A_o,iᵀ − V_i = −E_i W E_iᵀ``.
+
+    Parameters
+    ----------
+    Ao : array_like or sequence of array_like
+        Error matrix ``A − LC`` (or its vertex matrices).
+    E : array_like or sequence of array_like
+        Error-input matrix ``[F, −LZ]`` (or its vertex matrices).
+    W : array_like
+        Covariance of ``w = (d, v)``.
+
+    Returns
+    -------
+    V, Q : ndarray
+    """
     Aos = [Ao] if np.ndim(Ao) == 2 else list(Ao)
     Es = [E] if np.ndim(E) == 2 else list(E)
     if len(Aos) != len(Es):
@@ -224,7 +409,30 @@ def covariance_dissipation_matrix(Ao, E, W):
 
 
 def chebyshev_error_ellipsoid(V, t):
-    """(2.41): returns (V⁻¹, t², 1 − n/t²): P(eᵀV⁻¹e ≤ t²) ≥ 1 − n/t² (reporting only)."""
+    """The Chebyshev ellipsoid ``{eᵀV⁻¹e ≤ t²}``, which holds with probability at least ``1 − n/t²`` (thesis (2.41); reporting only, not guaranteed).
+
+    Parameters
+    ----------
+    V : array_like, shape (n, n)
+        Error covariance.
+    t : float
+        Radius, ``t² > n``.
+
+    Returns
+    -------
+    Vinv : ndarray
+        ``V⁻¹``.
+    t2 : float
+        ``t²``.
+    probability : float
+        ``1 − n/t²``.
+
+    Examples
+    --------
+    >>> Vinv, t2, p = setbound.hinf.chebyshev_error_ellipsoid(np.eye(2), 3.0)
+    >>> t2, round(p, 6)
+    (9.0, 0.777778)
+    """
     V = as_f64(V, "V", ndim=2)
     n = V.shape[0]
     S, lvl, pr = np.empty((n, n)), ffi.new("double*"), ffi.new("double*")
@@ -233,7 +441,24 @@ def chebyshev_error_ellipsoid(V, t):
 
 
 def polytopic_weights(theta, rho) -> np.ndarray:
-    """α ≥ 0, Σα = 1, Σ α_i θ_i = ρ (3.2); ``theta`` has one vertex per row."""
+    """Barycentric weights: ``α ≥ 0``, ``Σα = 1``, ``Σ α_i θ_i = ρ`` (thesis (3.2)).
+
+    Parameters
+    ----------
+    theta : array_like, shape (N, n_ρ)
+        Vertices (one per row).
+    rho : array_like, shape (n_ρ,)
+        The point.
+
+    Returns
+    -------
+    ndarray, shape (N,)
+
+    Examples
+    --------
+    >>> setbound.hinf.polytopic_weights([[0.0], [1.0]], [0.25]).round(6).tolist()
+    [0.75, 0.25]
+    """
     theta = as_f64(theta, "theta")
     if theta.ndim == 1:
         theta = theta.reshape(-1, 1)
@@ -260,7 +485,37 @@ class DesignPass:
 
 @dataclass
 class EllipsoidalSMDesign(MadeByCall):
-    """Output of Algorithm 2/3. ``L`` is (n_x, n_y) for a Plant and (N, n_x, n_y) for an LpvPlant."""
+    """Output of Algorithm 2 (LTI) or 3 (LPV) of [Loukkas2018] (Methods › H∞ set-membership observers › Algorithm 2).
+
+    Parameters
+    ----------
+    plant : Plant or LpvPlant
+        The plant designed for.
+    L : ndarray
+        Gain: (n_x, n_y) for a Plant, (N, n_x, n_y) for an LpvPlant.
+    P : ndarray, shape (n_x, n_x)
+        Lyapunov matrix.
+    Q_input, Q_refined : ndarray, shape (n_x, n_x)
+        Dissipation matrix given to the LMI and its refinement.
+    V : ndarray, shape (n_x, n_x)
+        Error covariance (for the Chebyshev ellipsoid).
+    e_inf : ndarray, shape (n_x,)
+        Half-widths of the box of the invariant error ellipsoid.
+    gamma, g : float
+        H∞ level and its square.
+    lambda_, lambda_input, lambda_refined : float
+        The ``λ`` used and the two candidates.
+    cbar : float
+        Level of the invariant error ellipsoid.
+    wtw : float
+        ``w̄ᵀw̄``.
+    lambda_max_P : float
+        Largest eigenvalue of ``P``.
+    design_time : float
+        Seconds.
+    passes : list, optional
+        Per-pass details.
+    """
     plant: object
     L: np.ndarray
     P: np.ndarray
@@ -324,35 +579,115 @@ def _design(plant, wbar, W, lambda_route, passes, lpv: bool) -> EllipsoidalSMDes
 
 
 def design_ellipsoidal_sm_observer(plant: Plant, wbar=None, *, W=None, lambda_route=None, passes: int = 2):
-    """Algorithm 2 (two passes). ``plant``: a :class:`~setbound.Plant`, or a
-    :class:`~setbound.LinearSystem` / ``StateSpace`` (converted by :func:`setbound.plant.as_plant`).
-    ``wbar``: half-widths of the centred box of w = (d, v) (default: ones, the unit box of a
-    converted LinearSystem).
-    ``W``: covariance of w for (2.44) (default uniform on [−w̄, w̄]). ``lambda_route``:
-    "logdet" (default, as printed), "direct", "input_or_logdet" or "largest". ``passes``: an
-    integer in [1, ``MAX_PASSES``] (100; the thesis uses 2, each pass solves the LMIs again)."""
+    """Algorithm 2 of [Loukkas2018]: gain, invariant error ellipsoid and ``λ`` of the Chapter 2 observer (Methods › H∞ set-membership observers › Algorithm 2).
+
+    Parameters
+    ----------
+    plant : Plant, LinearSystem or control.StateSpace
+        The plant (a LinearSystem / StateSpace is converted by :func:`setbound.plant.as_plant`).
+    wbar : array_like, optional
+        Half-widths of the centred box of ``w = (d, v)`` (default: ones, the unit box of a
+        converted LinearSystem).
+    W : array_like, optional
+        Covariance of ``w`` for (2.44) (default: uniform on ``[−w̄, w̄]``).
+    lambda_route : {"logdet", "direct", "input_or_logdet", "largest"}, optional
+        How ``λ`` is chosen (default ``"logdet"``, as printed).
+    passes : int, optional
+        In ``[1, MAX_PASSES]`` (100; the thesis uses 2, each pass solves the LMIs again).
+
+    Returns
+    -------
+    EllipsoidalSMDesign
+
+    Examples
+    --------
+    The example of [Loukkas2018] §2.5:
+
+    >>> plant = setbound.Plant([[0.2, 0.2], [0.0, 0.5]], [[1.0, 0.0]], B=[[1.0], [1.0]], Fd=[[0.0], [0.1]], Z=[[0.1]])
+    >>> design = setbound.hinf.design_ellipsoidal_sm_observer(plant)
+    >>> bool(0 < design.lambda_ <= 1), design.e_inf.shape
+    (True, (2,))
+    """
     if isinstance(plant, LpvPlant):
         raise InvalidArgumentError("plant: an LpvPlant needs design_ellipsoidal_sm_observer_lpv")
     return _design(plant, wbar, W, lambda_route, passes, False)
 
 
 def design_ellipsoidal_sm_observer_lpv(plant: LpvPlant, wbar, *, W=None, lambda_route=None, passes: int = 2):
-    """Algorithm 3: vertex LMIs with a common P; λ defaults to the larger of λ_min(Q_input, P)
-    and λ_min(Q_refined, P) (thesis.md §5.8). ``passes``: as :func:`design_ellipsoidal_sm_observer`."""
+    """Algorithm 3 of [Loukkas2018]: vertex LMIs with a common ``P`` for an LPV plant (Methods › H∞ set-membership observers › LPV systems).
+
+    ``λ`` defaults to the larger of ``λ_min(Q_input, P)`` and ``λ_min(Q_refined, P)``.
+
+    Parameters
+    ----------
+    plant : LpvPlant
+        The plant.
+    wbar : array_like
+        Half-widths of the centred box of ``w = (d, v)``.
+    W : array_like, optional
+        Covariance of ``w``.
+    lambda_route : str, optional
+        As :func:`design_ellipsoidal_sm_observer`.
+    passes : int, optional
+        As :func:`design_ellipsoidal_sm_observer`.
+
+    Returns
+    -------
+    EllipsoidalSMDesign
+
+    Examples
+    --------
+    >>> lpv = setbound.LpvPlant([[[0.5, 0.1], [0.0, 0.4]], [[0.6, 0.1], [0.0, 0.4]]], [[1.0, 0.0]], [[0.0], [1.0]],
+    ...                         Fd=[0.1 * np.eye(2), 0.1 * np.eye(2)], Z=[[0.1]])
+    >>> design = setbound.hinf.design_ellipsoidal_sm_observer_lpv(lpv, np.ones(3))
+    >>> design.L.shape
+    (2, 2, 1)
+    """
     if not isinstance(plant, LpvPlant):
         raise InvalidArgumentError("plant: expected a setbound.hinf.LpvPlant")
     return _design(plant, wbar, W, lambda_route, passes, True)
 
 
 def mu0_from_ball(design: EllipsoidalSMDesign, radius: float) -> float:
-    """μ0 = max(1, λ_max(P)·radius²/c̄) for ‖x0 − x̂0‖ ≤ radius (2.65–2.67)."""
+    """``μ_0 = max(1, λ_max(P)·radius²/c̄)`` for ``‖x_0 − x̂_0‖ ≤ radius`` (thesis (2.65)–(2.67)).
+
+    Parameters
+    ----------
+    design : EllipsoidalSMDesign
+        The design.
+    radius : float
+        Radius of the initial ball around ``x̂_0``.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.2, 0.2], [0.0, 0.5]], [[1.0, 0.0]], Fd=[[0.0], [0.1]], Z=[[0.1]])
+    >>> design = setbound.hinf.design_ellipsoidal_sm_observer(plant)
+    >>> setbound.hinf.mu0_from_ball(design, 1.0) >= 1
+    True
+    """
     out = ffi.new("double*")
     check(lib.sb_hinf_design_mu0_ball(design._handle, as_float(radius, "radius", lo=0.0), out))
     return out[0]
 
 
 def mu0_from_vertices(design: EllipsoidalSMDesign, vertices) -> float:
-    """μ0 = max(1, max_j v_jᵀPv_j/c̄) for e0 ∈ conv{v_j} (rows of ``vertices``) (3.73–3.74)."""
+    """``μ_0 = max(1, max_j v_jᵀPv_j/c̄)`` for ``e_0 ∈ conv{v_j}`` (thesis (3.73)–(3.74)).
+
+    Parameters
+    ----------
+    design : EllipsoidalSMDesign
+        The design.
+    vertices : array_like, shape (q, n_x)
+        Vertices ``v_j`` (rows).
+
+    Returns
+    -------
+    float
+    """
     n = design.P.shape[0]
     V = as_f64(vertices, "vertices", shape=(None, n))
     out = ffi.new("double*")
@@ -361,7 +696,19 @@ def mu0_from_vertices(design: EllipsoidalSMDesign, vertices) -> float:
 
 
 def mu0_from_box(design: EllipsoidalSMDesign, lo, hi) -> float:
-    """μ0 from the box [lo, hi] ∋ e0 = x0 − x̂0 (its 2ⁿ corners)."""
+    """``μ_0`` for an initial error ``e_0 = x_0 − x̂_0`` in the box ``[lo, hi]`` (its ``2^n`` corners).
+
+    Parameters
+    ----------
+    design : EllipsoidalSMDesign
+        The design.
+    lo, hi : array_like, shape (n_x,)
+        The box of ``e_0``.
+
+    Returns
+    -------
+    float
+    """
     n = design.P.shape[0]
     lo, hi = as_f64(lo, "lo", shape=(n,)), as_f64(hi, "hi", shape=(n,))
     out = ffi.new("double*")
@@ -370,7 +717,22 @@ def mu0_from_box(design: EllipsoidalSMDesign, lo, hi) -> float:
 
 
 def box_corners(lo, hi) -> np.ndarray:
-    """The 2^n corners of the box [lo, hi], one per row (n <= 24: 16 million corners)."""
+    """The ``2^n`` corners of the box ``[lo, hi]``, one per row (``n <= 24``).
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (n,)
+        Corners of the box.
+
+    Returns
+    -------
+    ndarray, shape (2^n, n)
+
+    Examples
+    --------
+    >>> setbound.hinf.box_corners([0, 0], [1, 2]).tolist()
+    [[0.0, 0.0], [1.0, 0.0], [0.0, 2.0], [1.0, 2.0]]
+    """
     lo, hi = np.asarray(lo, float), np.asarray(hi, float)
     n = lo.size
     if n > 24:
@@ -497,49 +859,158 @@ class _Observer(ReadingChecks, StateMixin):
 
 @reconstructible
 class EllipsoidalSMObserver(_Observer):
-    """Online observer (2.68–2.71): x̂⁺ = (A − LC)x̂ + Bu + Ly, μ⁺ = (1 − λ)μ + λ, box x̂ ± ē∞√μ.
-    ``EllipsoidalSMObserver(design, xhat0, mu0)``, or ``(design, x0)`` with an initial set
-    (Box, Zonotope, Ellipsoid): x̂0 its hull's centre and μ0 from the hull (:func:`mu0_from_box`).
-    ``step(y_k, u_k)`` returns the box of x_{k+1}; ``run(y, u)`` returns a Trajectory with
-    N rows (row k = x_k having used y_0 … y_{k−1}; row 0 = the initial box) and ``traj.mu``.
+    """The ellipsoidal-invariant-set observer of [Loukkas2018] Chapter 2 (Methods › H∞ set-membership observers › Online recursion).
+
+    ``x̂⁺ = (A − LC)x̂ + Bu + Ly``, ``μ⁺ = (1 − λ)μ + λ``; the state is in the box ``x̂ ± ē∞√μ``.
+    ``step(y_k, u_k)`` returns the box of ``x_{k+1}``; ``run(y, u)`` returns a Trajectory with N
+    rows (row k = ``x_k`` having used ``y_0 … y_{k−1}``; row 0 = the initial box) and ``traj.mu``.
 
     Real data (:mod:`setbound.measurement`): NaN entries of ``y`` are missing outputs; each present
     reading is tested against the support of the observer's ellipsoid in ``±C_i`` plus its noise
     bound. A step without some output is made in interval arithmetic (the box narrowed by the
     outputs present, then ``A[x] + Bu + F[d]``) and the recursion restarts from the predicted box
-    (x̂ its centre, μ from its corners). ``on_inconsistency``: ``"flag"`` (default), ``"raise"``
-    or ``"reset"`` (to ``reset_set``, any set by its interval hull; default the box of the
-    initial ellipsoid)."""
+    (x̂ its centre, μ from its corners).
+
+    Parameters
+    ----------
+    design : EllipsoidalSMDesign
+        The design (Algorithm 2 or 3).
+    xhat0 : array_like or Box, Zonotope, Ellipsoid
+        The initial estimate ``x̂_0``; or an initial set, then ``x̂_0`` is its hull's centre and
+        ``μ_0`` comes from the hull (:func:`mu0_from_box`).
+    mu0 : float, optional
+        Initial scaling ``μ_0 >= 1`` (with a point ``xhat0``; see :func:`mu0_from_ball`).
+    on_inconsistency : {"flag", "raise", "reset"}, optional
+        What a reading outside the predicted output set does (:mod:`setbound.measurement`):
+        skipped and flagged (default), an :class:`~setbound.errors.InconsistentMeasurementError`,
+        or a restart from ``reset_set``.
+    reset_set : optional
+        The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.2, 0.2], [0.0, 0.5]], [[1.0, 0.0]], Fd=[[0.0], [0.1]], Z=[[0.1]])
+    >>> obs = setbound.hinf.EllipsoidalSMObserver(setbound.hinf.design_ellipsoidal_sm_observer(plant),
+    ...                                          setbound.Box([-1, -1], [1, 1]))
+    >>> traj = obs.run(np.zeros((5, 1)))
+    >>> bool(traj.in_bounds(np.zeros((5, 2))).all()), bool(traj.mu[-1] < traj.mu[0])
+    (True, True)
+    """
 
     def step(self, y, u=None) -> Box:
-        """Uses y_k and u_k, advances the observer and returns the box of x_{k+1} (unchanged on
-        error). ``y`` None or NaN entries: missing outputs; readings outside the predicted output
-        set follow ``on_inconsistency`` (``last_check`` says what the step did with each)."""
+        """Use ``y_k`` and ``u_k``, advance the observer and return the box of ``x_{k+1}`` (unchanged on error).
+
+        Readings outside the predicted output set follow ``on_inconsistency`` (``last_check`` says what
+        the step did with each).
+
+        Parameters
+        ----------
+        y : array_like, shape (n_y,), or None
+            The measurement ``y_k`` (None or NaN entries: missing outputs).
+        u : array_like, shape (n_u,), optional
+            The input ``u_k``.
+
+        Returns
+        -------
+        Box
+        """
         return self._step(y, u, None)
 
     @run_from_initial_set
     def run(self, y, u=None) -> Trajectory:
-        """Runs over y (N × n_y) and u from the initial set (``reset=False``: from the current
-        state, to process a record in pieces); row k of the trajectory bounds x_k (row 0: the
-        initial box)."""
+        """Run over a record from the initial set; row ``k`` bounds ``x_k`` (row 0: the initial box).
+
+        Parameters
+        ----------
+        y : array_like, shape (N, n_y), or control.TimeResponseData
+            Measurements (NaN entries: missing outputs). A python-control ``TimeResponseData`` gives the
+            outputs, known inputs and time.
+        u : array_like, shape (N, n_u), optional
+            Known inputs.
+        reset : bool, optional
+            Start from the initial set (default). ``False`` continues from the current state, to process
+            a record in pieces. A failed run leaves the estimator as it was.
+        t : array_like, shape (N,), optional
+            Time of the rows (default: ``k·dt`` with the system's sampling time, else the step index).
+
+        Returns
+        -------
+        Trajectory
+            Row ``k`` is about ``x_k``; ``status``, ``margin`` and ``resets`` say what each step did
+            with each reading.
+        """
         return self._run(y, u, None)
 
 
 @reconstructible
 class LPVEllipsoidalSMObserver(_Observer):
-    """Online LPV observer (3.63–3.66) with the scheduling signal ρ_k per step. Missing and
-    impossible readings as :class:`EllipsoidalSMObserver` (the interval step uses ``A(ρ_k)``,
-    ``B(ρ_k)``, ``F(ρ_k)`` widened by the rounding of their combination)."""
+    """The LPV observer of [Loukkas2018] Chapter 3, with the scheduling vector ``ρ_k`` given per step (Methods › H∞ set-membership observers › LPV systems).
+
+    Missing and impossible readings as :class:`EllipsoidalSMObserver` (the interval step uses
+    ``A(ρ_k)``, ``B(ρ_k)``, ``F(ρ_k)`` widened by the rounding of their combination).
+
+    Parameters
+    ----------
+    design : EllipsoidalSMDesign
+        The design (Algorithm 2 or 3).
+    xhat0 : array_like or Box, Zonotope, Ellipsoid
+        The initial estimate ``x̂_0``; or an initial set, then ``x̂_0`` is its hull's centre and
+        ``μ_0`` comes from the hull (:func:`mu0_from_box`).
+    mu0 : float, optional
+        Initial scaling ``μ_0 >= 1`` (with a point ``xhat0``; see :func:`mu0_from_ball`).
+    on_inconsistency : {"flag", "raise", "reset"}, optional
+        What a reading outside the predicted output set does (:mod:`setbound.measurement`):
+        skipped and flagged (default), an :class:`~setbound.errors.InconsistentMeasurementError`,
+        or a restart from ``reset_set``.
+    reset_set : optional
+        The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+    """
     _lpv = True
 
     def step(self, y, u=None, rho=None) -> Box:
-        """Uses y_k, u_k and the scheduling vector ρ_k, advances the observer and returns the box of x_{k+1}."""
+        """Use ``y_k``, ``u_k`` and ``ρ_k``, advance the observer and return the box of ``x_{k+1}``.
+
+        Parameters
+        ----------
+        y : array_like, shape (n_y,), or None
+            The measurement ``y_k`` (None or NaN entries: missing outputs).
+        u : array_like, shape (n_u,), optional
+            The input ``u_k``.
+        rho : array_like, shape (n_ρ,)
+            Scheduling vector ``ρ_k`` (in the polytope of the plant).
+
+        Returns
+        -------
+        Box
+        """
         if rho is None:
             raise InvalidArgumentError("rho: the LPV observer needs the scheduling value of this step")
         return self._step(y, u, rho)
 
     @run_from_initial_set
     def run(self, y, u=None, rho=None) -> Trajectory:
-        """Runs over y, u and the scheduling signal rho (N × n_ρ) from the initial set
-        (``reset=False``: from the current state); row k bounds x_k (row 0: the initial box)."""
+        """Run over a record and its scheduling signal from the initial set; row ``k`` bounds ``x_k``.
+
+        Parameters
+        ----------
+        y : array_like, shape (N, n_y), or control.TimeResponseData
+            Measurements (NaN entries: missing outputs). A python-control ``TimeResponseData`` gives the
+            outputs, known inputs and time.
+        u : array_like, shape (N, n_u), optional
+            Known inputs.
+        reset : bool, optional
+            Start from the initial set (default). ``False`` continues from the current state, to process
+            a record in pieces. A failed run leaves the estimator as it was.
+        t : array_like, shape (N,), optional
+            Time of the rows (default: ``k·dt`` with the system's sampling time, else the step index).
+
+        rho : array_like, shape (N, n_ρ)
+            Scheduling signal.
+
+        Returns
+        -------
+        Trajectory
+            Row ``k`` is about ``x_k``; ``status``, ``margin`` and ``resets`` say what each step did
+            with each reading.
+        """
         return self._run(y, u, rho)

@@ -1,4 +1,4 @@
-"""Inclusion functions (thesis §1.2.8; spec thesis.md §1 and §3.2).
+"""Inclusion functions ([Loukkas2018] §1.2.8; Methods › Sets, intervals and LMI tools › Inclusion functions).
 
 ``[f]`` is an inclusion function of ``f`` when ``f([x]) ⊆ [f]([x])`` for every box. The three
 forms below take Python callables that work on :class:`setbound.Interval` (scalar functions) or
@@ -72,14 +72,58 @@ def _matrix(M, rows: int, cols: int, what: str) -> list:
 
 
 def natural_inclusion(f, x):
-    """``f`` evaluated on the Interval or Box ``x``."""
+    """Natural inclusion: ``f`` evaluated in interval arithmetic on ``x``.
+
+    Methods › Sets, intervals and LMI tools › Inclusion functions.
+
+    Parameters
+    ----------
+    f : callable
+        ``f(Interval) -> Interval`` or ``f(Box) -> Box`` (or a sequence of Intervals).
+    x : Interval or Box
+        The argument (scalar or vector function).
+
+    Returns
+    -------
+    Interval or Box
+
+    Examples
+    --------
+    >>> f = lambda x: x * x - 2 * x
+    >>> print(setbound.inclusion.natural_inclusion(f, setbound.Interval(0.0, 1.0)))
+    Interval(-2.0, 1.0)
+    """
     _check_arg(x, bounded=False)
     return f(x)
 
 
 def centered_inclusion(f, df, x):
-    """Centered form ``f(m) + [J]([x])·([x] − m)``; ``df`` is an inclusion of f′ (scalar) or of
-    the Jacobian (vector). Returns an Interval (scalar ``x``) or a Box."""
+    """Centered (mean-value) form ``f(m) + [J]([x])·([x] − m)``, ``m = mid [x]``.
+
+    Methods › Sets, intervals and LMI tools › Inclusion functions.
+
+    Parameters
+    ----------
+    f : callable
+        The function, as for :func:`natural_inclusion`.
+    df : callable
+        An inclusion of ``f′`` (scalar) or of the Jacobian (vector: a p×n nested sequence of
+        Intervals or an IntervalMatrix).
+    x : Interval or Box
+        The argument (scalar or vector function).
+
+    Returns
+    -------
+    Interval or Box
+
+    Examples
+    --------
+    >>> f = lambda x: x * x - 2 * x
+    >>> df = lambda x: 2 * x - 2
+    >>> r = setbound.inclusion.centered_inclusion(f, df, setbound.Interval(0.9, 1.1))
+    >>> print(round(r.lo, 9), round(r.hi, 9))  # the natural form gives [-1.39, -0.59]
+    -1.02 -0.98
+    """
     kind = _check_arg(x, bounded=True)
     if kind == "scalar":
         m = Interval(x.mid)
@@ -100,8 +144,33 @@ def centered_inclusion(f, df, x):
 
 
 def taylor2_inclusion(f, df, d2f, x):
-    """Order-2 Taylor form ``f(m) + J(m)([x] − m) + ½([x] − m)ᵀ[H]([x])([x] − m)``; the quadratic
-    term uses ``sqr`` on the diagonal (scalar case: ``½·sqr([x] − m)·[f″]([x])``)."""
+    """Order-2 Taylor form ``f(m) + J(m)([x] − m) + ½([x] − m)ᵀ[H]([x])([x] − m)``.
+
+    The quadratic term uses ``sqr`` on the diagonal (scalar case: ``½·sqr([x] − m)·[f″]([x])``).
+
+    Parameters
+    ----------
+    f : callable
+        The function, as for :func:`natural_inclusion`.
+    df : callable
+        Its derivative or Jacobian (evaluated at the midpoint).
+    d2f : callable
+        An inclusion of ``f″`` (scalar) or of the Hessians (vector: a sequence of p n×n matrices).
+    x : Interval or Box
+        The argument (scalar or vector function).
+
+    Returns
+    -------
+    Interval or Box
+
+    Examples
+    --------
+    >>> f = lambda x: x * x - 2 * x
+    >>> r = setbound.inclusion.taylor2_inclusion(f, lambda x: 2 * x - 2, lambda x: setbound.Interval(2.0),
+    ...                                          setbound.Interval(0.9, 1.1))
+    >>> r.contains(-1.0) and r.hi - r.lo < 0.05
+    True
+    """
     kind = _check_arg(x, bounded=True)
     if kind == "scalar":
         m = Interval(x.mid)

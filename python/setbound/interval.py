@@ -132,7 +132,27 @@ def _width(lo, hi):
 # ---- scalar intervals ---------------------------------------------------------------------
 
 class Interval:
-    """A closed interval [lo, hi] of reals (thesis §1.2.1); ``Interval(x)`` is [x, x]."""
+    """A closed interval ``[lo, hi]`` of reals; ``Interval(x)`` is ``[x, x]``.
+
+    Arithmetic (``+ - * /``, powers) is interval arithmetic with outward rounding, so the result
+    contains every value of the real operation on the operands (Methods › Sets, intervals and LMI
+    tools › Intervals and interval arithmetic).
+
+    Parameters
+    ----------
+    lo : float
+        Lower end.
+    hi : float, optional
+        Upper end (default: ``lo``).
+    name : str, optional
+        Argument name used in error messages.
+
+    Examples
+    --------
+    >>> x = setbound.Interval(-1.0, 2.0)
+    >>> print(x * x, setbound.interval.sqr(x))
+    Interval(-2.0, 4.0) Interval(0.0, 4.0)
+    """
 
     __slots__ = ("_lo", "_hi")
     __array_ufunc__ = None  # let numpy scalars defer to our reflected operators
@@ -188,12 +208,22 @@ class Interval:
 
     @property
     def mag(self) -> float:
-        """Magnitude max |t| over the interval (NaN when empty)."""
+        """Magnitude ``max |t|`` over the interval (NaN when empty).
+
+        Returns
+        -------
+        float
+        """
         return math.nan if self.is_empty else max(abs(self._lo), abs(self._hi))
 
     @property
     def mig(self) -> float:
-        """Mignitude min |t| over the interval (0 when it contains 0; NaN when empty)."""
+        """Mignitude ``min |t|`` over the interval (0 when it contains 0; NaN when empty).
+
+        Returns
+        -------
+        float
+        """
         if self.is_empty:
             return math.nan
         if self._lo <= 0 <= self._hi:
@@ -202,7 +232,17 @@ class Interval:
 
     # set operations
     def contains(self, x) -> bool:
-        """Membership of a number, or inclusion of an Interval."""
+        """Membership of a number, or inclusion of an interval.
+
+        Parameters
+        ----------
+        x : float or Interval
+            A number or an interval.
+
+        Returns
+        -------
+        bool
+        """
         if isinstance(x, Interval):
             return x.subset(self)
         return bool(self._lo <= float(x) <= self._hi)
@@ -210,15 +250,45 @@ class Interval:
     __contains__ = contains
 
     def subset(self, other: "Interval") -> bool:
-        """True when this interval is included in ``other`` (the empty set is in every interval)."""
+        """True when this interval is included in ``other`` (the empty set is in every interval).
+
+        Parameters
+        ----------
+        other : Interval
+            The other interval.
+
+        Returns
+        -------
+        bool
+        """
         return self.is_empty or (other._lo <= self._lo and self._hi <= other._hi)
 
     def intersect(self, other) -> "Interval":
-        """The intersection with ``other`` (empty when disjoint)."""
+        """The intersection with ``other`` (empty when disjoint).
+
+        Parameters
+        ----------
+        other : Interval or float
+            The other interval.
+
+        Returns
+        -------
+        Interval
+        """
         return self._bin("intersect", other)
 
     def hull(self, other) -> "Interval":
-        """The interval hull of the union with ``other``."""
+        """The interval hull of the union with ``other``.
+
+        Parameters
+        ----------
+        other : Interval or float
+            The other interval.
+
+        Returns
+        -------
+        Interval
+        """
         return self._bin("hull", other)
 
     # arithmetic through the C ABI
@@ -268,7 +338,12 @@ class Interval:
         """{cos t : t ∈ [x]}, rounded outward."""
         return self._un("cos")
     def abs(self) -> "Interval":
-        """{|t| : t ∈ [x]}."""
+        """The interval ``{abs(t) : t ∈ [x]}``.
+
+        Returns
+        -------
+        Interval
+        """
         return self._un("abs")
 
     def __eq__(self, other):
@@ -302,42 +377,164 @@ def _require_interval(x, name: str) -> Interval:
 
 
 def sqr(x) -> Interval:
-    """{t² : t ∈ [x]} — [0, max²] when 0 ∈ [x] (not [x]·[x])."""
+    """The interval ``{t² : t ∈ [x]}`` — ``[0, max²]`` when ``0 ∈ [x]`` (not ``[x]·[x]``).
+
+    Parameters
+    ----------
+    x : Interval or float
+        The argument (a number is the degenerate interval ``[x, x]``).
+
+    Returns
+    -------
+    Interval
+
+    Examples
+    --------
+    >>> setbound.interval.sqr(setbound.Interval(-1.0, 2.0))
+    Interval(0.0, 4.0)
+    """
     return _require_interval(x, "x").sqr()
 
 
 def sqrt(x) -> Interval:
-    """{√t : t ∈ [x], t ≥ 0}, rounded outward."""
+    """The interval ``{√t : t ∈ [x], t ≥ 0}``, rounded outward.
+
+    Parameters
+    ----------
+    x : Interval or float
+        The argument (a number is the degenerate interval ``[x, x]``).
+
+    Returns
+    -------
+    Interval
+
+    Examples
+    --------
+    >>> setbound.interval.sqrt(setbound.Interval(4.0, 9.0))
+    Interval(2.0, 3.0)
+    """
     return _require_interval(x, "x").sqrt()
 
 
 def exp(x) -> Interval:
-    """{exp t : t ∈ [x]}, rounded outward."""
+    """The interval ``{exp t : t ∈ [x]}``, rounded outward.
+
+    Parameters
+    ----------
+    x : Interval or float
+        The argument (a number is the degenerate interval ``[x, x]``).
+
+    Returns
+    -------
+    Interval
+
+    Examples
+    --------
+    >>> setbound.interval.exp(setbound.Interval(0.0, 0.0)).contains(1.0)
+    True
+    """
     return _require_interval(x, "x").exp()
 
 
 def sin(x) -> Interval:
-    """{sin t : t ∈ [x]}, rounded outward."""
+    """The interval ``{sin t : t ∈ [x]}``, rounded outward.
+
+    Parameters
+    ----------
+    x : Interval or float
+        The argument (a number is the degenerate interval ``[x, x]``).
+
+    Returns
+    -------
+    Interval
+
+    Examples
+    --------
+    >>> setbound.interval.sin(setbound.Interval(0.0, 3.2)).contains(1.0)
+    True
+    """
     return _require_interval(x, "x").sin()
 
 
 def cos(x) -> Interval:
-    """{cos t : t ∈ [x]}, rounded outward."""
+    """The interval ``{cos t : t ∈ [x]}``, rounded outward.
+
+    Parameters
+    ----------
+    x : Interval or float
+        The argument (a number is the degenerate interval ``[x, x]``).
+
+    Returns
+    -------
+    Interval
+
+    Examples
+    --------
+    >>> setbound.interval.cos(setbound.Interval(-0.1, 0.1)).contains(1.0)
+    True
+    """
     return _require_interval(x, "x").cos()
 
 
 def abs_(x) -> Interval:
-    """{|t| : t ∈ [x]} (named ``abs_`` so as not to shadow the builtin)."""
+    """The interval ``{abs(t) : t ∈ [x]}`` (named ``abs_`` so as not to shadow the builtin).
+
+    Parameters
+    ----------
+    x : Interval or float
+        The argument (a number is the degenerate interval ``[x, x]``).
+
+    Returns
+    -------
+    Interval
+
+    Examples
+    --------
+    >>> setbound.interval.abs_(setbound.Interval(-3.0, 1.0))
+    Interval(0.0, 3.0)
+    """
     return _require_interval(x, "x").abs()
 
 
 def reciprocal(x) -> Interval:
-    """1/[x] with the extended cases of thesis eq. 1.28 (1/[0,0] is empty)."""
+    """The interval ``1/[x]``, with the extended cases of the thesis, eq. (1.28) (``1/[0, 0]`` is empty).
+
+    Parameters
+    ----------
+    x : Interval or float
+        The argument (a number is the degenerate interval ``[x, x]``).
+
+    Returns
+    -------
+    Interval
+
+    Examples
+    --------
+    >>> setbound.interval.reciprocal(setbound.Interval(2.0, 4.0))
+    Interval(0.25, 0.5)
+    """
     return _require_interval(x, "x").reciprocal()
 
 
 def power(x, n: int) -> Interval:
-    """Integer power {t^n : t ∈ [x]}; negative n is the reciprocal of the positive power."""
+    """Integer power ``{t^n : t ∈ [x]}``; a negative ``n`` is the reciprocal of the positive power.
+
+    Parameters
+    ----------
+    x : Interval or float
+        The argument.
+    n : int
+        The exponent.
+
+    Returns
+    -------
+    Interval
+
+    Examples
+    --------
+    >>> setbound.interval.power(setbound.Interval(-2.0, 1.0), 3)
+    Interval(-8.0, 1.0)
+    """
     iv = _require_interval(x, "x")
     n = as_int(n, "n", lo=-INT_MAX - 1, hi=INT_MAX)  # a C int exponent (the work does not grow with it)
     lo, hi = np.empty(1), np.empty(1)
@@ -349,7 +546,26 @@ def power(x, n: int) -> Interval:
 # ---- boxes --------------------------------------------------------------------------------
 
 class Box:
-    """A box (interval vector) [lo, hi] ⊂ ℝⁿ (thesis §1.2.2)."""
+    """A box (interval vector) ``[lo, hi] ⊂ ℝⁿ``.
+
+    Methods › Sets, intervals and LMI tools › Intervals and interval arithmetic. ``M @ box`` is the
+    interval image by a real matrix, ``box + box`` the Minkowski sum; both are rounded outward.
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (n,)
+        Lower and upper corners (``lo <= hi``).
+    name : str, optional
+        Argument name used in error messages.
+
+    Examples
+    --------
+    >>> b = setbound.Box([-1.0, 0.0], [1.0, 2.0])
+    >>> b.contains([0.5, 1.0])
+    True
+    >>> print(np.array([[1.0, 1.0], [0.0, 1.0]]) @ b)
+    Box(lo=[-1.0, 0.0], hi=[3.0, 2.0])
+    """
 
     __array_ufunc__ = None  # make ``M @ box`` and ``2.0 * box`` reach our reflected operators
 
@@ -378,7 +594,21 @@ class Box:
 
     @classmethod
     def from_center_radius(cls, center, radius, *, name: str = "box") -> "Box":
-        """center ± radius, corners rounded outward by the C library."""
+        """The box ``center ± radius``, corners rounded outward by the C library.
+
+        Parameters
+        ----------
+        center : array_like, shape (n,)
+            Centre.
+        radius : array_like, shape (n,)
+            Radius of each component, ``>= 0``.
+        name : str, optional
+            Argument name used in error messages.
+
+        Returns
+        -------
+        Box
+        """
         name = as_str(name, "name")  # a label for the messages
         c = as_f64(center, f"{name} (center)", ndim=1)
         r = as_f64(radius, f"{name} (radius)", shape=(c.size,))
@@ -392,8 +622,18 @@ class Box:
 
     @classmethod
     def empty(cls, n: int) -> "Box":
-        """The empty box of dimension ``n`` (an integer >= 0; refused when its 16 bytes per
-        component exceed half the machine's memory)."""
+        """The empty box of dimension ``n``.
+
+        Parameters
+        ----------
+        n : int
+            Dimension, ``>= 0`` (refused when its 16 bytes per component exceed half the machine's
+            memory).
+
+        Returns
+        -------
+        Box
+        """
         n = as_int(n, "n", lo=0)
         check_memory("n", n, 16.0 * n)
         return cls._raw(np.full(n, _INF), np.full(n, -_INF))
@@ -446,7 +686,12 @@ class Box:
         return float(out[0])
 
     def norm(self) -> float:
-        """max_i |[x_i]| (max of magnitudes, §1.2.6)."""
+        """The norm ``max_i mag([x_i])`` (largest magnitude of a component).
+
+        Returns
+        -------
+        float
+        """
         if len(self) == 0:
             return 0.0
         return float(np.maximum(np.abs(self._lo), np.abs(self._hi)).max())
@@ -460,14 +705,34 @@ class Box:
         return Interval._raw(self._lo[i], self._hi[i])
 
     def contains(self, point) -> bool:
-        """True when ``point`` (n components) lies in the box."""
+        """True when a point lies in the box.
+
+        Parameters
+        ----------
+        point : array_like, shape (n,)
+            The point.
+
+        Returns
+        -------
+        bool
+        """
         p = as_f64(point, "point", shape=(len(self),))
         return bool(((self._lo <= p) & (p <= self._hi)).all())
 
     __contains__ = contains
 
     def subset(self, other: "Box") -> bool:
-        """True when this box is included in ``other``."""
+        """True when this box is included in ``other``.
+
+        Parameters
+        ----------
+        other : Box
+            The other box.
+
+        Returns
+        -------
+        bool
+        """
         other = self._same(other, "other")
         return self.is_empty or bool(((other._lo <= self._lo) & (self._hi <= other._hi)).all())
 
@@ -484,11 +749,31 @@ class Box:
         return Box._raw(lo, hi)
 
     def intersect(self, other: "Box") -> "Box":
-        """Componentwise intersection with ``other``."""
+        """Componentwise intersection with ``other``.
+
+        Parameters
+        ----------
+        other : Box
+            The other box.
+
+        Returns
+        -------
+        Box
+        """
         return self._bin("intersect", other)
 
     def hull(self, other: "Box") -> "Box":
-        """The smallest box containing both boxes."""
+        """The smallest box containing both boxes.
+
+        Parameters
+        ----------
+        other : Box
+            The other box.
+
+        Returns
+        -------
+        Box
+        """
         return self._bin("hull", other)
 
     def __add__(self, other):
@@ -542,7 +827,25 @@ class Box:
 # ---- interval matrices --------------------------------------------------------------------
 
 class IntervalMatrix:
-    """An interval matrix [M] = [lo, hi] entrywise (thesis §1.2.3, papers.md §0.1)."""
+    """An interval matrix ``[M] = [lo, hi]`` (entrywise bounds).
+
+    Methods › Sets, intervals and LMI tools › Interval matrices. As the ``A`` of a
+    :class:`~setbound.system.LinearSystem` it describes a system whose matrix is any (possibly
+    time-varying) element of ``[M]``.
+
+    Parameters
+    ----------
+    lo, hi : array_like, shape (p, q)
+        Entrywise lower and upper bounds.
+    name : str, optional
+        Argument name used in error messages.
+
+    Examples
+    --------
+    >>> M = setbound.IntervalMatrix.from_mid_rad([[1.0, 0.0], [0.0, 0.5]], [[0.0, 0.0], [0.0, 0.1]])
+    >>> M.contains(np.array([[1.0, 0.0], [0.0, 0.55]]))
+    True
+    """
 
     __array_ufunc__ = None
 
@@ -561,7 +864,21 @@ class IntervalMatrix:
 
     @classmethod
     def from_mid_rad(cls, mid, rad, *, name: str = "M") -> "IntervalMatrix":
-        """mid ± rad with the corners rounded outward by the C library."""
+        """The interval matrix ``mid ± rad``, corners rounded outward by the C library.
+
+        Parameters
+        ----------
+        mid : array_like, shape (p, q)
+            Midpoint.
+        rad : array_like, shape (p, q)
+            Entrywise radius, ``>= 0``.
+        name : str, optional
+            Argument name used in error messages.
+
+        Returns
+        -------
+        IntervalMatrix
+        """
         name = as_str(name, "name")  # a label for the messages
         m = as_f64(mid, f"{name} (mid)", ndim=2)
         r = as_f64(rad, f"{name} (rad)", shape=m.shape)
@@ -600,7 +917,17 @@ class IntervalMatrix:
         return Interval._raw(self._lo[ij], self._hi[ij])
 
     def contains(self, N) -> bool:
-        """True when the real matrix ``N`` (same shape) lies in [A]."""
+        """True when a real matrix lies in ``[M]``.
+
+        Parameters
+        ----------
+        N : array_like, shape (p, q)
+            The matrix.
+
+        Returns
+        -------
+        bool
+        """
         N = as_f64(N, "N", shape=self.shape)
         return bool(((self._lo <= N) & (N <= self._hi)).all())
 
@@ -619,7 +946,12 @@ class IntervalMatrix:
         return out
 
     def norm(self) -> float:
-        """max_i Σ_j |[m_ij]| (max row sum of magnitudes, §1.2.6), rounded up."""
+        """The norm ``max_i Σ_j mag([m_ij])`` (largest row sum of magnitudes), rounded up.
+
+        Returns
+        -------
+        float
+        """
         out = ffi.new("double*")
         check(lib.sb_imatrix_norm(*self.shape, dptr(self._lo), dptr(self._hi), out))
         return float(out[0])

@@ -1,14 +1,14 @@
-"""Thesis Chapter 4: interval observers with an explicit error enclosure (thesis.md §6).
+"""Thesis Chapter 4: interval observers with an explicit error enclosure (Methods › Interval observers).
 
-* :func:`interval_error_recursion` — the error boxes of ``e⁺ = A_o e + E w`` (§6.2):
+* :func:`interval_error_recursion` — the error boxes of ``e⁺ = A_o e + E w`` (› Error recursions):
   ``"tight"`` (exact interval hull ``A_o^k[e_0] + Σ (A_o^i E)[w]``, attained), ``"wrapped"``
   (the thesis's formula, ``[g_0] = E[w]`` boxed first) or ``"naive"`` (4.15, wraps every step).
 * :func:`interval_error_limit` — the limit box ``[g] = Σ_{i≥0} A_o^i E[w]``.
-* :class:`IntervalLuenbergerObserver` — §6.2 online observer ``x̂_k + [e_k]``.
-* :func:`offline_error_sequence` + :class:`IntervalInvariantObserver` — §6.3: a precomputed
+* :class:`IntervalLuenbergerObserver` — online observer ``x̂_k + [e_k]``.
+* :func:`offline_error_sequence` + :class:`IntervalInvariantObserver` — a precomputed
   box sequence ``[s_0..s_k*]`` with a polyhedral-invariant-set tail; online only the point
   observer runs.
-* :class:`NonlinearIntervalObserver` — §6.6: ``x⁺ = A x + h(p, x, k) + B u`` with an inclusion
+* :class:`NonlinearIntervalObserver` — ``x⁺ = A x + h(p, x, k) + B u`` with an inclusion
   box of ``h`` per step (a callable, or a constant :class:`~setbound.Box`).
 
 All observers are one-step predictors: ``run(y, u)`` returns a :class:`~setbound.Trajectory`
@@ -102,11 +102,41 @@ def _plant_args(p: Plant):
 
 
 def interval_error_recursion(Ao, E, e0, w, steps: int, variant: str = "tight") -> list[Box]:
-    """The boxes ``[e_0] … [e_steps]`` of ``e⁺ = A_o e + E w`` for every ``e_0 ∈ e0`` and
-    ``w_k ∈ w`` (§6.2). ``variant``: ``"tight"`` (default, the exact hull), ``"wrapped"``
-    (the thesis's numbers) or ``"naive"`` (4.15). ``steps``: an integer >= 0, bounded by the
-    memory of the result (about 16·n + 400 bytes per step, refused above half the machine's
-    memory before anything is computed)."""
+    """The boxes ``[e_0] … [e_steps]`` of ``e⁺ = A_o e + E w`` for every ``e_0 ∈ e0`` and ``w_k ∈ w`` (Methods › Interval observers › Error recursions).
+
+    Parameters
+    ----------
+    Ao : array_like, shape (n, n)
+        Error matrix.
+    E : array_like, shape (n, m)
+        Error-input matrix.
+    e0 : Box or (array_like, array_like)
+        Initial error box.
+    w : Box or (array_like, array_like)
+        The box of ``w``.
+    steps : int
+        Number of steps, ``>= 0`` (about 16·n + 400 bytes per step; refused above half the
+        machine's memory before anything is computed).
+    variant : {"tight", "wrapped", "naive"}, optional
+        The exact hull (default), the thesis's numbers, or the naive recursion (4.15), which
+        re-boxes at every step and may diverge.
+
+    Returns
+    -------
+    list of Box
+
+    Examples
+    --------
+    The wrapping effect: re-boxing at every step (``"naive"``) grows where the exact hull shrinks.
+
+    >>> c = 0.9 * np.sqrt(0.5)
+    >>> Ao, E = [[c, -c], [c, c]], np.zeros((2, 1))
+    >>> e0, w = setbound.Box([-1, -1], [1, 1]), setbound.Box([0.0], [0.0])
+    >>> tight = setbound.interval_error_recursion(Ao, E, e0, w, 6)
+    >>> naive = setbound.interval_error_recursion(Ao, E, e0, w, 6, variant="naive")
+    >>> bool(naive[-1].width.max() > 2 > tight[-1].width.max())
+    True
+    """
     steps = as_int(steps, "steps", lo=0, hi=INT_MAX - 1)  # steps + 1 boxes cross the C ABI
     variant_code = _variant(variant)
     Ao = as_f64(Ao, "Ao", ndim=2)
@@ -125,7 +155,29 @@ def interval_error_recursion(Ao, E, e0, w, steps: int, variant: str = "tight") -
 
 
 def interval_error_limit(Ao, E, w, variant: str = "tight") -> Box:
-    """The limit box ``[g] = Σ_{i≥0} A_o^i E [w]`` (tight) or ``Σ A_o^i (E[w])`` (wrapped)."""
+    """The limit box ``[g] = Σ_{i≥0} A_o^i E [w]`` (tight) or ``Σ A_o^i (E[w])`` (wrapped).
+
+    Parameters
+    ----------
+    Ao : array_like, shape (n, n)
+        Schur-stable error matrix.
+    E : array_like, shape (n, m)
+        Error-input matrix.
+    w : Box or (array_like, array_like)
+        The box of ``w``.
+    variant : {"tight", "wrapped"}, optional
+        Exact hull or the thesis's formula.
+
+    Returns
+    -------
+    Box
+
+    Examples
+    --------
+    >>> g = setbound.interval_error_limit([[0.5]], [[1.0]], setbound.Box([-1.0], [1.0]))
+    >>> print(np.round(g.lo, 9), np.round(g.hi, 9))  # 1 + 0.5 + 0.25 + ... = 2, rounded outward
+    [-2.] [2.]
+    """
     Ao = as_f64(Ao, "Ao", ndim=2)
     n = Ao.shape[0]
     E = as_f64(E, "E", ndim=2)
@@ -193,8 +245,29 @@ class _OnlineObserver(ReadingChecks, StateMixin):
 
     @run_from_initial_set
     def run(self, y, u=None, **kw) -> Trajectory:
-        """Processes rows ``y[k]`` (and ``u[k]``); row ``k`` of the result bounds ``x_k`` having
-        used ``y_0 … y_{k−1}`` (row 0 is the initial box)."""
+        """Process a record; row ``k`` bounds ``x_k`` having used ``y_0 … y_{k−1}`` (row 0 is the initial box).
+
+        Parameters
+        ----------
+        y : array_like, shape (N, n_y), or control.TimeResponseData
+            Measurements (NaN entries: missing outputs). A python-control ``TimeResponseData`` gives the
+            outputs, known inputs and time.
+        u : array_like, shape (N, n_u), optional
+            Known inputs.
+        reset : bool, optional
+            Start from the initial set (default). ``False`` continues from the current state, to process
+            a record in pieces. A failed run leaves the estimator as it was.
+        t : array_like, shape (N,), optional
+            Time of the rows (default: ``k·dt`` with the system's sampling time, else the step index).
+        **kw
+            Passed to each ``step`` (the nonlinear observer's ``h``).
+
+        Returns
+        -------
+        Trajectory
+            Row ``k`` is about ``x_k``; ``status``, ``margin`` and ``resets`` say what each step did
+            with each reading.
+        """
         p = self.plant
         y = as_f64(y, "y", ndim=2)
         N = y.shape[0]
@@ -219,12 +292,40 @@ class _OnlineObserver(ReadingChecks, StateMixin):
 
 @reconstructible
 class IntervalLuenbergerObserver(_OnlineObserver):
-    """§6.2: ``x̂⁺ = A x̂ + B u + L (y − C x̂)`` (4.9) and ``[x_k] = x̂_k + [e_k]`` (4.12) with the
-    tight (default) or wrapped error recursion. ``L=None``: the H∞ gain of LMI (4.13)
-    (then ``gamma`` and ``P`` are the design's). ``plant``: a :class:`~setbound.Plant` or a
-    :class:`~setbound.LinearSystem`; ``x0`` a box (or a zonotope or ellipsoid: its interval
-    hull), ``xhat0`` in it (default its centre), ``d``/``v`` the disturbance boxes
-    (``setbound.Box`` or ``(lo, hi)``; default the unit box)."""
+    """The interval Luenberger observer of [Loukkas2018] Chapter 4 (Methods › Interval observers › Interval Luenberger observer).
+
+    ``x̂⁺ = A x̂ + B u + L (y − C x̂)`` (4.9) and ``[x_k] = x̂_k + [e_k]`` (4.12) with the tight
+    (default) or wrapped error recursion.
+
+    Parameters
+    ----------
+    plant : Plant or LinearSystem
+        The plant.
+    x0 : Box, Zonotope or Ellipsoid
+        Initial set (its interval hull is used).
+    xhat0 : array_like, shape (n_x,), optional
+        Initial estimate in ``x0`` (default: its centre).
+    d, v : Box or (array_like, array_like), optional
+        Disturbance and noise boxes (default: the unit box).
+    L : array_like, shape (n_x, n_y), optional
+        Gain; ``None``: the H∞ gain of LMI (4.13) (then ``gamma`` and ``P`` are the design's).
+    variant : {"tight", "wrapped"}, optional
+        Error recursion: the exact interval hull, or the thesis's formula.
+    on_inconsistency : {"flag", "raise", "reset"}, optional
+        What a reading outside the predicted output set does (:mod:`setbound.measurement`):
+        skipped and flagged (default), an :class:`~setbound.errors.InconsistentMeasurementError`,
+        or a restart from ``reset_set``.
+    reset_set : optional
+        The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.5, 0.1], [0.0, 0.6]], [[1.0, 0.0]], Fd=0.1 * np.eye(2), Z=[[0.05]])
+    >>> obs = setbound.IntervalLuenbergerObserver(plant, setbound.Box([-1, -1], [1, 1]))
+    >>> traj = obs.run(np.zeros((4, 1)))
+    >>> bool(traj.contains(np.zeros((4, 2))).all())
+    True
+    """
 
     _prefix = "sb_interval_luenberger"
     _last_check_fn = lib.sb_interval_luenberger_last_check
@@ -269,8 +370,19 @@ class IntervalLuenbergerObserver(_OnlineObserver):
         return int(s[0])
 
     def step(self, y, u=None) -> Box:
-        """Uses ``y_k`` (and ``u_k``); returns the box of ``x_{k+1}``. On error the observer is
-        unchanged."""
+        """Use ``y_k`` (and ``u_k``); returns the box of ``x_{k+1}``. On error the observer is unchanged.
+
+        Parameters
+        ----------
+        y : array_like, shape (n_y,), or None
+            The measurement ``y_k`` (None or NaN entries: missing outputs).
+        u : array_like, shape (n_u,), optional
+            The input ``u_k``.
+
+        Returns
+        -------
+        Box
+        """
         y = self._y(y)
         _, up = self._u(u)
         xh, lo, hi = self._io()
@@ -283,14 +395,48 @@ HBox = Union[Box, Callable[[Box, int], Box]]
 
 @reconstructible
 class NonlinearIntervalObserver(_OnlineObserver):
-    """§6.6: ``x⁺ = A x + h(p, x, k) + B u``, ``y = C x + Z v``; the plant's ``F`` must be
-    ``I`` (``E = [I, −LZ]``). ``h`` is a :class:`~setbound.Box` (the thesis's constant
-    ``[h]``) or a callable ``h(x_box, k) -> Box`` returning an inclusion of ``h(p, x_k, k)``
-    for every ``x_k ∈ x_box`` and every admissible parameter. The error box stays the exact
-    tight hull when ``[h]_k`` varies: the last ``window`` radii are convolved with the powers
-    of ``A_o``; older ones are bounded by a certified geometric tail. ``window``: an integer
-    in [1, ``MAX_WINDOW``] (100000; the work per step grows with it); the window used is
-    ``min(window, K)``, K the number of stored powers of ``A_o`` (reported as ``.window``)."""
+    """The nonlinear interval observer of [Loukkas2018] §4.6 for ``x⁺ = A x + h(p, x, k) + B u``, ``y = C x + Z v`` (Methods › Interval observers › Nonlinear interval observer).
+
+    The plant's ``F`` must be ``I`` (``E = [I, −LZ]``). The error box stays the exact tight hull
+    when ``[h]_k`` varies: the last ``window`` radii are convolved with the powers of ``A_o``; older
+    ones are bounded by a certified geometric tail.
+
+    Parameters
+    ----------
+    plant : Plant
+        The linear part (``Fd`` the identity).
+    x0 : Box, Zonotope or Ellipsoid
+        Initial set.
+    xhat0 : array_like, shape (n_x,)
+        Initial estimate.
+    v : Box or (array_like, array_like), optional
+        Noise box (default: the unit box).
+    h : Box or callable, optional
+        The thesis's constant ``[h]``, or ``h(x_box, k) -> Box`` returning an inclusion of
+        ``h(p, x_k, k)`` for every ``x_k ∈ x_box`` and every admissible parameter.
+    L : array_like, optional
+        Gain (default: LMI (4.46)).
+    window : int, optional
+        In ``[1, MAX_WINDOW]`` (100000; the work per step grows with it); the window used is
+        ``min(window, K)``, K the number of stored powers of ``A_o`` (reported as ``.window``).
+    on_inconsistency : {"flag", "raise", "reset"}, optional
+        What a reading outside the predicted output set does (:mod:`setbound.measurement`):
+        skipped and flagged (default), an :class:`~setbound.errors.InconsistentMeasurementError`,
+        or a restart from ``reset_set``.
+    reset_set : optional
+        The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    A constant inclusion box ``[h] = [−0.1, 0.1]²``:
+
+    >>> plant = setbound.Plant([[0.3, -0.7], [0.6, -0.5]], [[1.0, 0.0]], Fd=np.eye(2), Z=[[1.0]])
+    >>> obs = setbound.NonlinearIntervalObserver(plant, setbound.Box([-1, -1], [1, 1]), [0.0, 0.0],
+    ...                                          v=setbound.Box([-0.1], [0.1]), h=setbound.Box([-0.1, -0.1], [0.1, 0.1]))
+    >>> traj = obs.run(np.zeros((4, 1)))
+    >>> bool(traj.in_bounds(np.zeros((4, 2))).all())
+    True
+    """
 
     _prefix = "sb_interval_nonlinear"
     _last_check_fn = lib.sb_interval_nonlinear_last_check
@@ -302,7 +448,7 @@ class NonlinearIntervalObserver(_OnlineObserver):
         p = self.plant = _plant(plant)
         if p.nd != p.nx or not np.array_equal(p.F, np.eye(p.nx)):
             raise InvalidArgumentError("plant.F: the nonlinear observer needs F = I (h enters the state directly, "
-                                       "E = [I, -L Z], thesis.md §6.6)")
+                                       "E = [I, -L Z], Methods › Interval observers › Nonlinear interval observer)")
         x0 = _box(x0, p.nx, "x0")
         v = _box(v if v is not None else (-np.ones(p.nv), np.ones(p.nv)), p.nv, "v")
         xh = as_f64(xhat0, "xhat0", shape=(p.nx,))
@@ -351,9 +497,24 @@ class NonlinearIntervalObserver(_OnlineObserver):
         return int(s[0])
 
     def step(self, y, u=None, h: HBox | None = None) -> Box:
-        """Uses ``y_k``, ``u_k`` and the inclusion box of ``h`` at step k (``h`` argument, else
-        the one given at construction: a Box or ``h(current_box, k)``). Returns the box of
-        ``x_{k+1}``; on error the observer is unchanged."""
+        """Use ``y_k``, ``u_k`` and the inclusion box of ``h`` at step ``k``; returns the box of ``x_{k+1}``.
+
+        On error the observer is unchanged.
+
+        Parameters
+        ----------
+        y : array_like, shape (n_y,), or None
+            The measurement ``y_k`` (None or NaN entries: missing outputs).
+        u : array_like, shape (n_u,), optional
+            The input ``u_k``.
+        h : Box, optional
+            The inclusion of ``h`` at this step (default: the one given at construction, a Box or
+            ``h(current_box, k)``).
+
+        Returns
+        -------
+        Box
+        """
         p = self.plant
         y = self._y(y)
         _, up = self._u(u)
@@ -373,13 +534,26 @@ class NonlinearIntervalObserver(_OnlineObserver):
 
 
 class InvariantObserverDesign(MadeByCall):
-    """The offline design of §6.3 (from :func:`offline_error_sequence`). Attributes: ``L``,
-    ``P``, ``E``, ``gamma`` (LMI 4.13), ``beta`` (A_oᵀPA_o ⪯ β²P), ``mu``, ``inflation``
-    (λ used), ``inflation_min`` (smallest λ with [e_0] ⊆ λΦ_0), ``epsilon`` (a radius),
-    ``k_star``, ``c_in``/``c_out`` (levels of Ψ̄⁺(μ), Ψ̄(μ)), ``sequence`` (list of the error
-    boxes [s_0..s_k*]; [s_k] = [s_k*] for k ≥ k*), ``lower``/``upper`` ((k*+1) × n arrays of
-    the same), ``shrinking_index`` (ρ(k), k = 0..k*) and ``phi0_vertices`` (n × p),
-    ``phi0_H``, ``phi0_b`` (Φ_0 = {x : Hx ≤ b})."""
+    """The offline design of the invariant-set interval observer (from :func:`offline_error_sequence`; Methods › Interval observers › Invariant-set observer).
+
+    Attributes: ``L``, ``P``, ``E``, ``gamma`` (LMI 4.13), ``beta`` (``A_oᵀPA_o ⪯ β²P``), ``mu``,
+    ``inflation`` (λ used), ``inflation_min`` (smallest λ with ``[e_0] ⊆ λΦ_0``), ``epsilon`` (a
+    radius), ``k_star``, ``c_in``/``c_out`` (levels of Ψ̄⁺(μ), Ψ̄(μ)), ``sequence`` (list of the
+    error boxes ``[s_0] … [s_k*]``; ``[s_k] = [s_k*]`` for k ≥ k*), ``lower``/``upper``
+    ((k*+1) × n arrays of the same), ``shrinking_index`` (ρ(k), k = 0..k*) and ``phi0_vertices``
+    (n × p), ``phi0_H``, ``phi0_b`` (``Φ_0 = {x : Hx ≤ b}``).
+
+    Parameters
+    ----------
+    handle : cffi pointer
+        The C design (made by :func:`offline_error_sequence`, not by users).
+    plant : Plant
+        The plant.
+    x0 : Box
+        Initial set.
+    xhat0 : ndarray
+        Initial estimate.
+    """
 
     def __init__(self, handle, plant: Plant, x0: Box, xhat0: np.ndarray):
         self._handle = handle
@@ -404,7 +578,17 @@ class InvariantObserverDesign(MadeByCall):
                                                     dptr(self.phi0_b)))
 
     def box_at(self, k: int) -> Box:
-        """The error box [s_k] (constant for k ≥ k*); ``k`` an integer >= 0."""
+        """The error box ``[s_k]`` (constant for ``k ≥ k*``).
+
+        Parameters
+        ----------
+        k : int
+            Step, ``>= 0``.
+
+        Returns
+        -------
+        Box
+        """
         return self.sequence[min(as_int(k, "k", lo=0, hi=None), self.k_star)]
 
     def __repr__(self) -> str:
@@ -415,12 +599,45 @@ class InvariantObserverDesign(MadeByCall):
 def offline_error_sequence(plant: Plant, x0, xhat0, d=None, v=None, *, L=None, P=None, gamma=None, mu: float = 2.0,
                            inflation: float | None = None, epsilon: float = 0.01,
                            variant: str = "tight") -> InvariantObserverDesign:
-    """§6.3 offline design. ``L=None``: the H∞ gain of LMI (4.13); otherwise ``L``, ``P`` and
-    ``gamma`` must satisfy (4.13) (checked). ``inflation=None``: the smallest λ ≥ 1 with
-    ``[e_0] ⊆ λΦ_0``. ``epsilon`` is a radius. ``variant``: interval part, ``"tight"`` or
-    ``"wrapped"`` (the thesis's Table 4.1 rows 1–2). Scalars: ``mu`` a finite number > 1,
-    ``inflation`` ``None`` or a finite number >= 1, ``epsilon`` a finite number > 0,
-    ``gamma`` a finite number > 0 (with a user ``L``)."""
+    """Offline design of the invariant-set interval observer (Methods › Interval observers › Invariant-set observer).
+
+    Parameters
+    ----------
+    plant : Plant or LinearSystem
+        The plant.
+    x0 : Box, Zonotope or Ellipsoid
+        Initial set.
+    xhat0 : array_like, shape (n_x,)
+        Initial estimate.
+    d, v : Box or (array_like, array_like), optional
+        Disturbance and noise boxes (default: the unit box).
+    L : array_like, optional
+        Gain; ``None``: the H∞ gain of LMI (4.13). Otherwise ``L``, ``P`` and ``gamma`` must
+        satisfy (4.13) (checked).
+    P : array_like, optional
+        Lyapunov matrix with a user ``L``.
+    gamma : float, optional
+        H∞ level with a user ``L`` (finite, > 0).
+    mu : float, optional
+        Expansion factor, finite and > 1.
+    inflation : float, optional
+        ``None``: the smallest λ ≥ 1 with ``[e_0] ⊆ λΦ_0``; else a finite number >= 1.
+    epsilon : float, optional
+        Stop radius (finite, > 0).
+    variant : {"tight", "wrapped"}, optional
+        Interval part (the thesis's Table 4.1 rows 1–2).
+
+    Returns
+    -------
+    InvariantObserverDesign
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.5, 0.1], [0.0, 0.6]], [[1.0, 0.0]], Fd=0.1 * np.eye(2), Z=[[0.05]])
+    >>> design = setbound.offline_error_sequence(plant, setbound.Box([-1, -1], [1, 1]), [0.0, 0.0])
+    >>> design.k_star >= 0, design.box_at(design.k_star + 5).subset(design.box_at(0))
+    (True, True)
+    """
     call = ((plant, x0, xhat0, d, v), dict(L=L, P=P, gamma=gamma, mu=mu, inflation=inflation, epsilon=epsilon,
                                             variant=variant))
     mu = as_float(mu, "mu", lo=1.0, lo_open=True)
@@ -453,8 +670,30 @@ def offline_error_sequence(plant: Plant, x0, xhat0, d=None, v=None, *, L=None, P
 
 @reconstructible
 class IntervalInvariantObserver(_OnlineObserver):
-    """§6.3 online: ``x̂⁺ = A x̂ + B u + L (y − C x̂) + E w_c`` (4.34) and the table look-up
-    ``[x_k] = x̂_k + [s_min(k, k*)]``."""
+    """The invariant-set interval observer of [Loukkas2018] §4.4 (Methods › Interval observers › Invariant-set observer).
+
+    ``x̂⁺ = A x̂ + B u + L (y − C x̂) + E w_c`` (4.34) and the table look-up
+    ``[x_k] = x̂_k + [s_min(k, k*)]`` of the offline error boxes.
+
+    Parameters
+    ----------
+    design : InvariantObserverDesign
+        The offline design (:func:`offline_error_sequence`).
+    on_inconsistency : {"flag", "raise", "reset"}, optional
+        What a reading outside the predicted output set does (:mod:`setbound.measurement`):
+        skipped and flagged (default), an :class:`~setbound.errors.InconsistentMeasurementError`,
+        or a restart from ``reset_set``.
+    reset_set : optional
+        The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.5, 0.1], [0.0, 0.6]], [[1.0, 0.0]], Fd=0.1 * np.eye(2), Z=[[0.05]])
+    >>> design = setbound.offline_error_sequence(plant, setbound.Box([-1, -1], [1, 1]), [0.0, 0.0])
+    >>> traj = setbound.IntervalInvariantObserver(design).run(np.zeros((4, 1)))
+    >>> bool(traj.in_bounds(np.zeros((4, 2))).all())
+    True
+    """
 
     _prefix = "sb_interval_invariant"
     _last_check_fn = lib.sb_interval_invariant_last_check
@@ -477,8 +716,21 @@ class IntervalInvariantObserver(_OnlineObserver):
         return int(s[0])
 
     def step(self, y, u=None) -> Box:
-        """Uses ``y_k`` (and ``u_k``); returns the box of ``x_{k+1}``. ``y`` None or NaN entries:
-        missing outputs (``last_check`` says what the step did with each output)."""
+        """Use ``y_k`` (and ``u_k``); returns the box of ``x_{k+1}``.
+
+        ``last_check`` says what the step did with each output.
+
+        Parameters
+        ----------
+        y : array_like, shape (n_y,), or None
+            The measurement ``y_k`` (None or NaN entries: missing outputs).
+        u : array_like, shape (n_u,), optional
+            The input ``u_k``.
+
+        Returns
+        -------
+        Box
+        """
         y = self._y(y)
         _, up = self._u(u)
         xh, lo, hi = self._io()

@@ -1,9 +1,9 @@
-"""Thesis Chapter 1 invariant sets (Loukkas 2018; spec thesis.md §3.3–3.6).
+"""Thesis Chapter 1 invariant sets (Loukkas 2018; Methods › Invariant sets).
 
 * :class:`Polytope` — a full-dimensional polytope with its vertices and its H-rep
   ``{x : H x <= b}`` (Qhull hulls in the C library).
 * :func:`ellipsoid_bounding_box` (1.40), :func:`expanded_ellipsoid_levels` (1.57–1.58),
-  :func:`polyhedral_rpi_between_ellipsoids` (§3.5), :func:`contraction_rate` (β),
+  :func:`polyhedral_rpi_between_ellipsoids` (Methods › Invariant sets), :func:`contraction_rate` (β),
   :func:`mrpi_outer_shrinking` (Algorithm 1, with a box-only variant).
 
 ``eps`` of Algorithm 1 is always a *radius*: the stop rule guarantees ``A^k Φ_0 ⊆ {‖x‖₂ ≤ eps}``
@@ -62,8 +62,21 @@ def _wrap(handle) -> "Polytope":
 
 
 class Polytope:
-    """Bounded full-dimensional convex polytope: ``vertices`` (p × n, one per row) and
-    ``{x : H x <= b}`` (unit-norm rows of ``H``)."""
+    """A bounded full-dimensional convex polytope, by its vertices and by ``{x : H x <= b}``.
+
+    ``vertices`` is (p × n), one per row; the rows of ``H`` have unit norm.
+
+    Parameters
+    ----------
+    points : array_like, shape (q, n)
+        Points whose convex hull is the polytope (they must span ℝⁿ).
+
+    Examples
+    --------
+    >>> P = setbound.Polytope([[0, 0], [1, 0], [0, 1]])
+    >>> P.contains([[0.2, 0.2], [1.0, 1.0]]).tolist()
+    [True, False]
+    """
 
     def __init__(self, points):
         pts = as_f64(points, "points", ndim=2)
@@ -74,12 +87,36 @@ class Polytope:
 
     @classmethod
     def from_vertices(cls, points) -> "Polytope":
-        """conv of the rows of ``points`` (they must span ℝⁿ)."""
+        """The convex hull of the rows of ``points`` (they must span ℝⁿ).
+
+        Parameters
+        ----------
+        points : array_like, shape (q, n)
+            The points.
+
+        Returns
+        -------
+        Polytope
+        """
         return cls(points)
 
     @classmethod
     def from_halfspaces(cls, H, b, interior) -> "Polytope":
-        """``{x : H x <= b}`` (bounded) with a point ``interior`` strictly inside."""
+        """The bounded polytope ``{x : H x <= b}``.
+
+        Parameters
+        ----------
+        H : array_like, shape (f, n)
+            Facet normals.
+        b : array_like, shape (f,)
+            Offsets.
+        interior : array_like, shape (n,)
+            A point strictly inside.
+
+        Returns
+        -------
+        Polytope
+        """
         Ha = as_f64(H, "H", ndim=2)
         m, n = Ha.shape
         ba = as_f64(b, "b", shape=(m,))
@@ -90,7 +127,22 @@ class Polytope:
 
     @classmethod
     def from_box(cls, box: Box) -> "Polytope":
-        """The box as a polytope (2n facets, 2^n vertices)."""
+        """A box as a polytope (2n facets, 2^n vertices).
+
+        Parameters
+        ----------
+        box : Box
+            The box.
+
+        Returns
+        -------
+        Polytope
+
+        Examples
+        --------
+        >>> setbound.Polytope.from_box(setbound.Box([0, 0], [1, 2])).vertices.shape
+        (4, 2)
+        """
         lo, hi = np.asarray(box.lo), np.asarray(box.hi)
         n = lo.size
         corners = np.array([[hi[i] if (k >> i) & 1 else lo[i] for i in range(n)] for k in range(1 << n)])
@@ -116,8 +168,19 @@ class Polytope:
     num_facets = property(lambda self: self._H.shape[0], doc="Number of facets (rows of H).")
 
     def contains(self, points, tol: float = 1e-9):
-        """``H x <= b + tol`` for one point (→ bool) or each row of a 2-D array (→ bool array);
-        ``tol`` a finite number >= 0."""
+        """Membership ``H x <= b + tol`` of a point or of each row of a batch.
+
+        Parameters
+        ----------
+        points : array_like, shape (n,) or (k, n)
+            One point or ``k`` points.
+        tol : float, optional
+            Tolerance, finite and >= 0.
+
+        Returns
+        -------
+        bool or ndarray of bool
+        """
         tol = as_float(tol, "tol", lo=0.0)
         p = as_f64(points, "points")
         single = p.ndim == 1
@@ -130,11 +193,33 @@ class Polytope:
         return bool(inside[0]) if single else inside.astype(bool)
 
     def contains_polytope(self, other: "Polytope", tol: float = 1e-9) -> bool:
-        """``other ⊆ self`` (every vertex of ``other`` in ``self``)."""
+        """Inclusion ``other ⊆ self`` (every vertex of ``other`` in ``self``).
+
+        Parameters
+        ----------
+        other : Polytope
+            The other polytope.
+        tol : float, optional
+            Tolerance, finite and >= 0.
+
+        Returns
+        -------
+        bool
+        """
         return bool(np.all(self.contains(other.vertices, tol)))
 
     def linear_map(self, M) -> "Polytope":
-        """The image M·P (vertices mapped, hull recomputed)."""
+        """The image ``M·P`` (vertices mapped, hull recomputed).
+
+        Parameters
+        ----------
+        M : array_like, shape (n, n)
+            The matrix.
+
+        Returns
+        -------
+        Polytope
+        """
         Ma = as_f64(M, "M", ndim=2)
         if Ma.shape[1] != self._n:
             raise DimensionError(f"M: expected {self._n} columns, got shape {Ma.shape}")
@@ -143,7 +228,24 @@ class Polytope:
         return _wrap(out[0])
 
     def minkowski_sum(self, other) -> "Polytope":
-        """``self ⊕ other`` for a Polytope or a Box."""
+        """The Minkowski sum ``self ⊕ other``.
+
+        Parameters
+        ----------
+        other : Polytope or Box
+            The other set.
+
+        Returns
+        -------
+        Polytope
+
+        Examples
+        --------
+        >>> P = setbound.Polytope.from_box(setbound.Box([0, 0], [1, 1]))
+        >>> S = P.minkowski_sum(setbound.Box([-1, -1], [1, 1]))
+        >>> bool(S.contains([1.9, -0.9]))
+        True
+        """
         out = ffi.new("sb_polytope**")
         if isinstance(other, Polytope):
             check(lib.sb_polytope_minkowski_sum(self._handle, other._handle, out))
@@ -159,7 +261,17 @@ class Polytope:
         return self.minkowski_sum(other)
 
     def scaled(self, a: float) -> "Polytope":
-        """The polytope a·P (``a`` a finite number)."""
+        """The polytope ``a·P``.
+
+        Parameters
+        ----------
+        a : float
+            Finite factor.
+
+        Returns
+        -------
+        Polytope
+        """
         out = ffi.new("sb_polytope**")
         check(lib.sb_polytope_scale(self._handle, as_float(a, "a"), out))
         return _wrap(out[0])
@@ -177,8 +289,17 @@ class Polytope:
         return r[0]
 
     def plot_data(self, dims=(0, 1)) -> np.ndarray:
-        """Closed polygon (rows, first = last) of the projection onto the coordinates ``dims``:
-        the 2-D convex hull of the projected vertices, counter-clockwise."""
+        """Closed polygon (rows, first = last) of the projection onto two coordinates, counter-clockwise.
+
+        Parameters
+        ----------
+        dims : (int, int), optional
+            The coordinates.
+
+        Returns
+        -------
+        ndarray, shape (q + 1, 2)
+        """
         i, j = _dims(dims)
         if not (0 <= i < self._n and 0 <= j < self._n and i != j):
             raise InvalidArgumentError(f"dims: two distinct coordinates in [0, {self._n}) required, got {dims}")
@@ -206,8 +327,31 @@ class Polytope:
 
 
 def ellipsoid_bounding_box(P, c, rho: float) -> Box:
-    """(1.40): the tightest box ``c ± sqrt(diag(rho P⁻¹))`` around ``{(x−c)ᵀP(x−c) <= rho}``
-    (rho > 0; outward rounded)."""
+    """The tightest box ``c ± sqrt(diag(rho P⁻¹))`` around ``{(x−c)ᵀP(x−c) <= rho}`` (thesis (1.40); outward rounded).
+
+    Methods › Invariant sets › Ellipsoid bounding box.
+
+    Parameters
+    ----------
+    P : array_like, shape (n, n)
+        Shape (symmetric positive definite).
+    c : array_like, shape (n,)
+        Centre.
+    rho : float
+        Level, > 0.
+
+    Returns
+    -------
+    Box
+
+    Examples
+    --------
+    The ellipse of [Loukkas2018] Example 1.3 (the box comes from ``P⁻¹``, not from ``P``):
+
+    >>> b = setbound.invariant.ellipsoid_bounding_box([[1.0, 1.0], [1.0, 4.0]], [0.0, 0.0], 1.0)
+    >>> print(np.round(b.hi, 6))
+    [1.154701 0.57735 ]
+    """
     rho = as_float(rho, "rho", lo=0.0, lo_open=True)
     Pa = _square(P, "P")
     n = Pa.shape[0]
@@ -218,7 +362,29 @@ def ellipsoid_bounding_box(P, c, rho: float) -> Box:
 
 
 def expanded_ellipsoid_levels(P, gamma: float, wbar_sq: float, mu: float) -> tuple[float, float]:
-    """(1.57)–(1.58): ``(c_in, c_out)`` of Ψ̄⁺(μ) and Ψ̄(μ); ``wbar_sq = w̄ᵀw̄``."""
+    """The levels ``(c_in, c_out)`` of the ellipsoids ``Ψ̄⁺(μ)`` and ``Ψ̄(μ)`` (thesis (1.57)–(1.58); Methods › Invariant sets › Polyhedral RPI set between ellipsoids).
+
+    Parameters
+    ----------
+    P : array_like, shape (n, n)
+        BRL matrix.
+    gamma : float
+        BRL level γ.
+    wbar_sq : float
+        ``w̄ᵀw̄``.
+    mu : float
+        Expansion factor, > 1.
+
+    Returns
+    -------
+    (float, float)
+
+    Examples
+    --------
+    >>> c_in, c_out = setbound.invariant.expanded_ellipsoid_levels(np.eye(2), 1.0, 1.0, 2.0)
+    >>> c_in < c_out
+    True
+    """
     Pa = _square(P, "P")
     ci, co = ffi.new("double*"), ffi.new("double*")
     check(lib.sb_expanded_ellipsoid_levels(Pa.shape[0], dptr(Pa), as_float(gamma, "gamma"), as_float(wbar_sq, "wbar_sq"),
@@ -227,9 +393,28 @@ def expanded_ellipsoid_levels(P, gamma: float, wbar_sq: float, mu: float) -> tup
 
 
 def polyhedral_rpi_between_ellipsoids(P, c_in: float, c_out: float, *, max_vertices: int | None = None) -> Polytope:
-    """§3.5: a polytope Φ with ``{xᵀPx <= c_in} ⊆ Φ ⊆ {xᵀPx <= c_out}`` (certified).
-    ``max_vertices``: ``None`` (the library's 10000) or an integer in [1, ``MAX_VERTICES``]
-    (1000000: the vertex enumeration's time and memory grow with it)."""
+    """A polytope ``Φ`` with ``{xᵀPx <= c_in} ⊆ Φ ⊆ {xᵀPx <= c_out}`` (certified; Methods › Invariant sets › Polyhedral RPI set between ellipsoids).
+
+    Parameters
+    ----------
+    P : array_like, shape (n, n)
+        Shape.
+    c_in, c_out : float
+        Levels, ``0 < c_in < c_out``.
+    max_vertices : int, optional
+        ``None`` (the library's 10000) or in ``[1, MAX_VERTICES]`` (1000000: the vertex
+        enumeration's time and memory grow with it).
+
+    Returns
+    -------
+    Polytope
+
+    Examples
+    --------
+    >>> Phi = setbound.invariant.polyhedral_rpi_between_ellipsoids(np.eye(2), 1.0, 2.0)
+    >>> bool(np.all(np.sum(Phi.vertices ** 2, axis=1) <= 2.0 + 1e-9))
+    True
+    """
     c_in, c_out = as_float(c_in, "c_in"), as_float(c_out, "c_out")
     maxv = 0 if max_vertices is None else as_int(max_vertices, "max_vertices", lo=1, hi=MAX_VERTICES)  # C: 0 = default
     Pa = _square(P, "P")
@@ -239,7 +424,24 @@ def polyhedral_rpi_between_ellipsoids(P, c_in: float, c_out: float, *, max_verti
 
 
 def contraction_rate(A, P) -> float:
-    """β: the smallest β with ``AᵀPA ≼ β²P`` (‖Ax‖_P ≤ β‖x‖_P)."""
+    """The smallest ``β`` with ``AᵀPA ≼ β²P`` (``‖Ax‖_P ≤ β‖x‖_P``).
+
+    Parameters
+    ----------
+    A : array_like, shape (n, n)
+        The matrix.
+    P : array_like, shape (n, n)
+        Symmetric positive definite weight.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> round(setbound.invariant.contraction_rate(0.5 * np.eye(2), np.eye(2)), 6)
+    0.5
+    """
     Aa = _square(A, "A")
     Pa = _square(P, "P", Aa.shape[0])
     beta = ffi.new("double*")
@@ -249,7 +451,31 @@ def contraction_rate(A, P) -> float:
 
 @dataclass
 class MrpiResult:
-    """Output of Algorithm 1 (index k = 0…k_star)."""
+    """Output of Algorithm 1 (index ``k = 0 … k_star``; Methods › Invariant sets › Algorithm 1).
+
+    Parameters
+    ----------
+    k_star : int
+        Last iteration.
+    beta : float
+        Contraction rate of ``A`` in the ``P`` norm.
+    boxes : list of Box
+        Exact, outward-rounded interval hulls of the ``Φ_k``.
+    sets : list of Polytope or None
+        The ``Φ_k`` (None for ``boxes_only``).
+    radius_bound : ndarray
+        ``β^k sqrt(c_out/λ_min(P))``.
+    vertex_radius : ndarray
+        ``max_v ‖A^k v‖`` over the vertices of ``Φ_0``.
+    shrinking_index : ndarray
+        ``β^k sqrt(μ λ_max(P)/λ_min(P))``.
+    phi0 : Polytope
+        The starting set.
+    P : ndarray, optional
+        BRL matrix (Algorithm 1 from the data only).
+    gamma, c_in, c_out, mu : float, optional
+        BRL level, ellipsoid levels and expansion factor (from the data only).
+    """
 
     k_star: int
     beta: float
@@ -305,7 +531,7 @@ def mrpi_outer_shrinking(A, E, wbar=None, *, eps: float, mu: float = 2.0, stop: 
                          phi0: Polytope | None = None, P=None, c_out: float | None = None,
                          delta: Box | None = None, boxes_only: bool = False,
                          max_iterations: int | None = None) -> MrpiResult:
-    """Algorithm 1: Φ_{k+1} = AΦ_k ⊕ EΔ until the stop rule holds.
+    """Algorithm 1 of [Loukkas2018]: ``Φ_{k+1} = AΦ_k ⊕ EΔ`` until the stop rule holds (Methods › Invariant sets › Algorithm 1).
 
     * From the data (``phi0`` None): BRL (1.48) → Φ_v between Ψ̄⁺(μ) and Ψ̄(μ) (μ > 1) → shrinking
       with ``Δ = [−wbar, wbar]``; the result also carries P, γ, c_in, c_out.
@@ -313,12 +539,47 @@ def mrpi_outer_shrinking(A, E, wbar=None, *, eps: float, mu: float = 2.0, stop: 
       Δ = ``delta`` (a Box containing 0) or ``[−wbar, wbar]``; ``mu`` only enters the
       shrinking index.
 
-    ``eps`` is a radius; ``stop`` is ``"radius"`` (β^k·sqrt(c_out/λ_min(P)) <= eps, rigorous),
-    ``"shrinking_index"`` (thesis Ex 1.5) or ``"vertex_norm"`` (max ‖A^k v‖ <= eps).
+    Parameters
+    ----------
+    A : array_like, shape (n, n)
+        Schur-stable matrix.
+    E : array_like, shape (n, m)
+        Disturbance matrix.
+    wbar : array_like, shape (m,), optional
+        Bounds of ``|w_i|``.
+    eps : float
+        Stop radius.
+    mu : float, optional
+        Expansion factor.
+    stop : {"radius", "shrinking_index", "vertex_norm"}, optional
+        ``β^k·sqrt(c_out/λ_min(P)) <= eps`` (rigorous), the thesis's shrinking index (Ex 1.5), or
+        ``max ‖A^k v‖ <= eps``.
+    phi0 : Polytope, optional
+        Starting set.
+    P : array_like, optional
+        Lyapunov/BRL matrix with ``phi0``.
+    c_out : float, optional
+        Level with ``phi0``.
+    delta : Box, optional
+        Disturbance box (containing 0).
+    boxes_only : bool, optional
+        Keep the interval hulls only (faster).
+    max_iterations : int, optional
+        ``None`` (the library's 500) or in ``[1, MAX_ITERATIONS]`` (100000; every iteration is a
+        Minkowski sum).
 
-    Scalars: ``eps`` and ``mu`` finite numbers (the library checks their ranges), ``c_out`` a
-    finite number, ``boxes_only`` a bool, ``max_iterations`` ``None`` (the library's 500) or an
-    integer in [1, ``MAX_ITERATIONS``] (100000; every iteration is a Minkowski sum).
+    Returns
+    -------
+    MrpiResult
+
+    Examples
+    --------
+    [Loukkas2018] Example 1.5 with the interval hulls only:
+
+    >>> res = setbound.invariant.mrpi_outer_shrinking([[0.2, 0.2], [-0.2, 0.5]], [[0.0], [1.0]], [1.0],
+    ...                                               eps=1e-3, boxes_only=True)
+    >>> bool(res.boxes[-1].subset(res.boxes[0])), res.k_star > 0
+    (True, True)
     """
     stop = as_choice(stop, "stop", _STOP_RULES)
     eps = as_float(eps, "eps")

@@ -38,8 +38,36 @@ STATUS_NAMES = {
 
 @dataclass
 class LmiResult:
-    """Result of a solve. For ``"infeasible"``, ``x`` is NaN and ``Z``/``y`` hold the
-    certificate (``Z_b ⪰ 0``, ``Σ tr(F_b0 Z_b) + beq·y = −1``, ``tr(F_bi Z) = (Aeqᵀy)_i``)."""
+    """Result of a solve.
+
+    For ``"infeasible"``, ``x`` is NaN and ``Z``/``y`` hold the certificate (``Z_b ⪰ 0``,
+    ``Σ tr(F_b0 Z_b) + beq·y = −1``, ``tr(F_bi Z) = (Aeqᵀy)_i``).
+
+    Parameters
+    ----------
+    status : str
+        ``"optimal"``, ``"infeasible"``, ``"unbounded"``, ``"max_iterations"``,
+        ``"numerical_error"`` or ``"inaccurate"``.
+    x : ndarray
+        The point (NaN when infeasible).
+    objective : float
+        Primal objective at ``x``.
+    iterations : int
+        Interior-point iterations.
+    margin : float
+        Verified margin of ``x``: every block minus ``margin·I`` has a Cholesky factor (negative:
+        ``x`` is not feasible).
+    solve_time : float
+        Seconds.
+    dual_objective, gap, relative_gap : float, optional
+        Dual objective and duality gaps.
+    primal_residual, dual_residual : float, optional
+        Relative residuals.
+    Z : list of ndarray, optional
+        Dual matrices of the blocks.
+    y : ndarray, optional
+        Dual variables of the equalities.
+    """
 
     status: str
     x: np.ndarray
@@ -85,8 +113,27 @@ MAX_THREADS = 256
 
 
 class Problem(ThreadSafe):
-    """A reusable LMI problem: set up once, then update values and re-solve. One problem may be
-    shared by threads: each call runs under the problem's own lock (:class:`setbound._state.ThreadSafe`)."""
+    """A reusable LMI problem: set up once, then update values and re-solve.
+
+    One problem may be shared by threads: each call runs under the problem's own lock.
+
+    Parameters
+    ----------
+    num_vars : int
+        Number of scalar decision variables.
+
+    Examples
+    --------
+    Minimise ``x`` subject to ``[[x, 1], [1, 1]] ⪰ 0`` (that is ``x >= 1``):
+
+    >>> p = setbound.lmi.Problem(1)
+    >>> p.set_objective([1.0])
+    >>> p.add_block([[0.0, 1.0], [1.0, 1.0]], [[[1.0, 0.0], [0.0, 0.0]]])
+    0
+    >>> r = p.solve()
+    >>> r.status, round(float(r.x[0]), 4)
+    ('optimal', 1.0)
+    """
 
     def __init__(self, num_vars: int):
         """``num_vars``: the number of scalar decision variables, an integer in
@@ -108,13 +155,31 @@ class Problem(ThreadSafe):
 
     # --- set-up ------------------------------------------------------------------------
     def set_objective(self, c) -> None:
-        """Sets the linear objective cᵀx (``c``: num_vars entries)."""
+        """Set the linear objective ``cᵀx``.
+
+        Parameters
+        ----------
+        c : array_like, shape (num_vars,)
+            Objective coefficients.
+        """
         ca = as_f64(c, "c", shape=(self.num_vars,))
         check(lib.sb_lmi_set_objective(self._h, dptr(ca)))
 
     def add_block(self, F0, Fs) -> int:
-        """Adds the block F0 + Σ_i x_i Fs[i] ⪰ 0 (``F0`` n × n, ``Fs`` num_vars × n × n, symmetric);
-        returns its index."""
+        """Add the block ``F0 + Σ_i x_i Fs[i] ⪰ 0``.
+
+        Parameters
+        ----------
+        F0 : array_like, shape (n, n)
+            Constant term (symmetric).
+        Fs : array_like, shape (num_vars, n, n)
+            Coefficient of each variable (symmetric).
+
+        Returns
+        -------
+        int
+            The index of the block (for :meth:`update_block`).
+        """
         F0a, Fsa, n = _block_arrays(F0, Fs, self.num_vars, "block")
         idx = ffi.new("int*")
         check(lib.sb_lmi_add_block(self._h, n, dptr(F0a), dptr(Fsa), idx))
@@ -122,7 +187,17 @@ class Problem(ThreadSafe):
         return int(idx[0])
 
     def update_block(self, index: int, F0, Fs) -> None:
-        """Replace the values of a block (no re-analysis of the structure)."""
+        """Replace the values of a block (no re-analysis of the structure).
+
+        Parameters
+        ----------
+        index : int
+            Index returned by :meth:`add_block`.
+        F0 : array_like, shape (n, n)
+            New constant term.
+        Fs : array_like, shape (num_vars, n, n)
+            New coefficients.
+        """
         index = as_int(index, "index", lo=None)
         if not 0 <= index < len(self._sizes):
             raise InvalidArgumentError(f"index: block {index} out of range [0, {len(self._sizes)})")
@@ -132,7 +207,15 @@ class Problem(ThreadSafe):
         check(lib.sb_lmi_update_block(self._h, int(index), n, dptr(F0a), dptr(Fsa)))
 
     def set_logdet(self, G0, Gs) -> None:
-        """Objective term ``-log det(G0 + Σ x_i Gs[i])``; ``None`` removes it."""
+        """Set the objective term ``-log det(G0 + Σ x_i Gs[i])``; ``None`` removes it.
+
+        Parameters
+        ----------
+        G0 : array_like, shape (n, n) or None
+            Constant term.
+        Gs : array_like, shape (num_vars, n, n) or None
+            Coefficients.
+        """
         if G0 is None:
             check(lib.sb_lmi_set_logdet(self._h, 0, ffi.NULL, ffi.NULL))
             return
@@ -140,7 +223,15 @@ class Problem(ThreadSafe):
         check(lib.sb_lmi_set_logdet(self._h, n, dptr(G0a), dptr(Gsa)))
 
     def set_equalities(self, Aeq, beq) -> None:
-        """Sets the equality constraints Aeq x = beq."""
+        """Set the equality constraints ``Aeq x = beq``.
+
+        Parameters
+        ----------
+        Aeq : array_like, shape (q, num_vars)
+            Constraint matrix.
+        beq : array_like, shape (q,)
+            Right-hand side.
+        """
         A = as_f64(Aeq, "Aeq", ndim=2)
         if A.shape[1] != self.num_vars:
             raise DimensionError(f"Aeq: expected {self.num_vars} columns, got shape {A.shape}")
@@ -149,24 +240,31 @@ class Problem(ThreadSafe):
         self._neq = A.shape[0]
 
     def set_options(self, *, tol=None, max_iter=None, feas=None, time_limit=None, threads=None) -> None:
-        """Solver options; ``None`` is the library default (a value given earlier is reset to it,
-        except ``threads``, which keeps its last value).
+        """Solver options; ``None`` is the library default.
 
-        * ``tol``: relative duality gap in (0, 0.1] (default 1e-7; ``feas`` then defaults to tol/10).
-        * ``max_iter``: iterations, an integer in [1, 100000] (default 100; an interior-point
-          solve converges in a few dozen, the bound keeps a typo from running for hours).
-        * ``feas``: relative residual of the solution and of the infeasibility/unboundedness
-          certificates, in (0, 0.01] (default 1e-8). The certificates are accepted when their
-          residual is below ``feas`` times their objective, so a larger value would certify
-          any iterate (``feas=1e300`` reported "unbounded" for a bounded problem).
-        * ``time_limit``: seconds, a finite number > 0 (default 30).
-        * ``threads``: threads over the blocks inside each solve, an integer in [1, 256]
-          (default 1; see :func:`threads_available`); worth it from a few dozen blocks, and
-          the results agree with the serial solve to rounding.
+        A value given earlier is reset to the default by ``None``, except ``threads``, which keeps its
+        last value. Values that are not numbers, ``bool``, NaN, ±Inf or out of range raise
+        InvalidArgumentError naming the option (before anything changes); ``0`` or negative values are
+        errors, not "default" (pass ``None``).
 
-        Values that are not numbers, ``bool``, NaN, ±Inf or out of range raise
-        InvalidArgumentError naming the option (before anything changes); ``0`` or negative
-        values are errors, not "default" (pass ``None``)."""
+        Parameters
+        ----------
+        tol : float, optional
+            Relative duality gap in (0, 0.1] (default 1e-7; ``feas`` then defaults to tol/10).
+        max_iter : int, optional
+            Iterations, in [1, 100000] (default 100; an interior-point solve converges in a few dozen,
+            the bound keeps a typo from running for hours).
+        feas : float, optional
+            Relative residual of the solution and of the infeasibility/unboundedness certificates, in
+            (0, 0.01] (default 1e-8). The certificates are accepted when their residual is below
+            ``feas`` times their objective, so a larger value would certify any iterate.
+        time_limit : float, optional
+            Seconds, finite and > 0 (default 30).
+        threads : int, optional
+            Threads over the blocks inside each solve, in [1, 256] (default 1; see
+            :func:`threads_available`); worth it from a few dozen blocks, and the results agree with
+            the serial solve to rounding.
+        """
         tol = None if tol is None else as_float(tol, "tol", lo=0.0, hi=MAX_TOL, lo_open=True)
         max_iter = None if max_iter is None else as_int(max_iter, "max_iter", lo=1, hi=MAX_ITER)
         feas = None if feas is None else as_float(feas, "feas", lo=0.0, hi=MAX_FEAS, lo_open=True)
@@ -183,9 +281,19 @@ class Problem(ThreadSafe):
 
     # --- solving -----------------------------------------------------------------------
     def solve(self, *, feasibility: bool = False, duals: bool = True) -> LmiResult:
-        """Solve (maxdet if a log-det term is set). ``feasibility=True`` stops at the first
-        certified strictly feasible point. ``duals=False`` skips copying the dual matrices
-        (fastest path for repeated solves). Both are bools (not 0/1)."""
+        """Solve the problem (maxdet if a log-det term is set).
+
+        Parameters
+        ----------
+        feasibility : bool, optional
+            Stop at the first certified strictly feasible point.
+        duals : bool, optional
+            Copy the dual matrices into the result (``False``: fastest path for repeated solves).
+
+        Returns
+        -------
+        LmiResult
+        """
         feasibility = as_bool(feasibility, "feasibility")
         duals = as_bool(duals, "duals")
         cls = lib.SB_LMI_CLASS_FEASIBILITY if feasibility else lib.SB_LMI_CLASS_AUTO
@@ -226,20 +334,42 @@ class Problem(ThreadSafe):
         return Zs
 
     def margin(self, x) -> float:
-        """Verified margin of the point ``x``."""
+        """Verified margin of a point (negative: the point is not feasible).
+
+        Parameters
+        ----------
+        x : array_like, shape (num_vars,)
+            The point.
+
+        Returns
+        -------
+        float
+        """
         xa = as_f64(x, "x", shape=(self.num_vars,))
         out = ffi.new("double*")
         check(lib.sb_lmi_margin(self._h, dptr(xa), out))
         return float(out[0])
 
     def gevp(self, A, B, *, lambda_lo=0.0, lambda_hi=1.0, tol=1e-6) -> tuple[float, LmiResult]:
-        """Minimise λ s.t. λB(x) − A(x) ⪰ 0, B(x) ≻ 0 and this problem's blocks; ``A`` and
-        ``B`` are pairs ``(M0, Ms)``. Returns ``(λ, result)``; ``result.x`` is a certified
-        point at λ and ``result.dual_objective`` a certified-infeasible lower value.
+        """Minimise λ subject to ``λB(x) − A(x) ⪰ 0``, ``B(x) ≻ 0`` and this problem's blocks.
 
-        ``lambda_lo`` < ``lambda_hi``: finite numbers bracketing λ. ``tol``: relative bisection
-        tolerance in [1e-12, 0.1] (the bisection stops at ``tol·max(1, |λ|)``; below about
-        1e-15 that width is under one rounding step of λ and the bisection would never stop)."""
+        Parameters
+        ----------
+        A, B : (array_like, array_like)
+            Pairs ``(M0, Ms)`` of affine matrix functions, as in :meth:`add_block`.
+        lambda_lo, lambda_hi : float, optional
+            Finite numbers bracketing λ, ``lambda_lo < lambda_hi``.
+        tol : float, optional
+            Relative bisection tolerance in [1e-12, 0.1] (the bisection stops at ``tol·max(1, |λ|)``).
+
+        Returns
+        -------
+        lam : float
+            The smallest λ found.
+        result : LmiResult
+            ``result.x`` is a certified point at λ and ``result.dual_objective`` a
+            certified-infeasible lower value.
+        """
         lambda_lo = as_float(lambda_lo, "lambda_lo")
         lambda_hi = as_float(lambda_hi, "lambda_hi")
         if not lambda_lo < lambda_hi:
@@ -268,10 +398,35 @@ def solve(
     max_iter: int | None = None,
     threads: int | None = None,
 ) -> LmiResult:
-    """Minimise ``c @ x`` (− log det G(x) with ``logdet=(G0, Gs)``) subject to
+    """Solve one LMI problem (one-shot form of :class:`Problem`).
+
+    Minimise ``c @ x`` (− log det G(x) with ``logdet=(G0, Gs)``) subject to
     ``F0 + Σ x_i Fs[i] ⪰ 0`` for every ``(F0, Fs)`` in ``blocks`` and ``Aeq x = beq`` for
-    ``eq=(Aeq, beq)``. ``tol``, ``max_iter``, ``threads``: as :meth:`Problem.set_options`
-    (checked before the problem is built)."""
+    ``eq=(Aeq, beq)``.
+
+    Parameters
+    ----------
+    c : array_like, shape (num_vars,)
+        Linear objective.
+    blocks : sequence of (array_like, array_like)
+        The LMI blocks ``(F0, Fs)``.
+    logdet : (array_like, array_like), optional
+        ``(G0, Gs)`` of a ``-log det`` objective term.
+    eq : (array_like, array_like), optional
+        ``(Aeq, beq)``.
+    tol, max_iter, threads : optional
+        As :meth:`Problem.set_options` (checked before the problem is built).
+
+    Returns
+    -------
+    LmiResult
+
+    Examples
+    --------
+    >>> r = setbound.lmi.solve([1.0], [([[0.0, 1.0], [1.0, 1.0]], [[[1.0, 0.0], [0.0, 0.0]]])])
+    >>> r.status, round(float(r.x[0]), 4)
+    ('optimal', 1.0)
+    """
     tol = None if tol is None else as_float(tol, "tol", lo=0.0, hi=MAX_TOL, lo_open=True)
     max_iter = None if max_iter is None else as_int(max_iter, "max_iter", lo=1, hi=MAX_ITER)
     threads = None if threads is None else as_int(threads, "threads", lo=1, hi=MAX_THREADS)

@@ -39,10 +39,18 @@ POLICIES = {"flag": lib.SB_ON_INCONSISTENCY_FLAG, "raise": lib.SB_ON_INCONSISTEN
 
 @dataclass(frozen=True)
 class MeasurementCheck:
-    """What one step did with each output: ``status`` (n_y ints: :data:`USED`, :data:`MISSING`,
-    :data:`INCONSISTENT`, :data:`UNUSED`), ``margin`` (n_y floats, see the module docstring) and
-    ``reset`` (the step restarted from the reset set; statuses and margins are then those of
-    the test that triggered it)."""
+    """What one step did with each output.
+
+    Parameters
+    ----------
+    status : ndarray of int, shape (n_y,)
+        :data:`USED`, :data:`MISSING`, :data:`INCONSISTENT` or :data:`UNUSED` per output.
+    margin : ndarray, shape (n_y,)
+        The margin of each reading (see the module docstring).
+    reset : bool, optional
+        The step restarted from the reset set; statuses and margins are then those of the test
+        that triggered it.
+    """
 
     status: np.ndarray
     margin: np.ndarray
@@ -70,7 +78,19 @@ class MeasurementCheck:
 
 
 def measurement_or_missing(y, ny: int):
-    """``y`` itself, or ``n_y`` NaN (every output missing) when ``y`` is None."""
+    """``y`` itself, or ``n_y`` NaN (every output missing) when ``y`` is None.
+
+    Parameters
+    ----------
+    y : array_like or None
+        A measurement.
+    ny : int
+        Number of outputs.
+
+    Returns
+    -------
+    array_like
+    """
     return np.full(ny, np.nan) if y is None else y
 
 

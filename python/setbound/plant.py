@@ -1,4 +1,4 @@
-"""The plant of the thesis methods (thesis.md §2), in the thesis's own letters.
+"""The plant of the thesis methods (Methods › H∞ set-membership observers › Model), in the thesis's own letters.
 
 ``x⁺ = A x + B u + F d``, ``y = C x + Z v``, ``w = (d, v)`` with ``m = n_d + n_v``. The
 thesis's ``F`` (state disturbance) is passed as ``Fd=`` so it cannot be confused with
@@ -31,10 +31,34 @@ def _finite(a: np.ndarray, name: str) -> np.ndarray:
 
 
 class Plant:
-    """``x⁺ = A x + B u + F d``, ``y = C x + Z v`` (thesis.md §2), with the thesis's ``F`` given
-    as ``Fd=``. ``B``, ``Fd`` or ``Z`` may be omitted (no input, no state disturbance, no
-    measurement noise). ``dt``: the sampling time (None: unknown; results are then indexed by
-    the step), kept from a converted ``LinearSystem``."""
+    """The thesis's plant ``x⁺ = A x + B u + F d``, ``y = C x + Z v``, ``d`` and ``v`` bounded.
+
+    The thesis's ``F`` is given as ``Fd=`` (Methods › H∞ set-membership observers › Model).
+
+    Parameters
+    ----------
+    A : array_like, shape (n_x, n_x)
+        State matrix.
+    C : array_like, shape (n_y, n_x)
+        Output matrix.
+    B : array_like, shape (n_x, n_u), optional
+        Input matrix (default: no input).
+    Fd : array_like, shape (n_x, n_d), optional
+        State-disturbance matrix (default: none).
+    Z : array_like, shape (n_y, n_v), optional
+        Measurement-noise matrix (default: none).
+    dt : float, optional
+        Sampling time (None: unknown; results are then indexed by the step), kept from a converted
+        ``LinearSystem``.
+    **wrong
+        Refused: ``F=`` gets a message pointing to ``Fd=``; any other keyword is a TypeError.
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.2, 0.2], [0.0, 0.5]], [[1.0, 0.0]], B=[[1.0], [1.0]], Fd=[[0.0], [0.1]], Z=[[0.1]])
+    >>> plant.nx, plant.ny, plant.nd, plant.nv
+    (2, 1, 1, 1)
+    """
 
     def __init__(self, A, C, *, B=None, Fd=None, Z=None, dt=None, **wrong):
         if "F" in wrong:
@@ -75,15 +99,37 @@ class Plant:
     m = property(lambda self: self.F.shape[1] + self.Z.shape[1], doc="nd + nv, the length of the stacked uncertainty.")
 
     def error_input(self, L) -> np.ndarray:
-        """``E = [F, −L Z]`` (n_x × m)."""
+        """The error-input matrix ``E = [F, −L Z]`` of the observer error ``e⁺ = (A − LC) e + E [d; v]``.
+
+        Parameters
+        ----------
+        L : array_like, shape (n_x, n_y)
+            Observer gain.
+
+        Returns
+        -------
+        ndarray, shape (n_x, n_d + n_v)
+        """
         L = as_f64(L, "L", shape=(self.nx, self.ny))
         return np.hstack([self.F, -L @ self.Z])
 
     @classmethod
     def from_linear_system(cls, system) -> "Plant":
-        """A :class:`~setbound.LinearSystem` whose ω components each drive either the state
-        (column of ``E``) or the output (column of ``F``), not both: ``d`` = the state columns,
-        ``v`` = the output columns, each bounded by the unit box."""
+        """The plant of a :class:`~setbound.system.LinearSystem`.
+
+        Each ω component must drive either the state (a column of ``E``) or the output (a column of
+        ``F``), not both: ``d`` = the state columns, ``v`` = the output columns, each bounded by the
+        unit box.
+
+        Parameters
+        ----------
+        system : LinearSystem
+            The system to convert.
+
+        Returns
+        -------
+        Plant
+        """
         E, Fo = np.asarray(system.E), np.asarray(system.F)
         if system.uncertain_A:
             raise DimensionError("system: the thesis plant has a known A (no interval A)")
@@ -110,10 +156,29 @@ class Plant:
 
 
 def as_plant(system) -> Plant:
-    """The thesis plant of ``system``: a :class:`Plant` unchanged; a :class:`~setbound.LinearSystem`
-    or a python-control ``StateSpace`` (see :func:`setbound.system.as_system`) converted by
+    """The thesis plant of ``system``.
+
+    A :class:`Plant` is returned unchanged; a :class:`~setbound.system.LinearSystem` or a
+    python-control ``StateSpace`` (see :func:`setbound.system.as_system`) is converted by
     :meth:`Plant.from_linear_system` (unit-box ``d`` and ``v``); anything else, or a system that
-    cannot be converted, is an error naming the argument (``plant``) and the reason."""
+    cannot be converted, is an error naming the argument (``plant``) and the reason.
+
+    Parameters
+    ----------
+    system : Plant, LinearSystem or control.StateSpace
+        The system.
+
+    Returns
+    -------
+    Plant
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.5]], C=[[1.0]], E=[[0.1, 0.0]], F=[[0.0, 0.2]])
+    >>> p = setbound.plant.as_plant(sys)
+    >>> p.nd, p.nv
+    (1, 1)
+    """
     name = "plant"
     if isinstance(system, Plant):
         return system

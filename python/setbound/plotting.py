@@ -175,7 +175,36 @@ def _components(components, n: int) -> list[int]:
 def plot_bounds(trajectories, names=None, *, x_true=None, t=None, components=None, title=None, figsize=None):
     """One panel per state component: the bounds ``[lower, upper]`` of every trajectory (a filled
     tube for the first, lines for the others) and the true state when given (``x_true``,
-    N × n_x). Non-guaranteed results (Kalman) are drawn dotted and marked ``(not guaranteed)``."""
+    N × n_x). Non-guaranteed results (Kalman) are drawn dotted and marked ``(not guaranteed)``.
+
+    Parameters
+    ----------
+    trajectories : Trajectory, sequence or dict of Trajectory
+        The results (a dict maps names to trajectories).
+    names : sequence of str, optional
+        Legend names (default: the dict keys, or ``estimate 0 …``).
+    x_true : ndarray, shape (N, n_x), optional
+        True states.
+    t : array_like, shape (N,), optional
+        Time axis (default: the trajectories' ``times``).
+    components : sequence of int, optional
+        Components drawn (default: all).
+    title : str, optional
+        Figure title.
+    figsize : (float, float), optional
+        Size in inches.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> traj = setbound.Trajectory(np.zeros((3, 1)), -np.ones((3, 1)), np.ones((3, 1)))
+    >>> fig = setbound.plotting.plot_bounds({"box": traj})
+    >>> len(fig.axes)
+    1
+    """
     title, figsize = _title(title), _figsize(figsize)
     items = _items(trajectories, names)
     N, n = items[0][1].center.shape
@@ -216,7 +245,37 @@ def plot_widths(trajectories, names=None, *, reference=None, t=None, components=
     """Bound widths ``upper − lower`` over time, one panel per component. With ``reference`` (the
     name of one of the trajectories) each width is divided by the reference's width at the same
     step (a value below 1 is tighter than the reference); the reference itself is then a line at 1.
-    ``log`` defaults to a log scale for absolute widths."""
+    ``log`` defaults to a log scale for absolute widths.
+
+    Parameters
+    ----------
+    trajectories : Trajectory, sequence or dict of Trajectory
+        The results (a dict maps names to trajectories).
+    names : sequence of str, optional
+        Legend names (default: the dict keys, or ``estimate 0 …``).
+    reference : str, optional
+        Name of the reference trajectory.
+    t : array_like, shape (N,), optional
+        Time axis.
+    components : sequence of int, optional
+        Components drawn.
+    log : bool, optional
+        Log scale (default: for absolute widths).
+    title : str, optional
+        Figure title.
+    figsize : (float, float), optional
+        Size in inches.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> traj = setbound.Trajectory(np.zeros((3, 1)), -np.ones((3, 1)), np.ones((3, 1)))
+    >>> len(setbound.plotting.plot_widths({'box': traj}).axes)
+    1
+    """
     title, figsize = _title(title), _figsize(figsize)
     log = None if log is None else as_bool(log, "log")
     items = _items(trajectories, names)
@@ -263,7 +322,27 @@ def plot_widths(trajectories, names=None, *, reference=None, t=None, components=
 
 def plot_volume(trajectories, names=None, *, t=None, log=True, title=None, figsize=(6.0, 3.6)):
     """The volume of each trajectory's sets over time (trajectories without sets, such as the
-    Kalman filter's, are skipped; NaN volumes leave gaps)."""
+    Kalman filter's, are skipped; NaN volumes leave gaps).
+
+    Parameters
+    ----------
+    trajectories : Trajectory, sequence or dict of Trajectory
+        The results (a dict maps names to trajectories).
+    names : sequence of str, optional
+        Legend names (default: the dict keys, or ``estimate 0 …``).
+    t : array_like, shape (N,), optional
+        Time axis.
+    log : bool, optional
+        Log scale.
+    title : str, optional
+        Figure title.
+    figsize : (float, float), optional
+        Size in inches.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     title, figsize = _title(title), _figsize(figsize)
     log = as_bool(log, "log")
     items = _items(trajectories, names)
@@ -317,7 +396,24 @@ def plot_margins(trajectories, names=None, *, fault_start=None, title=None, figs
 def zonotope_polygon(center, generators) -> np.ndarray:
     """The exact vertices (counter-clockwise, K × 2) of the 2-D zonotope ``center ⊕ G B^m``
     (``G`` 2 × m): generators turned into the upper half-plane and sorted by angle, the
-    boundary is the walk ``c − Σg, +2g₁, +2g₂, …, −2g₁, −2g₂, …``."""
+    boundary is the walk ``c − Σg, +2g₁, +2g₂, …, −2g₁, −2g₂, …``.
+
+    Parameters
+    ----------
+    center : array_like, shape (2,)
+        Centre.
+    generators : array_like, shape (2, m)
+        Generators.
+
+    Returns
+    -------
+    ndarray, shape (K, 2)
+
+    Examples
+    --------
+    >>> setbound.plotting.zonotope_polygon([0, 0], [[1, 0], [0, 1]]).tolist()
+    [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+    """
     c = np.asarray(center, dtype=float).ravel()
     G = np.asarray(generators, dtype=float).reshape(2, -1)
     if c.shape != (2,):
@@ -337,7 +433,31 @@ def zonotope_polygon(center, generators) -> np.ndarray:
 def ellipse_points(P, center, rho, dims=(0, 1), n: int = 200) -> np.ndarray:
     """Boundary points (n × 2) of the projection onto ``dims`` of ``E(P, c, ρ) = {x : (x−c)ᵀP(x−c) ≤ ρ}``:
     the ellipse with shape matrix ``ρ (P⁻¹)[dims, dims]``. ``rho`` a finite number >= 0, ``n`` an
-    integer in [2, ``MAX_POINTS``], ``dims`` a pair of indices."""
+    integer in [2, ``MAX_POINTS``], ``dims`` a pair of indices.
+
+    Parameters
+    ----------
+    P : array_like, shape (n, n)
+        Shape.
+    center : array_like, shape (n,)
+        Centre.
+    rho : float
+        Level.
+    dims : (int, int), optional
+        Projected coordinates.
+    n : int, optional
+        Number of points.
+
+    Returns
+    -------
+    ndarray, shape (n, 2)
+
+    Examples
+    --------
+    >>> pts = setbound.plotting.ellipse_points(np.eye(2), [0.0, 0.0], 4.0, n=8)
+    >>> bool(np.allclose(np.hypot(pts[:, 0], pts[:, 1]), 2.0))
+    True
+    """
     rho = as_float(rho, "rho", lo=0.0)
     n = as_int(n, "n", lo=2, hi=MAX_POINTS)
     dims = list(_index_pair(dims))
@@ -366,7 +486,28 @@ def _set_outline(s, dims, lo=None, hi=None) -> np.ndarray | None:
 
 def measurement_strips(system, y, u=None):
     """The strips ``{x : |c_iᵀx + d_iᵀu − y_i| ≤ φ_i}`` of one measurement ``y`` (``φ_i = Σ_j |F_ij|``,
-    the output noise bound of ω in the unit box), as ``(C, lower, upper)``: ``lower ≤ C x ≤ upper``."""
+    the output noise bound of ω in the unit box), as ``(C, lower, upper)``: ``lower ≤ C x ≤ upper``.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model.
+    y : array_like, shape (n_y,)
+        One measurement.
+    u : array_like, shape (n_u,), optional
+        Input.
+
+    Returns
+    -------
+    C, lower, upper : ndarray
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[1.0, 0.0], [0.0, 1.0]], C=[[1.0, 0.0]], E=[[0.0], [0.0]], F=[[0.5]])
+    >>> C, lo, hi = setbound.plotting.measurement_strips(sys, [2.0])
+    >>> lo.tolist(), hi.tolist()
+    ([1.5], [2.5])
+    """
     C = np.asarray(system.C, dtype=float)
     F = np.asarray(system.F, dtype=float)
     y = np.asarray(y, dtype=float).ravel()
@@ -387,7 +528,35 @@ def plot_projections(trajectories, names=None, *, steps, dims=(0, 1), x_true=Non
     ``x_true`` is given, else through the first set's centre) when a set of the panel used them:
     only filters' sets of ``x_k`` did (``Trajectory.filter``; a predictor's set of ``x_k`` used
     ``y_0 … y_{k−1}``), and only the outputs they used (not a missing or impossible reading); the
-    legend names the sets that used them. With ``x_true`` the true state ``x_k`` is marked."""
+    legend names the sets that used them. With ``x_true`` the true state ``x_k`` is marked.
+
+    Parameters
+    ----------
+    trajectories : Trajectory, sequence or dict of Trajectory
+        The results (a dict maps names to trajectories).
+    names : sequence of str, optional
+        Legend names (default: the dict keys, or ``estimate 0 …``).
+    steps : sequence of int
+        The steps drawn (one panel each).
+    dims : (int, int), optional
+        Projected state components.
+    x_true : ndarray, shape (N, n_x), optional
+        True states.
+    system : LinearSystem, optional
+        For the measurement strips.
+    y : ndarray, shape (N, n_y), optional
+        Measurements (with ``system``).
+    u : ndarray, shape (N, n_u), optional
+        Inputs.
+    title : str, optional
+        Figure title.
+    figsize : (float, float), optional
+        Size in inches.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     title, figsize = _title(title), _figsize(figsize)
     dims = _index_pair(dims)
     if isinstance(steps, (str, bytes)) or not hasattr(steps, "__iter__"):
@@ -489,7 +658,27 @@ def _clip(poly: np.ndarray, a: float, b: float, c: float) -> np.ndarray:
 def save_png(fig, path, dpi: int = DEFAULT_DPI) -> Path:
     """Writes ``fig`` as a PNG of ``figsize × dpi`` pixels (parent directories are created);
     returns the path. ``dpi``: an integer in [1, ``MAX_DPI``]; the raster (4 bytes a pixel) must
-    fit in half the machine's memory."""
+    fit in half the machine's memory.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    path : str or Path
+        Output file.
+    dpi : int, optional
+        Resolution.
+
+    Returns
+    -------
+    Path
+
+    Examples
+    --------
+    >>> traj = setbound.Trajectory(np.zeros((3, 1)), -np.ones((3, 1)), np.ones((3, 1)))
+    >>> setbound.plotting.save_png(traj.plot(), "out/bounds.png", dpi=50).name
+    'bounds.png'
+    """
     dpi = as_int(dpi, "dpi", lo=1, hi=MAX_DPI)
     w, h = fig.get_size_inches()
     check_memory("dpi", dpi, 4.0 * w * h * dpi * dpi)

@@ -20,7 +20,13 @@ _QUIET = False
 
 
 def set_quiet(quiet: bool = True) -> None:
-    """Silences (or re-enables) every progress bar of the process."""
+    """Silences (or re-enables) every progress bar of the process.
+
+    Parameters
+    ----------
+    quiet : bool, optional
+        Silence (True) or re-enable.
+    """
     global _QUIET
     _QUIET = bool(quiet)
 
@@ -35,7 +41,23 @@ class Progress:
 
     ``enabled`` is decided once at construction: False when ``quiet``, when progress bars are
     globally silenced, or when ``stream`` is not a terminal (``isatty()``). A disabled bar
-    still counts (``count``), it just draws nothing."""
+    still counts (``count``), it just draws nothing.
+
+    Parameters
+    ----------
+    total : int, optional
+        Number of items (None: unknown, no eta).
+    label : str, optional
+        Label.
+    stream : file, optional
+        Where to draw (default: stderr).
+    quiet : bool, optional
+        Draw nothing.
+    width : int, optional
+        Bar width in characters.
+    min_interval : float, optional
+        Seconds between redraws.
+    """
 
     def __init__(self, total: int | None = None, label: str = "", *, stream=None, quiet: bool = False,
                  width: int = 30, min_interval: float = 0.1):
@@ -71,7 +93,13 @@ class Progress:
         return f"{head}{self.count} {elapsed:5.1f}s"
 
     def update(self, n: int = 1) -> None:
-        """Advances by ``n`` and redraws if enough time has passed."""
+        """Advances by ``n`` and redraws if enough time has passed.
+
+        Parameters
+        ----------
+        n : int, optional
+            Items done.
+        """
         self.count += n
         if not self.enabled:
             return
@@ -91,7 +119,24 @@ class Progress:
 
 
 def track(iterable, total: int | None = None, label: str = "", **kw):
-    """Yields the items of ``iterable`` while advancing a :class:`Progress` bar."""
+    """Yields the items of ``iterable`` while advancing a :class:`Progress` bar.
+
+    Parameters
+    ----------
+    iterable : iterable
+        The items.
+    total : int, optional
+        Their number (default: ``len(iterable)`` when it has one).
+    label : str, optional
+        Label.
+    **kw
+        Passed to :class:`Progress`.
+
+    Yields
+    ------
+    object
+        The items.
+    """
     if total is None:
         try:
             total = len(iterable)

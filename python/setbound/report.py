@@ -38,7 +38,17 @@ def _function_names() -> set:
 
 def user_message(exc_or_text) -> str:
     """An error for the user: without the names of the C, C++ and Python functions it passed
-    through (``sb_*``, ``design_pradius``); an argument or key name in front is kept."""
+    through (``sb_*``, ``design_pradius``); an argument or key name in front is kept.
+
+    Parameters
+    ----------
+    exc_or_text : Exception or str
+        The error.
+
+    Returns
+    -------
+    str
+    """
     text = exc_or_text if isinstance(exc_or_text, str) else str(exc_or_text)
     m = _PREFIX.match(text)
     if not m:
@@ -50,7 +60,19 @@ def user_message(exc_or_text) -> str:
 
 
 def summary_rows(job, results) -> list[dict]:
-    """One dictionary per estimator result: the content of the table and of ``summary.json``."""
+    """One dictionary per estimator result: the content of the table and of ``summary.json``.
+
+    Parameters
+    ----------
+    job : Job
+        The job.
+    results : list of Result
+        Its results.
+
+    Returns
+    -------
+    list of dict
+    """
     rows = []
     for r in results:
         row = {"name": r.name, "method": r.method, "family": ESTIMATORS[r.method].family,
@@ -91,7 +113,17 @@ def _g(v, width):
 
 
 def format_table(rows) -> str:
-    """The summary table as text (widths: the largest component; ``†``: final, not ρ∞, volume)."""
+    """The summary table as text (widths: the largest component; ``†``: final, not ρ∞, volume).
+
+    Parameters
+    ----------
+    rows : list of dict
+        From :func:`summary_rows`.
+
+    Returns
+    -------
+    str
+    """
     head = (f"{'estimator':<20}{'truth inside':>13}{'mean width':>12}{'final width':>12}{'ss volume':>12}"
             f"{'design s':>10}{'ms/step':>9}")
     lines = [head, "-" * len(head)]
@@ -126,7 +158,25 @@ def format_table(rows) -> str:
 
 
 def write_results(out: Path, job, results, rows, *, extra: dict | None = None) -> list[Path]:
-    """Writes ``<name>.npz`` and ``<name>.csv`` per estimator that ran and ``summary.json``."""
+    """Writes ``<name>.npz`` and ``<name>.csv`` per estimator that ran and ``summary.json``.
+
+    Parameters
+    ----------
+    out : Path
+        Output folder.
+    job : Job
+        The job.
+    results : list of Result
+        Its results.
+    rows : list of dict
+        From :func:`summary_rows`.
+    extra : dict, optional
+        Added to ``summary.json``.
+
+    Returns
+    -------
+    list of Path
+    """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     written = []
@@ -173,7 +223,23 @@ def write_plots(out: Path, job, results, *, prefix: str = "") -> list[Path]:
     ``widths_relative.png`` (to ``[plots] reference`` or the first guaranteed estimator; only
     with two or more estimators), ``volume.png`` (when some result has sets), ``margins.png``
     (the detectors' margins and alarms, when a fault is injected or a reading was flagged) and
-    ``projections.png`` (n_x ≥ 2)."""
+    ``projections.png`` (n_x ≥ 2).
+
+    Parameters
+    ----------
+    out : Path
+        Output folder.
+    job : Job
+        The job.
+    results : list of Result
+        Its results.
+    prefix : str, optional
+        Prefix of the file names.
+
+    Returns
+    -------
+    list of Path
+    """
     from . import plotting
 
     ok = [r for r in results if r.ok]
@@ -207,5 +273,15 @@ def write_plots(out: Path, job, results, *, prefix: str = "") -> list[Path]:
 
 
 def leaked(rows) -> list[str]:
-    """Names of the estimators whose guaranteed set lost the true state."""
+    """Names of the estimators whose guaranteed set lost the true state.
+
+    Parameters
+    ----------
+    rows : list of dict
+        From :func:`summary_rows`.
+
+    Returns
+    -------
+    list of str
+    """
     return [r["name"] for r in rows if r["contains_truth"] is False]

@@ -1,4 +1,4 @@
-"""Ellipsoids, zonotopes and strips (spec papers.md §0.1, thesis.md §1), through the C ABI.
+"""Ellipsoids, zonotopes and strips (Methods › Sets, intervals and LMI tools › Ellipsoids, Methods › Sets, intervals and LMI tools › Intervals and interval arithmetic), through the C ABI.
 
 * :class:`Ellipsoid` — ``E(P, c, rho) = {x : (x - c)ᵀ P (x - c) <= rho}``; ``rho`` is a
   *level*, not a squared radius, so ``(P, rho)`` and ``(tP, t rho)`` are the same set.
@@ -55,7 +55,23 @@ def _int_array(k: int):
 
 
 class Strip:
-    """``S = {x : |cᵀx - y| <= phi}`` with ``c != 0`` and ``phi >= 0``."""
+    """A strip ``S = {x : |cᵀx - y| <= phi}`` (the states consistent with one bounded measurement).
+
+    Parameters
+    ----------
+    c : array_like, shape (n,)
+        Normal vector, not zero.
+    y : float
+        Measurement.
+    phi : float
+        Half-width, ``phi >= 0`` (measurement units).
+
+    Examples
+    --------
+    >>> S = setbound.Strip([1.0, 0.0], 0.5, 0.25)
+    >>> S.contains([[0.5, 9.0], [1.0, 0.0]])
+    array([ True, False])
+    """
 
     def __init__(self, c, y, phi):
         c = as_f64(c, "c", ndim=1)
@@ -82,7 +98,20 @@ class Strip:
         return [(self._c.copy(), self._y + self._phi), (-self._c, self._phi - self._y)]
 
     def contains(self, points, rel_tol: float = 1e-12):
-        """Membership of a point (bool) or of each row of a (k, n) batch (bool array)."""
+        """Membership of a point or of each row of a batch.
+
+        Parameters
+        ----------
+        points : array_like, shape (n,) or (k, n)
+            One point or ``k`` points (rows).
+        rel_tol : float, optional
+            Relative tolerance on the boundary.
+
+        Returns
+        -------
+        bool or ndarray of bool
+            ``True`` where the point is in the strip.
+        """
         X, single = _batch(points, self.n, "points")
         out = _int_array(X.shape[0])
         check(lib.sb_strip_contains(self.n, dptr(self._c), self._y, self._phi, X.shape[0], dptr(X),
@@ -95,7 +124,34 @@ class Strip:
 
 
 class Ellipsoid:
-    """``E(P, c, rho) = {x : (x - c)ᵀ P (x - c) <= rho}``, ``P`` symmetric positive definite."""
+    """An ellipsoid ``E(P, c, rho) = {x : (x - c)ᵀ P (x - c) <= rho}``.
+
+    ``rho`` is a *level*, not a squared radius: ``(P, rho)`` and ``(tP, t rho)`` describe the same
+    set (Methods › Sets, intervals and LMI tools › Ellipsoids).
+
+    Parameters
+    ----------
+    P : array_like, shape (n, n)
+        Shape matrix, symmetric positive definite.
+    center : array_like, shape (n,)
+        Centre ``c``.
+    rho : float
+        Level ``rho > 0``.
+
+    Raises
+    ------
+    NotSymmetricError, NotPositiveDefiniteError, DimensionError, NotFiniteError
+        When ``P``, ``center`` or ``rho`` are not valid (the message names the argument).
+
+    Examples
+    --------
+    >>> E = setbound.Ellipsoid(np.eye(2), [0.0, 0.0], 4.0)
+    >>> lo, hi = E.bounding_box()
+    >>> print(lo.round(6), hi.round(6))
+    [-2. -2.] [2. 2.]
+    >>> bool(E.contains([1.0, 1.0]))
+    True
+    """
 
     def __init__(self, P, center, rho):
         c = as_f64(center, "c", ndim=1)
@@ -137,7 +193,20 @@ class Ellipsoid:
         return float(v[0]), float(v[1])
 
     def contains(self, points, rel_tol: float = 1e-12):
-        """Membership of a point (bool) or of each row of a (k, n) batch (bool array)."""
+        """Membership of a point or of each row of a batch.
+
+        Parameters
+        ----------
+        points : array_like, shape (n,) or (k, n)
+            One point or ``k`` points (rows).
+        rel_tol : float, optional
+            Relative tolerance on the boundary.
+
+        Returns
+        -------
+        bool or ndarray of bool
+            ``True`` where the point is in the ellipsoid.
+        """
         X, single = _batch(points, self.n, "points")
         out = _int_array(X.shape[0])
         check(lib.sb_ellipsoid_contains(*self._args(), X.shape[0], dptr(X), as_float(rel_tol, "rel_tol", lo=0.0), out))
@@ -145,14 +214,38 @@ class Ellipsoid:
         return bool(res[0]) if single else res
 
     def support(self, d):
-        """``h(d) = dᵀc + sqrt(rho dᵀP⁻¹d)`` for a direction (float) or a (k, n) batch (array)."""
+        """Support function ``h(d) = dᵀc + sqrt(rho dᵀP⁻¹d)``.
+
+        Parameters
+        ----------
+        d : array_like, shape (n,) or (k, n)
+            One direction or ``k`` directions (rows).
+
+        Returns
+        -------
+        float or ndarray
+            The support value(s).
+        """
         D, single = _batch(d, self.n, "directions")
         out = np.empty(D.shape[0])
         check(lib.sb_ellipsoid_support(*self._args(), D.shape[0], dptr(D), dptr(out)))
         return float(out[0]) if single else out
 
     def affine_map(self, M, b=None) -> "Ellipsoid":
-        """Image under ``x -> M x + b`` (``M`` square and invertible)."""
+        """Image under ``x -> M x + b``.
+
+        Parameters
+        ----------
+        M : array_like, shape (n, n)
+            Square, invertible matrix.
+        b : array_like, shape (n,), optional
+            Translation (zero when omitted).
+
+        Returns
+        -------
+        Ellipsoid
+            The image ``E(M⁻ᵀPM⁻¹, Mc + b, rho)``.
+        """
         n = self.n
         M = as_f64(M, "M", shape=(n, n))
         b = np.zeros(n) if b is None else as_f64(b, "b", shape=(n,))
@@ -161,14 +254,39 @@ class Ellipsoid:
         return Ellipsoid(P_out, c_out, r_out[0])
 
     def level_for_shape(self, P_new) -> float:
-        """Smallest level ``rho'`` with ``E(P, c, rho) ⊆ E(P_new, c, rho')`` (rounded up, certified)."""
+        """Smallest level ``rho'`` with ``E(P, c, rho) ⊆ E(P_new, c, rho')`` (rounded up, certified).
+
+        This is the change of shape of Methods › Sets, intervals and LMI tools › Ellipsoids:
+        ``rho' = rho · λ_max(P^(-1/2) P_new P^(-1/2))``.
+
+        Parameters
+        ----------
+        P_new : array_like, shape (n, n)
+            The new shape matrix (symmetric positive definite).
+
+        Returns
+        -------
+        float
+            The level ``rho'``.
+        """
         P_new = as_f64(P_new, "P_new", shape=(self.n, self.n))
         r = ffi.new("double*")
         check(lib.sb_ellipsoid_level_for_shape(*self._args(), dptr(P_new), r))
         return float(r[0])
 
     def with_shape(self, P_new) -> "Ellipsoid":
-        """The smallest ellipsoid of shape ``P_new`` and the same centre containing this one."""
+        """The smallest ellipsoid of shape ``P_new`` and the same centre containing this one.
+
+        Parameters
+        ----------
+        P_new : array_like, shape (n, n)
+            The new shape matrix (symmetric positive definite).
+
+        Returns
+        -------
+        Ellipsoid
+            ``E(P_new, c, level_for_shape(P_new))``.
+        """
         return Ellipsoid(P_new, self._c, self.level_for_shape(P_new))
 
     reshape = with_shape
@@ -178,7 +296,27 @@ class Ellipsoid:
 
 
 class Zonotope:
-    """``Z = p ⊕ H B^m``; ``generators`` is n×m (m may be 0)."""
+    """A zonotope ``Z = p ⊕ H B^m = {p + H z : z in [-1, 1]^m}``.
+
+    Methods › Sets, intervals and LMI tools › Zonotopes. ``Z1 + Z2`` is the Minkowski sum and
+    ``M @ Z`` the linear image, both exact.
+
+    Parameters
+    ----------
+    center : array_like, shape (n,)
+        Centre ``p``.
+    generators : array_like, shape (n, m), optional
+        Generator matrix ``H`` (columns are the generators; ``m`` may be 0). Default: no generator.
+
+    Examples
+    --------
+    >>> Z = setbound.Zonotope([0.0, 0.0], [[1.0, 1.0], [0.0, 1.0]])
+    >>> lo, hi = Z.interval_hull()
+    >>> print(lo, hi)
+    [-2. -1.] [2. 1.]
+    >>> Z.volume
+    4.0
+    """
 
     # Make ``ndarray @ Zonotope`` defer to Zonotope.__rmatmul__ instead of broadcasting.
     __array_ufunc__ = None
@@ -220,12 +358,34 @@ class Zonotope:
     __radd__ = __add__
 
     def translate(self, b) -> "Zonotope":
-        """The zonotope moved by the vector ``b``."""
+        """The zonotope moved by a vector.
+
+        Parameters
+        ----------
+        b : array_like, shape (n,)
+            Translation.
+
+        Returns
+        -------
+        Zonotope
+            ``(p + b) ⊕ H B^m``.
+        """
         b = as_f64(b, "b", shape=(self.n,))
         return Zonotope(self._p + b, self._H)
 
     def linear_map(self, M) -> "Zonotope":
-        """``M Z = M p ⊕ M H B`` for any k×n matrix ``M``."""
+        """Linear image ``M Z = M p ⊕ M H B^m``.
+
+        Parameters
+        ----------
+        M : array_like, shape (k, n)
+            Any matrix with ``n`` columns.
+
+        Returns
+        -------
+        Zonotope
+            The image, of dimension ``k``.
+        """
         M = as_f64(M, "M", shape=(None, self.n))
         if M.shape[0] == 0:
             raise DimensionError("M: expected at least one row")
@@ -249,8 +409,22 @@ class Zonotope:
         return float(v[0])
 
     def pradius(self, P, return_vertex: bool = False):
-        """Exact P-radius ``max_{s in {-1,1}^m} sᵀHᵀPHs`` (m <= 24); optionally the maximising s
-        (``return_vertex`` a bool)."""
+        """Exact P-radius ``max_{s in {-1,1}^m} sᵀHᵀPHs`` (Methods › Zonotopic estimation › P-radius designs).
+
+        Enumerates the vertices of the unit box: ``m <= 24``.
+
+        Parameters
+        ----------
+        P : array_like, shape (n, n)
+            Symmetric positive (semi)definite weight.
+        return_vertex : bool, optional
+            Also return the maximising ``s``.
+
+        Returns
+        -------
+        float or (float, ndarray)
+            The P-radius, and the maximising vertex when ``return_vertex``.
+        """
         return_vertex = as_bool(return_vertex, "return_vertex")
         P = as_f64(P, "P", shape=(self.n, self.n))
         r = ffi.new("double*")
@@ -259,15 +433,38 @@ class Zonotope:
         return (float(r[0]), s) if return_vertex else float(r[0])
 
     def support(self, d):
-        """``h(d) = dᵀp + ||Hᵀd||_1`` for a direction (float) or a (k, n) batch (array)."""
+        """Support function ``h(d) = dᵀp + ||Hᵀd||_1``.
+
+        Parameters
+        ----------
+        d : array_like, shape (n,) or (k, n)
+            One direction or ``k`` directions (rows).
+
+        Returns
+        -------
+        float or ndarray
+            The support value(s).
+        """
         D, single = _batch(d, self.n, "directions")
         out = np.empty(D.shape[0])
         check(lib.sb_zonotope_support(*self._args(), D.shape[0], dptr(D), dptr(out)))
         return float(out[0]) if single else out
 
     def contains(self, points, rel_tol: float = 1e-9):
-        """Exact membership (facet enumeration; up to ``rel_tol`` on the boundary) of a point
-        (bool) or each row of a (k, n) batch (bool array)."""
+        """Exact membership of a point or of each row of a batch (facet enumeration).
+
+        Parameters
+        ----------
+        points : array_like, shape (n,) or (k, n)
+            One point or ``k`` points (rows).
+        rel_tol : float, optional
+            Relative tolerance on the boundary.
+
+        Returns
+        -------
+        bool or ndarray of bool
+            ``True`` where the point is in the zonotope.
+        """
         X, single = _batch(points, self.n, "points")
         out = _int_array(X.shape[0])
         check(lib.sb_zonotope_contains(*self._args(), X.shape[0], dptr(X), as_float(rel_tol, "rel_tol", lo=0.0), out))
@@ -275,13 +472,26 @@ class Zonotope:
         return bool(res[0]) if single else res
 
     def reduce(self, limit: int, method: str = "combastel") -> "Zonotope":
-        """Outer approximation with at most ``limit`` (>= n) generators.
+        """Outer approximation with at most ``limit`` generators (order reduction).
 
         ``"combastel"``: keep the ``limit - n`` longest generators, box the rest ([Le2013]
         Property 3). ``"girard"``: keep the ``limit - n`` largest ``||g||_1 - ||g||_inf``,
         box the rest (Girard 2005). ``"pca"``: Girard's choice, the rest boxed in the
         eigenbasis of its Gram matrix (CORA's ``reduce(Z,'pca',order)``). Zero columns are
-        dropped; the result always contains the zonotope (rounding included).
+        dropped; the result always contains the zonotope (rounding included). See
+        Methods › Zonotopic estimation › Order reduction.
+
+        Parameters
+        ----------
+        limit : int
+            Largest number of generators kept, ``>= n``.
+        method : {"combastel", "girard", "pca"}, optional
+            Which generators are kept.
+
+        Returns
+        -------
+        Zonotope
+            A zonotope containing this one with at most ``limit`` generators.
         """
         method = as_choice(method, "method", REDUCTION_METHODS)
         limit = as_int(limit, "limit", lo=None, hi=None)
@@ -296,7 +506,23 @@ class Zonotope:
         return Zonotope(self._p, H_out.ravel()[: self.n * k].reshape(self.n, k))
 
     def intersect_strip(self, strip: Strip, lam) -> "Zonotope":
-        """The [Le2013] Property 6 zonotope ``p̂(λ) ⊕ Ĥ(λ) B^(m+1) ⊇ Z ∩ strip``."""
+        """The zonotope ``p̂(λ) ⊕ Ĥ(λ) B^(m+1)`` containing ``Z ∩ strip`` ([Le2013] Property 6).
+
+        ``p̂ = p + λ (y - cᵀp)`` and ``Ĥ = [(I - λcᵀ) H, phi λ]``; the inclusion holds for every ``λ``
+        (Methods › Zonotopic estimation › Estimator structure).
+
+        Parameters
+        ----------
+        strip : Strip
+            The strip of one measurement.
+        lam : array_like, shape (n,)
+            Correction gain ``λ``.
+
+        Returns
+        -------
+        Zonotope
+            The corrected zonotope (one more generator).
+        """
         if not isinstance(strip, Strip):
             raise InvalidArgumentError(f"strip: expected a setbound.sets.Strip, got {type(strip).__name__}")
         if strip.n != self.n:
@@ -308,7 +534,20 @@ class Zonotope:
         return Zonotope(p_out, H_out)
 
     def interval_linear_map(self, mid, rad) -> "Zonotope":
-        """Zonotope containing ``A z`` for every ``A in [mid - rad, mid + rad]`` and ``z in Z``."""
+        """A zonotope containing ``A z`` for every ``A in [mid - rad, mid + rad]`` and ``z in Z``.
+
+        Parameters
+        ----------
+        mid : array_like, shape (k, n)
+            Midpoint of the interval matrix.
+        rad : array_like, shape (k, n)
+            Entrywise radius, ``>= 0``.
+
+        Returns
+        -------
+        Zonotope
+            See :func:`interval_linear_map`.
+        """
         return interval_linear_map(mid, rad, self)
 
     def __repr__(self) -> str:
@@ -316,7 +555,32 @@ class Zonotope:
 
 
 def interval_linear_map(mid, rad, Z: Zonotope) -> Zonotope:
-    """papers §3.1: ``[A] Z ⊆ mid p ⊕ [mid H, rs(rad |H|), diag(rad |p|)] B^(m+2k)``."""
+    """A zonotope containing the image of a zonotope by an interval matrix.
+
+    ``[A] Z ⊆ mid p ⊕ [mid H, rs(rad |H|), diag(rad |p|)] B^(m+2k)``
+    (Methods › Zonotopic estimation › Interval uncertainty).
+
+    Parameters
+    ----------
+    mid : array_like, shape (k, n)
+        Midpoint of the interval matrix ``[A]``.
+    rad : array_like, shape (k, n)
+        Entrywise radius, ``>= 0``.
+    Z : Zonotope
+        The zonotope mapped.
+
+    Returns
+    -------
+    Zonotope
+
+    Examples
+    --------
+    >>> Z = setbound.Zonotope([1.0, 0.0], np.eye(2))
+    >>> out = setbound.sets.interval_linear_map(np.eye(2), 0.1 * np.eye(2), Z)
+    >>> lo, hi = out.interval_hull()
+    >>> print(np.round(lo, 6), np.round(hi, 6))
+    [-0.2 -1.1] [2.2 1.1]
+    """
     if not isinstance(Z, Zonotope):
         raise InvalidArgumentError(f"Z: expected a setbound.sets.Zonotope, got {type(Z).__name__}")
     mid = as_f64(mid, "mid", shape=(None, Z.n))
@@ -349,7 +613,25 @@ def _hull(X, name: str):
 
 
 def as_box(X, name: str = "x0"):
-    """``X`` as a :class:`~setbound.Box`: a box unchanged, else its interval hull (outward rounded)."""
+    """A set as a :class:`~setbound.interval.Box`: a box unchanged, else its interval hull (outward rounded).
+
+    Parameters
+    ----------
+    X : Box, Zonotope or Ellipsoid
+        The set.
+    name : str, optional
+        Argument name used in error messages.
+
+    Returns
+    -------
+    Box
+
+    Examples
+    --------
+    >>> b = setbound.sets.as_box(setbound.Zonotope([0.0, 0.0], [[1.0, 1.0], [0.0, 1.0]]))
+    >>> print(np.round(b.lo, 9), np.round(b.hi, 9))  # rounded outward by a few ulps
+    [-2. -1.] [2. 1.]
+    """
     name = as_str(name, "name")
     from .interval import Box
 
@@ -360,8 +642,25 @@ def as_box(X, name: str = "x0"):
 
 
 def as_zonotope(X, name: str = "x0") -> Zonotope:
-    """``X`` as a :class:`Zonotope`: a zonotope unchanged, a box exactly, an ellipsoid by its
-    bounding box."""
+    """A set as a :class:`Zonotope` containing it: a zonotope unchanged, a box exactly, an ellipsoid by its bounding box.
+
+    Parameters
+    ----------
+    X : Box, Zonotope or Ellipsoid
+        The set.
+    name : str, optional
+        Argument name used in error messages.
+
+    Returns
+    -------
+    Zonotope
+
+    Examples
+    --------
+    >>> Z = setbound.sets.as_zonotope(setbound.Box([0.0, -1.0], [2.0, 1.0]))
+    >>> Z.center.tolist(), Z.generators.tolist()
+    ([1.0, 0.0], [[1.0, 0.0], [0.0, 1.0]])
+    """
     name = as_str(name, "name")
     if isinstance(X, Zonotope):
         return X
@@ -370,10 +669,30 @@ def as_zonotope(X, name: str = "x0") -> Zonotope:
 
 
 def as_ellipsoid(X, name: str = "x0") -> Ellipsoid:
-    """``X`` as an :class:`Ellipsoid`: an ellipsoid unchanged, a box or a zonotope by the ellipsoid
-    through the corners of its interval hull, ``Σ (x_i − c_i)² / (n r_i²) ≤ 1`` (which contains the
-    hull: each term is at most 1/n there). A flat coordinate (r_i = 0) gets a radius of 1e-9 of the
-    hull's scale, so the shape stays positive definite."""
+    """A set as an :class:`Ellipsoid` containing it.
+
+    An ellipsoid is returned unchanged; a box or a zonotope is replaced by the ellipsoid through the
+    corners of its interval hull, ``Σ (x_i − c_i)² / (n r_i²) ≤ 1`` (which contains the hull: each
+    term is at most 1/n there). A flat coordinate (r_i = 0) gets a radius of 1e-9 of the hull's
+    scale, so the shape stays positive definite.
+
+    Parameters
+    ----------
+    X : Box, Zonotope or Ellipsoid
+        The set.
+    name : str, optional
+        Argument name used in error messages.
+
+    Returns
+    -------
+    Ellipsoid
+
+    Examples
+    --------
+    >>> E = setbound.sets.as_ellipsoid(setbound.Box([-1.0, -1.0], [1.0, 1.0]))
+    >>> bool(E.contains([1.0, 1.0]))  # the corners of the box are inside
+    True
+    """
     name = as_str(name, "name")
     if isinstance(X, Ellipsoid):
         return X

@@ -33,6 +33,19 @@ _KINDS = ("uniform", "vertex", "gaussian", "zero")
 
 @dataclass(frozen=True)
 class Simulation:
+    """A simulated run: row ``k`` is time ``k``.
+
+    Parameters
+    ----------
+    x : ndarray, shape (N, n_x)
+        True states.
+    y : ndarray, shape (N, n_y)
+        Measurements.
+    omega : ndarray, shape (N, n_ω)
+        Disturbances (in the unit box).
+    u : ndarray, shape (N, n_u)
+        Inputs.
+    """
     x: np.ndarray  # (N, n_x) true states
     y: np.ndarray  # (N, n_y) measurements
     omega: np.ndarray  # (N, n_ω) disturbances
@@ -54,7 +67,27 @@ def _rng(rng) -> np.random.Generator:
 
 def disturbances(kind: str, N: int, n: int, rng: np.random.Generator) -> np.ndarray:
     """N × n disturbances of the given kind (see the module docstring); ``N``, ``n`` integers
-    >= 0 whose N·n·8 bytes must fit in half the machine's memory."""
+    >= 0 whose N·n·8 bytes must fit in half the machine's memory.
+
+    Parameters
+    ----------
+    kind : {"uniform", "vertex", "gaussian", "zero"}
+        Profile.
+    N, n : int
+        Steps and components.
+    rng : numpy.random.Generator
+        Random source.
+
+    Returns
+    -------
+    ndarray, shape (N, n)
+
+    Examples
+    --------
+    >>> w = setbound.simulation.disturbances("vertex", 4, 2, np.random.default_rng(0))
+    >>> bool(np.all(np.abs(w) == 1))
+    True
+    """
     kind = as_choice(kind, "kind", _KINDS)
     N, n = as_int(N, "N", lo=0, hi=MAX_STEPS), as_int(n, "n", lo=0)
     check_memory("N", N, 8.0 * N * n)
@@ -71,7 +104,27 @@ def disturbances(kind: str, N: int, n: int, rng: np.random.Generator) -> np.ndar
 
 def sample_in(x0, rng: np.random.Generator, *, boundary: bool = False) -> np.ndarray:
     """A point of the set ``x0`` (Ellipsoid, Zonotope or Box; an array is returned as it is):
-    uniform inside, or on the boundary with ``boundary=True`` (a bool; a box: a corner)."""
+    uniform inside, or on the boundary with ``boundary=True`` (a bool; a box: a corner).
+
+    Parameters
+    ----------
+    x0 : Ellipsoid, Zonotope, Box or array_like
+        The set (or a point).
+    rng : numpy.random.Generator
+        Random source.
+    boundary : bool, optional
+        Draw on the boundary.
+
+    Returns
+    -------
+    ndarray
+
+    Examples
+    --------
+    >>> x = setbound.simulation.sample_in(setbound.Box([0, 0], [1, 1]), np.random.default_rng(0))
+    >>> bool(setbound.Box([0, 0], [1, 1]).contains(x))
+    True
+    """
     from .interval import Box
 
     boundary = as_bool(boundary, "boundary")
@@ -110,7 +163,39 @@ def simulate(system, x0, N: int, *, disturbance: str = "uniform", rng=None, u=No
     """Simulates ``N`` steps of ``system`` from a true initial state drawn from ``x0`` (a set or a
     point); see the module docstring. ``boundary_start`` (a bool) defaults to True for vertex
     noise. ``N``: an integer in [1, ``MAX_STEPS``] (10^8), refused before anything is drawn
-    when the arrays of the result (8 bytes per number) exceed half the machine's memory."""
+    when the arrays of the result (8 bytes per number) exceed half the machine's memory.
+
+    Parameters
+    ----------
+    system : LinearSystem or DescriptorSystem
+        The model.
+    x0 : set or array_like
+        Initial set (the true initial state is drawn from it) or the state itself.
+    N : int
+        Number of steps.
+    disturbance : {"uniform", "vertex", "gaussian", "zero"}, optional
+        Disturbance profile.
+    rng : numpy.random.Generator or int, optional
+        Random source or seed.
+    u : array_like, shape (N, n_u), optional
+        Inputs.
+    A_choice : str, optional
+        How an interval ``A`` is drawn at each step (default ``"vertex"``).
+    boundary_start : bool, optional
+        Start on the boundary of ``x0``.
+
+    Returns
+    -------
+    Simulation
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+    ...                             E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+    >>> sim = setbound.simulation.simulate(sys, setbound.Box([-1, -1], [1, 1]), 10, rng=1)
+    >>> sim.x.shape, sim.y.shape
+    ((10, 2), (10, 1))
+    """
     N = as_int(N, "N", lo=1, hi=MAX_STEPS)
     disturbance = as_choice(disturbance, "disturbance", _KINDS)
     A_choice = as_choice(A_choice, "A_choice", ("vertex", "uniform", "mid"))

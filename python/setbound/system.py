@@ -1,4 +1,4 @@
-"""System models: ``LinearSystem`` (papers.md §0.3).
+"""System models: ``LinearSystem`` (Methods › Ellipsoidal estimation › Model).
 
 ``x⁺ = A x + B u + E ω``, ``y = C x + D u + F ω``, ``ω`` in the unit box ``[-1, 1]^{n_ω}``.
 ``A`` may be an :class:`~setbound.IntervalMatrix` (``A ∈ [A]``); the estimators then use
@@ -21,8 +21,19 @@ from .interval import IntervalMatrix
 
 
 def refuse_missing(y, who: str) -> None:
-    """Raises NotFiniteError naming the first NaN (missing) reading of ``y`` (one step, or N × n_y)
-    for an estimator that needs every output at every step (``who``: its class name)."""
+    """Raise NotFiniteError naming the first NaN (missing) reading, for an estimator that needs every output.
+
+    Parameters
+    ----------
+    y : ndarray, shape (n_y,) or (N, n_y)
+        One step's or all measurements.
+    who : str
+        The estimator's class name (for the message).
+
+    Raises
+    ------
+    NotFiniteError
+    """
     bad = np.argwhere(np.isnan(y))
     if bad.size == 0:
         return
@@ -32,8 +43,17 @@ def refuse_missing(y, who: str) -> None:
 
 
 def refuse_infinite(y) -> None:
-    """Raises NotFiniteError naming the row and output of the first ±inf reading of ``y`` (N × n_y;
-    NaN is a missing reading and passes)."""
+    """Raise NotFiniteError naming the row and output of the first ±inf reading (NaN is a missing reading and passes).
+
+    Parameters
+    ----------
+    y : ndarray, shape (N, n_y)
+        Measurements.
+
+    Raises
+    ------
+    NotFiniteError
+    """
     bad = np.argwhere(np.isinf(y))
     if bad.size:
         r, i = (int(v) for v in bad[0])
@@ -42,8 +62,23 @@ def refuse_infinite(y) -> None:
 
 
 def step_inputs(system, y, u):
-    """One measurement ``y`` (n_y) and input ``u`` (n_u, or None without inputs), checked against
-    ``system``; returns ``(y, u_ptr)`` with ``u_ptr`` a C pointer or NULL."""
+    """One measurement and input, checked against ``system``.
+
+    Parameters
+    ----------
+    system : LinearSystem or DescriptorSystem
+        The system the data are checked against.
+    y : array_like, shape (n_y,)
+        Measurement.
+    u : array_like, shape (n_u,), optional
+        Input (None without inputs).
+
+    Returns
+    -------
+    y : ndarray
+    u_ptr : cffi pointer
+        A C pointer to ``u``, or NULL.
+    """
     y = as_f64(y, "y", shape=(system.ny,))
     if system.nu > 0:
         if u is None:
@@ -56,8 +91,22 @@ def step_inputs(system, y, u):
 
 
 def run_inputs(system, y, u):
-    """Measurements ``y`` (N × n_y) and inputs ``u`` (N × n_u, or None without inputs) for a run;
-    returns ``(y, u)`` with ``u`` None when the system has no input."""
+    """Measurements and inputs of a run, checked against ``system``.
+
+    Parameters
+    ----------
+    system : LinearSystem or DescriptorSystem
+        The system the data are checked against.
+    y : array_like, shape (N, n_y)
+        Measurements.
+    u : array_like, shape (N, n_u), optional
+        Inputs (None without inputs).
+
+    Returns
+    -------
+    y, u : ndarray
+        ``u`` is None when the system has no input.
+    """
     y = as_f64(y, "y", shape=(None, system.ny))
     refuse_infinite(y)
     if system.nu > 0:
@@ -71,8 +120,37 @@ def run_inputs(system, y, u):
 class LinearSystem:
     """A discrete-time linear model with unit-box disturbances (validated by the C library).
 
-    ``dt``: the sampling time (a number > 0; None: unspecified, results are indexed by step),
-    used for the time of each trajectory row."""
+    ``x⁺ = A x + B u + E ω``, ``y = C x + D u + F ω``, every component of ``ω`` in ``[-1, 1]``
+    (Methods › Ellipsoidal estimation › Model). ``A`` may be an
+    :class:`~setbound.interval.IntervalMatrix` (a system whose matrix is any element of it).
+
+    Parameters
+    ----------
+    A : array_like or IntervalMatrix, shape (n_x, n_x)
+        State matrix.
+    C : array_like, shape (n_y, n_x)
+        Output matrix.
+    B : array_like, shape (n_x, n_u), optional
+        Input matrix (default: no input).
+    D : array_like, shape (n_y, n_u), optional
+        Feedthrough of the input (default: zero).
+    E : array_like, shape (n_x, n_ω)
+        Disturbance matrix of the state equation.
+    F : array_like, shape (n_y, n_ω)
+        Disturbance matrix of the output equation.
+    dt : float, optional
+        Sampling time (> 0), used for the time of each trajectory row; None: results are indexed by
+        the step.
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+    ...                             E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+    >>> sys.nx, sys.ny, sys.nw
+    (2, 1, 2)
+    >>> sys.is_detectable()
+    True
+    """
 
     def __init__(self, A, C, *, B=None, D=None, E, F, dt=None):
         if dt is not None:
@@ -146,7 +224,12 @@ class LinearSystem:
         return IntervalMatrix.from_mid_rad(self.A, self.A_rad)
 
     def is_detectable(self) -> bool:
-        """PBH test of (C, mid[A])."""
+        """PBH test of ``(C, mid[A])``: every eigenvalue of ``mid[A]`` with modulus >= 1 is seen by ``C``.
+
+        Returns
+        -------
+        bool
+        """
         return is_detectable(self.A, self.C)
 
     def __repr__(self) -> str:
@@ -155,7 +238,24 @@ class LinearSystem:
 
 
 def is_detectable(A, C) -> bool:
-    """PBH test: every eigenvalue of A with |λ| >= 1 is seen by C."""
+    """PBH test: every eigenvalue of ``A`` with modulus >= 1 is seen by ``C``.
+
+    Parameters
+    ----------
+    A : array_like, shape (n, n)
+        State matrix.
+    C : array_like, shape (p, n)
+        Output matrix.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> setbound.is_detectable([[1.0, 1.0], [0.0, 1.0]], [[1.0, 0.0]])
+    True
+    """
     A = as_f64(A, "A", ndim=2)
     C = as_f64(C, "C", shape=(None, A.shape[0]))
     out = ffi.new("int*")
@@ -165,13 +265,47 @@ def is_detectable(A, C) -> bool:
 
 @reconstructible
 class DescriptorSystem:
-    """A descriptor model (papers.md §4): ``E x⁺ = A x + B u + D w``, ``y = C x + F w``,
-    ``w`` in the unit box. ``E`` may be singular; the rank conditions (infinite and finite
-    observability) are checked at construction and a failure names the condition.
-    ``T`` and ``N`` (``T E + N C = I``, ``[T N] = pinv([E; C])``) are exposed.
+    """A descriptor model ``E x⁺ = A x + B u + D w``, ``y = C x + F w``, ``w`` in the unit box.
+
+    ``E`` may be singular; the rank conditions (infinite and finite observability) are checked at
+    construction and a failure names the condition. ``T`` and ``N`` (``T E + N C = I``,
+    ``[T N] = pinv([E; C])``) are exposed (Methods › Ellipsoidal estimation › Descriptor systems).
 
     Note the letters: here ``E`` is the descriptor matrix and ``D`` the disturbance matrix,
     as in [Merhy2019], unlike :class:`LinearSystem`.
+
+    Parameters
+    ----------
+    E : array_like, shape (n_x, n_x)
+        Descriptor matrix (may be singular).
+    A : array_like, shape (n_x, n_x)
+        State matrix.
+    C : array_like, shape (n_y, n_x)
+        Output matrix.
+    B : array_like, shape (n_x, n_u), optional
+        Input matrix (default: no input).
+    D : array_like, shape (n_x, n_w)
+        Disturbance matrix of the state equation.
+    F : array_like, shape (n_y, n_w)
+        Disturbance matrix of the output equation.
+
+    Raises
+    ------
+    NotDetectableError
+        When a rank condition fails (the message names it).
+
+    Examples
+    --------
+    The example of [Merhy2019] (singular ``E``):
+
+    >>> E = [[1, 0, 0], [0, 1, 0], [0, 0, 0]]
+    >>> A = [[0.5, 0, 0], [0.8, 0.95, 0], [-1, 0.5, 1]]
+    >>> C = [[1, 0, 1], [1, -1, 0]]
+    >>> D = np.hstack([np.diag([0.1, 1.5, 0.6]), np.zeros((3, 2))])
+    >>> F = np.hstack([np.zeros((2, 3)), np.diag([0.5, 1.5])])
+    >>> ds = setbound.DescriptorSystem(E, A, C, B=[[1, 0], [0, 1], [0, 0]], D=D, F=F)
+    >>> bool(np.allclose(ds.T @ np.asarray(E) + ds.N @ np.asarray(C), np.eye(3)))
+    True
     """
 
     def __init__(self, E, A, C, *, B=None, D, F):
@@ -211,21 +345,33 @@ class DescriptorSystem:
 
 
 def from_statespace(ss, *, E=None, F=None, disturbance_inputs=None, output_noise=None) -> LinearSystem:
-    """A :class:`LinearSystem` from a discrete-time ``control.StateSpace`` (python-control; any
-    object with ``A``, ``B``, ``C``, ``D`` and a sampling time ``dt`` that is not None or 0).
+    """A :class:`LinearSystem` from a discrete-time ``control.StateSpace``.
 
-    A state-space model carries no disturbance description, so say which unit-box
-    disturbances ``ω`` act (at least one is required):
+    Any object with ``A``, ``B``, ``C``, ``D`` and a sampling time ``dt`` that is not None or 0 is
+    accepted. A state-space model carries no disturbance description, so say which unit-box
+    disturbances ``ω`` act (at least one is required).
 
-    * ``disturbance_inputs``: indices of inputs of ``ss`` that are bounded disturbances
-      (``|ω_i| ≤ 1``): their columns of ``B`` and ``D`` become columns of ``E`` and ``F``; the
-      other inputs stay known inputs ``u``;
-    * ``E``, ``F``: extra disturbance columns (``E`` n_x × m, ``F`` n_y × m; a missing one is zero);
-    * ``output_noise``: a bound ``φ`` (scalar, or one per output) of the measurement noise
-      ``|v_i| ≤ φ_i``, appended as columns ``[0; diag(φ)]``.
+    Parameters
+    ----------
+    ss : control.StateSpace
+        The discrete-time model.
+    E, F : array_like, optional
+        Extra disturbance columns (``E`` n_x × m, ``F`` n_y × m; a missing one is zero).
+    disturbance_inputs : sequence of int, optional
+        Indices of inputs of ``ss`` that are bounded disturbances (``|ω_i| ≤ 1``): their columns of
+        ``B`` and ``D`` become columns of ``E`` and ``F``; the other inputs stay known inputs ``u``.
+    output_noise : float or array_like, optional
+        A bound ``φ`` (scalar, or one per output) of the measurement noise ``|v_i| ≤ φ_i``,
+        appended as columns ``[0; diag(φ)]``.
 
-    Example: ``from_statespace(control.ss(A, B, C, 0, dt=0.1), disturbance_inputs=[0],
-    output_noise=0.2)`` is ``x⁺ = A x + B ω₀``, ``y = C x + 0.2 v``.
+    Returns
+    -------
+    LinearSystem
+
+    Examples
+    --------
+    ``from_statespace(control.ss(A, B, C, 0, dt=0.1), disturbance_inputs=[0], output_noise=0.2)``
+    is ``x⁺ = A x + B ω₀``, ``y = C x + 0.2 v``.
     """
     for attr in ("A", "B", "C", "D"):
         if not hasattr(ss, attr):
@@ -282,13 +428,29 @@ def _is_statespace(obj) -> bool:
 
 
 def as_system(system):
-    """The system argument of the estimators, designs and simulations: a :class:`LinearSystem` or
-    :class:`DescriptorSystem` is returned unchanged; a discrete-time ``control.StateSpace`` is
-    accepted directly when its inputs say which signals are the unit-box disturbances: every input
-    whose label starts with ``w`` (``"w"``, ``"w[0]"``, ``"w1"``…; name them with
-    ``control.ss(A, B, C, D, dt, inputs=["u", "w[0]", "w[1]"])``) is a disturbance ``|ω_i| ≤ 1``,
-    the others are known inputs. Anything else (or a StateSpace without such inputs) gets an error
-    that says what to do; :func:`from_statespace` gives full control."""
+    """The system argument of the estimators, designs and simulations.
+
+    A :class:`LinearSystem` or :class:`DescriptorSystem` is returned unchanged; a discrete-time
+    ``control.StateSpace`` is accepted directly when its inputs say which signals are the unit-box
+    disturbances: every input whose label starts with ``w`` (``"w"``, ``"w[0]"``, ``"w1"``…; name
+    them with ``control.ss(A, B, C, D, dt, inputs=["u", "w[0]", "w[1]"])``) is a disturbance
+    ``|ω_i| ≤ 1``, the others are known inputs. Anything else (or a StateSpace without such inputs)
+    gets an error that says what to do; :func:`from_statespace` gives full control.
+
+    Parameters
+    ----------
+    system : LinearSystem, DescriptorSystem or control.StateSpace
+        The system.
+
+    Returns
+    -------
+    LinearSystem or DescriptorSystem
+
+    Raises
+    ------
+    InvalidArgumentError
+        For anything else (the message says what to pass).
+    """
     if isinstance(system, (LinearSystem, DescriptorSystem)):
         return system
     if _is_statespace(system):

@@ -11,7 +11,7 @@ family of [BenChabane2014]) have used ``y_0 … y_{k-1}``.
 ``TimeResponseData``, or a job's ``[simulation.time]``). The state names are 0-based everywhere
 (``x0 … x{n−1}``: Python, the command line, the plots and ``to_pandas``).
 
-``radius[k]`` is the level ``ρ_k`` of an ellipsoidal set ``E(P, c_k, ρ_k)`` (papers.md §0.1:
+``radius[k]`` is the level ``ρ_k`` of an ellipsoidal set ``E(P, c_k, ρ_k)`` (Methods › Sets, intervals and LMI tools › Ellipsoids:
 a level, not a squared radius) and NaN for other set types. ``guaranteed`` is False only for
 the Kalman filter baseline, whose box is ``mean ± 3σ``.
 """
@@ -29,8 +29,38 @@ from .errors import SetboundError
 
 @dataclass
 class Trajectory:
-    """Row ``k`` of ``center``, ``lower``, ``upper`` (N × n_x) and ``sets[k]`` describe ``x_k``;
-    see the module docstring. ``guaranteed`` is False for the Kalman baseline only."""
+    """The sets of a run: row ``k`` of ``center``, ``lower``, ``upper`` and ``sets[k]`` describe ``x_k``.
+
+    See the module docstring for the time indexing of filters and predictors.
+
+    Parameters
+    ----------
+    center, lower, upper : ndarray, shape (N, n_x)
+        Centre and interval-hull bounds of each step's set.
+    sets : list, optional
+        The set of each step (Ellipsoid, Zonotope or Box), when kept.
+    guaranteed : bool, optional
+        False for the Kalman baseline only.
+    status, margin : ndarray, shape (N, n_y), optional
+        What each step did with each reading (:mod:`setbound.measurement`) and its margin; None for
+        families that do not screen their measurements.
+    resets : ndarray of bool, shape (N,), optional
+        Steps where the estimator restarted from its reset set.
+    t : ndarray, shape (N,), optional
+        Time of each row (None: the step index).
+    filter : bool, optional
+        Whether row ``k`` used ``y_k`` (a filter) or only ``y_0 … y_{k−1}`` (a predictor); None when
+        unknown.
+
+    Examples
+    --------
+    Every estimator's ``run`` returns one:
+
+    >>> sys = setbound.LinearSystem(A=[[0.9]], C=[[1.0]], E=[[0.1, 0.0]], F=[[0.0, 0.1]])
+    >>> traj = setbound.zonotopic.SegmentMinEstimator(sys, setbound.Box([-1], [1])).run(np.zeros((4, 1)))
+    >>> len(traj), traj.width.shape, bool(traj.contains(np.zeros((4, 1))).all())
+    (4, (4, 1), True)
+    """
 
     center: np.ndarray  # (N, n_x)
     lower: np.ndarray  # (N, n_x)
@@ -100,16 +130,42 @@ class Trajectory:
         return self._volume
 
     def in_bounds(self, x: np.ndarray, tol: float = 0.0) -> np.ndarray:
-        """Per step: is the true state row x[k] inside the interval bounds ``lower[k] … upper[k]``
-        (widened by ``tol``, a finite number >= 0)? Cheap; see :meth:`contains` for the set."""
+        """Per step: is the true state inside the interval bounds (widened by ``tol``)?
+
+        Cheap; see :meth:`contains` for the sets themselves.
+
+        Parameters
+        ----------
+        x : ndarray, shape (N, n_x)
+            True states.
+        tol : float, optional
+            Widening of the bounds (finite, >= 0).
+
+        Returns
+        -------
+        ndarray of bool, shape (N,)
+        """
         tol = as_float(tol, "tol", lo=0.0)
         x = np.asarray(x, dtype=float)
         return np.all((self.lower - tol <= x) & (x <= self.upper + tol), axis=1)
 
     def contains(self, x: np.ndarray, tol: float = 0.0) -> np.ndarray:
-        """Per step: is the true state row x[k] inside the set of row k (``sets[k]``: an ellipsoid,
-        a zonotope or a box; their own membership test with its rounding tolerance) and inside
-        the bounds (widened by ``tol``)? Without sets (the Kalman baseline): the bounds only."""
+        """Per step: is the true state inside the set of its row and inside the bounds (widened by ``tol``)?
+
+        ``sets[k]`` is an ellipsoid, a zonotope or a box, tested with its own membership test and
+        rounding tolerance. Without sets (the Kalman baseline): the bounds only.
+
+        Parameters
+        ----------
+        x : ndarray, shape (N, n_x)
+            True states.
+        tol : float, optional
+            Widening of the bounds (finite, >= 0).
+
+        Returns
+        -------
+        ndarray of bool, shape (N,)
+        """
         inside = self.in_bounds(x, tol)
         if not self.sets:
             return inside
@@ -120,10 +176,21 @@ class Trajectory:
         return inside
 
     def to_pandas(self, names=None):
-        """A ``pandas.DataFrame`` indexed by time ``t`` (:attr:`times`) with, per state, the columns
-        ``<name>_lower``, ``<name>_center``, ``<name>_upper`` (names ``x0 … x{n−1}`` unless given),
-        the step ``k``, and ``flagged`` when the estimator tested its readings. ``attrs``:
-        ``guaranteed``. Needs pandas (``pip install setbound[interop]``)."""
+        """A ``pandas.DataFrame`` indexed by time ``t`` (:attr:`times`).
+
+        Per state, the columns ``<name>_lower``, ``<name>_center``, ``<name>_upper``; the step ``k``,
+        and ``flagged`` when the estimator tested its readings. ``attrs``: ``guaranteed``. Needs pandas
+        (``pip install setbound[interop]``).
+
+        Parameters
+        ----------
+        names : sequence of str, optional
+            State names (default ``x0 … x{n−1}``).
+
+        Returns
+        -------
+        pandas.DataFrame
+        """
         try:
             import pandas as pd
         except ImportError:
@@ -144,8 +211,25 @@ class Trajectory:
         return df
 
     def plot(self, *, x_true=None, name: str = "estimate", components=None, title=None, figsize=None):
-        """The bounds of each state over time (:func:`setbound.plotting.plot_bounds`; the legend says
-        whether the method is guaranteed), against ``t``; returns the matplotlib Figure."""
+        """The bounds of each state over time (:func:`setbound.plotting.plot_bounds`), against ``t``.
+
+        Parameters
+        ----------
+        x_true : ndarray, shape (N, n_x), optional
+            True states, drawn when given.
+        name : str, optional
+            Legend label of the estimator (the legend also says whether it is guaranteed).
+        components : sequence of int, optional
+            State components drawn (default: all).
+        title : str, optional
+            Figure title.
+        figsize : (float, float), optional
+            Figure size in inches.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
         from ._validate import as_str
         from .plotting import plot_bounds
 
@@ -155,10 +239,20 @@ class Trajectory:
                            figsize=figsize)
 
     def to_dataframe(self, t=None):
-        """A ``pandas.DataFrame`` with one row per step (index ``k``; a column ``t`` when ``t`` is
-        given) and the columns ``center{i}``, ``lower{i}``, ``upper{i}`` (i = 0 … n_x−1), then
-        ``volume`` and ``radius`` when the trajectory has sets. Needs pandas (``pip install
-        setbound[interop]``)."""
+        """A ``pandas.DataFrame`` with one row per step (index ``k``).
+
+        Columns ``center{i}``, ``lower{i}``, ``upper{i}`` (i = 0 … n_x−1), then ``volume`` and
+        ``radius`` when the trajectory has sets. Needs pandas (``pip install setbound[interop]``).
+
+        Parameters
+        ----------
+        t : array_like, shape (N,), optional
+            Adds a column ``t``.
+
+        Returns
+        -------
+        pandas.DataFrame
+        """
         try:
             import pandas as pd
         except ImportError:

@@ -1,14 +1,14 @@
-"""Zonotopic estimators (papers.md §3, §5).
+"""Zonotopic estimators (Methods › Zonotopic estimation).
 
-The estimator structure of papers.md §3.1: exact prediction ``A X ⊕ E B`` (or the
+The estimator structure of Methods › Zonotopic estimation › Estimator structure: exact prediction ``A X ⊕ E B`` (or the
 [Le2013] inclusion for an interval ``A``), correction strip by strip with a gain ``λ``,
 reduction to at most ``max_generators`` generators. The true state is in the set for any
 ``λ``; the gain rule only decides the size.
 
-Available: :class:`SegmentMinEstimator` ([Alamo2005] segment minimisation, §5.1),
-:class:`VolumeMinEstimator` ([Alamo2005] volume minimisation, an LP per strip, §5.2),
+Available: :class:`SegmentMinEstimator` ([Alamo2005] segment minimisation, Methods › Zonotopic estimation › Segment minimisation),
+:class:`VolumeMinEstimator` ([Alamo2005] volume minimisation, an LP per strip, › Volume minimisation),
 :class:`PRadiusEstimator` with the offline gains of :func:`design_pradius` ([Le2013],
-§3.2 approach 1 and §3.3 approach 2), and the accuracy reference :func:`exact_hull`.
+approaches 1 and 2, › P-radius designs), and the accuracy reference :func:`exact_hull`.
 """
 from __future__ import annotations
 
@@ -51,7 +51,7 @@ class _ZonotopicEstimator(ReadingChecks, StateMixin):
     """Common options: ``max_generators`` (the reduction limit; the pending rounding box of
     relative size ~1e-15 is not counted, so before the first reduction a set may carry up to
     n_x more axis-aligned generators), ``use_first_measurement``, ``strip_order`` and
-    ``reduction``: ``"combastel"`` (default, papers.md §0.1), ``"girard"`` (CORA's default) or
+    ``reduction``: ``"combastel"`` (default, Methods › Sets, intervals and LMI tools › Ellipsoids), ``"girard"`` (CORA's default) or
     ``"pca"`` (CORA's ``reduce(Z,'pca',order)``, used by its observer examples).
 
     ``max_generators`` is an integer in [n_x, ``MAX_GENERATORS``] (100000: the reduction sorts
@@ -116,8 +116,13 @@ class _ZonotopicEstimator(ReadingChecks, StateMixin):
         self._init_checks()
 
     def restore_state(self, state) -> None:
-        """Restores a state from ``save_state`` (see :class:`setbound._state.StateMixin`); the
-        reduction method is part of the state."""
+        """Restore a state from ``save_state`` (the reduction method is part of the state).
+
+        Parameters
+        ----------
+        state : bytes
+            A state returned by ``save_state`` of an estimator of the same kind and design.
+        """
         super().restore_state(state)
         code = int(np.frombuffer(bytes(state), dtype="<f8")[7])
         self.reduction = {v: k for k, v in REDUCTIONS.items()}.get(code, self.reduction)
@@ -138,8 +143,21 @@ class _ZonotopicEstimator(ReadingChecks, StateMixin):
         return Zonotope(p, H)
 
     def step(self, y, u=None) -> Zonotope:
-        """Uses ``y_k`` (and ``u_k``), returns the set for ``x_k``, predicts ``x_{k+1}``. ``y`` None
-        or NaN entries: missing outputs; see ``last_check`` for what the step did with each."""
+        """Use ``y_k`` (and ``u_k``): returns the set for ``x_k`` and predicts ``x_{k+1}``.
+
+        See ``last_check`` for what the step did with each output.
+
+        Parameters
+        ----------
+        y : array_like, shape (n_y,), or None
+            The measurement ``y_k`` (None or NaN entries: missing outputs).
+        u : array_like, shape (n_u,), optional
+            The input ``u_k``.
+
+        Returns
+        -------
+        Zonotope
+        """
         self._step(y, u)
         return self._last_set()
 
@@ -156,12 +174,27 @@ class _ZonotopicEstimator(ReadingChecks, StateMixin):
 
     @run_from_initial_set
     def run(self, y, u=None) -> Trajectory:
-        """Processes the rows of ``y`` (N × n_y; NaN entries are missing) and ``u`` (N × n_u) from
-        the initial set (``reset()`` first: the same data give the same result; ``reset=False``
-        continues from the current state, to process a record in pieces; a failed run leaves the
-        estimator as it was); row k is about x_k. The trajectory's ``status`` and ``margin``
-        (N × n_y) say what each step did with each output, ``flagged`` which steps had an
-        impossible reading."""
+        """Process a record from the initial set; row ``k`` is about ``x_k``.
+
+        Parameters
+        ----------
+        y : array_like, shape (N, n_y), or control.TimeResponseData
+            Measurements (NaN entries: missing outputs). A python-control ``TimeResponseData`` gives the
+            outputs, known inputs and time.
+        u : array_like, shape (N, n_u), optional
+            Known inputs.
+        reset : bool, optional
+            Start from the initial set (default). ``False`` continues from the current state, to process
+            a record in pieces. A failed run leaves the estimator as it was.
+        t : array_like, shape (N,), optional
+            Time of the rows (default: ``k·dt`` with the system's sampling time, else the step index).
+
+        Returns
+        -------
+        Trajectory
+            Row ``k`` is about ``x_k``; ``status``, ``margin`` and ``resets`` say what each step did
+            with each reading.
+        """
         s = self.system
         y, u = run_inputs(s, y, u)
         N = y.shape[0]
@@ -177,34 +210,139 @@ class _ZonotopicEstimator(ReadingChecks, StateMixin):
 
 @reconstructible
 class SegmentMinEstimator(_ZonotopicEstimator):
-    """[Alamo2005] segment minimisation (papers.md §5.1): per strip,
-    ``λ* = H Hᵀ c / (cᵀ H Hᵀ c + φ²)``, the minimiser of the squared generator lengths."""
+    """Zonotopic estimator with segment minimisation ([Alamo2005]).
+
+    Per strip, ``λ* = H Hᵀ c / (cᵀ H Hᵀ c + φ²)``, the minimiser of the squared generator lengths
+    (Methods › Zonotopic estimation › Segment minimisation). A filter.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model (``A`` may be an interval matrix).
+    x0 : Zonotope, Box or Ellipsoid
+        Initial set (a box exactly, an ellipsoid by its bounding box).
+    max_generators : int, optional
+        Generators kept after each step (order reduction).
+    use_first_measurement : bool, optional
+        Correct the initial set with ``y_0`` (row 0 is then a filtered set).
+    strip_order : sequence of int, optional
+        Order in which the output strips are applied (default: natural order).
+    reduction : {"combastel", "girard", "pca"}, optional
+        Order-reduction method (:meth:`~setbound.sets.Zonotope.reduce`).
+    on_inconsistency : {"flag", "raise", "reset"}, optional
+        What a reading outside the predicted output set does (:mod:`setbound.measurement`):
+        skipped and flagged (default), an :class:`~setbound.errors.InconsistentMeasurementError`,
+        or a restart from ``reset_set``.
+    reset_set : optional
+        The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+    ...                             E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+    >>> est = setbound.zonotopic.SegmentMinEstimator(sys, setbound.Box([-1, -1], [1, 1]))
+    >>> traj = est.run(np.zeros((5, 1)))
+    >>> bool(traj.contains(np.zeros((5, 2))).all())
+    True
+    """
 
     _gain = lib.SB_ZONO_GAIN_SEGMENT_MIN
 
 
 @reconstructible
 class VolumeMinEstimator(_ZonotopicEstimator):
-    """[Alamo2005] volume minimisation (papers.md §5.2): per strip, the λ minimising the exact
-    volume of the corrected zonotope, found by a linear program on the bundled solver."""
+    """Zonotopic estimator with volume minimisation ([Alamo2005]).
+
+    Per strip, the ``λ`` minimising the exact volume of the corrected zonotope, found by a linear
+    program on the bundled solver (Methods › Zonotopic estimation › Volume minimisation). A filter.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model (``A`` may be an interval matrix).
+    x0 : Zonotope, Box or Ellipsoid
+        Initial set (a box exactly, an ellipsoid by its bounding box).
+    max_generators : int, optional
+        Generators kept after each step (order reduction).
+    use_first_measurement : bool, optional
+        Correct the initial set with ``y_0`` (row 0 is then a filtered set).
+    strip_order : sequence of int, optional
+        Order in which the output strips are applied (default: natural order).
+    reduction : {"combastel", "girard", "pca"}, optional
+        Order-reduction method (:meth:`~setbound.sets.Zonotope.reduce`).
+    on_inconsistency : {"flag", "raise", "reset"}, optional
+        What a reading outside the predicted output set does (:mod:`setbound.measurement`):
+        skipped and flagged (default), an :class:`~setbound.errors.InconsistentMeasurementError`,
+        or a restart from ``reset_set``.
+    reset_set : optional
+        The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.0, -0.5], [1.0, 1.0]], C=[[-2.0, 1.0], [1.0, 1.0]],
+    ...                             E=[[-0.12, 0, 0], [0.02, 0, 0]], F=[[0, 0.2, 0], [0, 0, 0.2]])
+    >>> est = setbound.zonotopic.VolumeMinEstimator(sys, setbound.Box([-3, -3], [3, 3]))
+    >>> bool(est.run(np.zeros((3, 2))).contains(np.zeros((3, 2))).all())
+    True
+    """
 
     _gain = lib.SB_ZONO_GAIN_VOLUME_MIN
 
 
 @dataclass(frozen=True)
 class ExactHull:
-    """Interval hull of the exact consistent state set; row k is about x_k."""
+    """Interval hull of the exact consistent state set; row ``k`` is about ``x_k``.
+
+    Parameters
+    ----------
+    lower, upper : ndarray, shape (N, n_x)
+        The hull's bounds per step.
+    """
 
     lower: np.ndarray
     upper: np.ndarray
 
 
 def exact_hull(system: LinearSystem, y, u=None, *, x0: Zonotope, use_first_measurement: bool = True) -> ExactHull:
-    """The exact reference (known ``A`` only): for each step, 2 n_x linear programs over the
-    initial set and every disturbance give the interval hull of the states consistent with
-    ``y_0 … y_k`` (NaN entries of ``y``: missing outputs, no constraint). Slow by nature; every
-    guaranteed estimator's hull contains it. Data no state can produce raise InfeasibleError.
-    ``use_first_measurement``: a bool."""
+    """The exact reference: the interval hull of the states consistent with the data (known ``A`` only).
+
+    For each step, ``2 n_x`` linear programs over the initial set and every disturbance give the
+    interval hull of the states consistent with ``y_0 … y_k`` (Methods › Zonotopic estimation ›
+    The exact reference hull). Slow by nature; every guaranteed estimator's hull contains it.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model (``A`` a real matrix).
+    y : array_like, shape (N, n_y)
+        Measurements (NaN entries: missing outputs, no constraint).
+    u : array_like, shape (N, n_u), optional
+        Known inputs.
+    x0 : Zonotope
+        Initial set.
+    use_first_measurement : bool, optional
+        Use ``y_0`` in row 0.
+
+    Returns
+    -------
+    ExactHull
+
+    Raises
+    ------
+    InfeasibleError
+        When no state can produce the data.
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.0, -0.5], [1.0, 1.0]], C=[[-2.0, 1.0], [1.0, 1.0]],
+    ...                             E=[[-0.12, 0, 0], [0.02, 0, 0]], F=[[0, 0.2, 0], [0, 0, 0.2]])
+    >>> x0 = setbound.Zonotope([0.0, 0.0], 3 * np.eye(2))
+    >>> y = np.zeros((3, 2))
+    >>> hull = setbound.exact_hull(sys, y, x0=x0)
+    >>> est = setbound.zonotopic.SegmentMinEstimator(sys, x0).run(y)
+    >>> bool(np.all(est.lower <= hull.lower + 1e-9) and np.all(hull.upper <= est.upper + 1e-9))
+    True
+    """
     use_first_measurement = as_bool(use_first_measurement, "use_first_measurement")
     system = as_system(system)
     x0 = _check_system_and_x0(system, x0)
@@ -221,10 +359,30 @@ def exact_hull(system: LinearSystem, y, u=None, *, x0: Zonotope, use_first_measu
 
 @dataclass(frozen=True)
 class PRadiusDesign:
-    """Offline P-radius gains ([Le2013]): row ``i`` of ``lambdas`` is the gain of output ``i``;
-    ``P[i]``, ``beta[i]`` and ``tau[i]`` are that strip's certificate (the P-radius recursion
-    ``L_k <= beta L_{k-1} + psi + sum phi^2``, ``tau`` the smallest eigenvalue of the normalised
-    limit ellipsoid), ``strip_order`` the order in which the strips are applied."""
+    """Offline P-radius gains ([Le2013]), one per output strip.
+
+    Methods › Zonotopic estimation › P-radius designs. The P-radius recursion is
+    ``L_k <= beta L_{k-1} + psi + sum phi^2``.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The system designed for.
+    approach : int
+        1 or 2 (see :func:`design_pradius`).
+    strip_order : ndarray of int
+        Order in which the strips are applied.
+    lambdas : ndarray, shape (n_y, n_x)
+        Row ``i`` is the gain of output ``i``.
+    P : ndarray, shape (n_y, n_x, n_x)
+        Certificate matrix of each strip.
+    beta : ndarray, shape (n_y,)
+        Contraction factor of each strip's certificate.
+    tau : ndarray, shape (n_y,)
+        Smallest eigenvalue of each normalised limit ellipsoid.
+    psi : float
+        Disturbance term of the recursion.
+    """
 
     system: LinearSystem
     approach: int
@@ -238,13 +396,42 @@ class PRadiusDesign:
 
 def design_pradius(system: LinearSystem, approach: int = 1, order=None, *,
                    beta_range: tuple[float, float] = (1e-3, 1 - 1e-3)) -> PRadiusDesign:
-    """P-radius gain design: ``approach=1`` designs every strip alone (papers.md §3.2),
-    ``approach=2`` designs strip ``j`` with the earlier gains fixed (§3.3). ``order`` is a
-    permutation of the outputs, ``None`` (natural order) or ``"best"`` (approach 2: try every
-    order, keep the one with the largest final ``tau``). ``beta`` is chosen in ``beta_range``
-    by a scalar search maximising ``tau``: a pair ``(lo, hi)`` of numbers with 0 < lo < hi < 1.
-    ``approach`` is the integer 1 or 2 (not ``True``). Raises InfeasibleError when no gain
-    contracts."""
+    """P-radius gain design of [Le2013].
+
+    ``approach=1`` designs every strip alone; ``approach=2`` designs strip ``j`` with the earlier
+    gains fixed (Methods › Zonotopic estimation › P-radius designs).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model.
+    approach : int, optional
+        The integer 1 or 2 (not ``True``).
+    order : sequence of int or "best", optional
+        A permutation of the outputs, ``None`` (natural order) or ``"best"`` (approach 2: try every
+        order, keep the one with the largest final ``tau``).
+    beta_range : (float, float), optional
+        ``beta`` is chosen in this range by a scalar search maximising ``tau``; ``0 < lo < hi < 1``.
+
+    Returns
+    -------
+    PRadiusDesign
+
+    Raises
+    ------
+    InfeasibleError
+        When no gain contracts.
+
+    Examples
+    --------
+    The system of [Le2013] with a known ``A``:
+
+    >>> sys = setbound.LinearSystem(A=[[0.0, -0.5], [1.0, 1.0]], C=[[-2.0, 1.0], [1.0, 1.0]],
+    ...                             E=[[-0.12, 0, 0], [0.02, 0, 0]], F=[[0, 0.2, 0], [0, 0, 0.2]])
+    >>> d = setbound.zonotopic.design_pradius(sys, approach=2)
+    >>> d.lambdas.shape, bool(np.all((0 < d.beta) & (d.beta < 1)))
+    ((2, 2), True)
+    """
     system = as_system(system)
     if not isinstance(system, LinearSystem):
         raise InvalidArgumentError(f"system: expected a setbound.LinearSystem, got {type(system).__name__}")
@@ -279,8 +466,38 @@ def design_pradius(system: LinearSystem, approach: int = 1, order=None, *,
 
 @reconstructible
 class PRadiusEstimator(_ZonotopicEstimator):
-    """Zonotopic estimator with the offline P-radius gains of a :class:`PRadiusDesign`,
-    applied in the design's strip order."""
+    """Zonotopic estimator with the offline P-radius gains of a :class:`PRadiusDesign`, applied in the design's strip order.
+
+    Methods › Zonotopic estimation › P-radius designs ([Le2013]). A filter.
+
+    Parameters
+    ----------
+    design : PRadiusDesign
+        The gains (:func:`design_pradius`).
+    x0 : Zonotope, Box or Ellipsoid
+        Initial set (a box exactly, an ellipsoid by its bounding box).
+    max_generators : int, optional
+        Generators kept after each step (order reduction).
+    use_first_measurement : bool, optional
+        Correct the initial set with ``y_0`` (row 0 is then a filtered set).
+    reduction : {"combastel", "girard", "pca"}, optional
+        Order-reduction method (:meth:`~setbound.sets.Zonotope.reduce`).
+    on_inconsistency : {"flag", "raise", "reset"}, optional
+        What a reading outside the predicted output set does (:mod:`setbound.measurement`):
+        skipped and flagged (default), an :class:`~setbound.errors.InconsistentMeasurementError`,
+        or a restart from ``reset_set``.
+    reset_set : optional
+        The restart set of ``on_inconsistency="reset"`` (default: the initial set).
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.0, -0.5], [1.0, 1.0]], C=[[-2.0, 1.0], [1.0, 1.0]],
+    ...                             E=[[-0.12, 0, 0], [0.02, 0, 0]], F=[[0, 0.2, 0], [0, 0, 0.2]])
+    >>> est = setbound.zonotopic.PRadiusEstimator(setbound.zonotopic.design_pradius(sys),
+    ...                                             setbound.Box([-3, -3], [3, 3]))
+    >>> bool(est.run(np.zeros((5, 2))).contains(np.zeros((5, 2))).all())
+    True
+    """
 
     _gain = lib.SB_ZONO_GAIN_FIXED
 

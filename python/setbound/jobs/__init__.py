@@ -13,7 +13,7 @@ source (a simulation of the true system, or measured data) and one or more estim
     # omega = {lower = [...], upper = [...]} or {center = [...], generators = [[...]]}: explicit
     # bounds of ω instead of the unit box (converted: ω = c + G ξ, ξ in the unit box; an offset
     # c becomes an input column that is always 1, appended after the user's inputs).
-    # kind = "descriptor": E x⁺ = A x + B u + D w, y = C x + F w (the letters of papers.md §4).
+    # kind = "descriptor": E x⁺ = A x + B u + D w, y = C x + F w (the letters of Methods › Ellipsoidal estimation › Descriptor systems).
 
     [initial]                               # the initial set: an ellipsoid E(P, center, rho) …
     center = [0, 0, 0]

@@ -59,10 +59,30 @@ def _short(expr: str) -> str:
 def compile_expression(expr: str, key: str, names=("t",)) -> Callable[[dict], Any]:
     """Parses a simple expression once and returns ``f(env)`` evaluating it with the variables of
     ``env`` (a dict name -> number or array). Allowed: numbers, the variables ``names``, + − * /
-    **, sin cos tan exp sqrt abs log sign floor tanh, pi, e; nothing else (an AST whitelist, no
+    ``**``, sin cos tan exp sqrt abs log sign floor tanh, pi, e; nothing else (an AST whitelist, no
     attribute access, no other calls), within the bounds of the module docstring. ``f`` returns
     float64 values; a non-finite result is for the caller to report (see :func:`evaluate`).
-    Errors are :class:`ConfigError` naming ``key``."""
+    Errors are :class:`ConfigError` naming ``key``.
+
+    Parameters
+    ----------
+    expr : str
+        The expression.
+    key : str
+        Job-file key (for messages).
+    names : tuple of str, optional
+        Allowed variables.
+
+    Returns
+    -------
+    callable
+
+    Examples
+    --------
+    >>> f = setbound.jobs.compile_expression("0.5*sin(t) + 1", "inputs")
+    >>> float(f({"t": 0.0}))
+    1.0
+    """
     if not isinstance(expr, str):
         raise ConfigError(f"{key}: expected an expression (a string), got {describe(expr)}")
     if len(expr) > MAX_LENGTH:
@@ -172,9 +192,23 @@ def evaluate(f, env: dict, key: str, *, step: int | None = None) -> float:
 
 
 def eval_expression(expr: str, t: np.ndarray, key: str) -> np.ndarray:
-    """Evaluates a simple expression of ``t`` (numbers, + − * / **, sin cos tan exp sqrt abs log
+    """Evaluates a simple expression of ``t`` (numbers, + − * / ``**``, sin cos tan exp sqrt abs log
     sign floor tanh, pi, e) on the array ``t``; nothing else is allowed. A non-finite value is
-    a ConfigError naming ``key``, the first step where it occurs and its cause."""
+    a ConfigError naming ``key``, the first step where it occurs and its cause.
+
+    Parameters
+    ----------
+    expr : str
+        The expression.
+    t : ndarray
+        Time values.
+    key : str
+        Job-file key (for messages).
+
+    Returns
+    -------
+    ndarray
+    """
     t = np.asarray(t, dtype=float)
     f = compile_expression(expr, key, ("t",))
     v = np.broadcast_to(np.asarray(f({"t": t}), dtype=float), t.shape).copy()

@@ -186,35 +186,35 @@ register_system("linear", {"A", "A_radius", "B", "C", "D", "E", "F", "omega"}, _
                 description="x+ = A x + B u + E w, y = C x + D u + F w (A may be an interval matrix; "
                             "w in the unit box or in the [system.omega] box/zonotope)")
 register_system("descriptor", {"E", "A", "B", "C", "D", "F"}, _descriptor_system, DescriptorSystem,
-                description="E x+ = A x + B u + D w, y = C x + F w (papers.md §4)")
+                description="E x+ = A x + B u + D w, y = C x + F w (Methods › Ellipsoidal estimation › Descriptor systems)")
 register_estimator("offline", "ellipsoidal", {**_ELL, **_POLICY}, _build_ellipsoidal("offline"),
                    steady_volume=_rho_inf_volume, checks={**_ELL_CHECKS, **_POLICY_CHECKS},
-                   description="[BenChabane2014] offline gain (papers.md §1.1)")
+                   description="[BenChabane2014] offline gain (Methods › Ellipsoidal estimation › Offline design)")
 register_estimator("online", "ellipsoidal", {**_ELL, **_POLICY}, _build_ellipsoidal("online"),
                    checks={**_ELL_CHECKS, **_POLICY_CHECKS},
-                   description="[BenChabane2014] online LMI per step (papers.md §1.2)")
+                   description="[BenChabane2014] online LMI per step (Methods › Ellipsoidal estimation › Online vertex LMI)")
 register_estimator("scaled", "ellipsoidal", {**_ELL, **_POLICY}, _build_ellipsoidal("scaled"),
                    checks={**_ELL_CHECKS, **_POLICY_CHECKS},
-                   description="[BenChabane2014] online with scaling (papers.md §1.3)")
+                   description="[BenChabane2014] online with scaling (Methods › Ellipsoidal estimation › Online with scaling)")
 register_estimator("improved", "ellipsoidal",
                    {**_ELL, **_POLICY, "option": "det_normalized", "feedback": "fixed_shape", "predictor": "online"},
                    _build_ellipsoidal("improved"),
                    checks={**_ELL_CHECKS, **_POLICY_CHECKS, "option": one_of("det_normalized", "fixed_shape", "ball_normalized"),
                            "feedback": one_of("fixed_shape", "outer_bound", "none"),
                            "predictor": one_of("online", "scaled", "offline")},
-                   description="[Merhy2017] improved measurement correction (papers.md §2.2, §6)")
+                   description="[Merhy2017] improved measurement correction (Methods › Ellipsoidal estimation › Improved correction)")
 register_estimator("descriptor", "ellipsoidal", _ELL, _build_ellipsoidal("descriptor"), systems=("descriptor",),
                    steady_volume=_rho_inf_volume, checks=_ELL_CHECKS,
-                   description="[Merhy2019] descriptor systems (papers.md §4.1)")
+                   description="[Merhy2019] descriptor systems (Methods › Ellipsoidal estimation › Descriptor systems)")
 register_estimator("kalman", "kalman", {"omega_cov": None, "cov0": None, "nsigma": 3.0}, _build_kalman,
                    guaranteed=False,
                    checks={"nsigma": number(lo=0, lo_open=True), "omega_cov": optional_matrix,
                            "cov0": optional_matrix},
-                   description="Kalman filter contrast, mean ± nsigma·σ (papers.md §2.3)")
+                   description="Kalman filter contrast, mean ± nsigma·σ (Methods › Ellipsoidal estimation › Kalman filter)")
 register_estimator("segment_min", "zonotopic", _ZONO, _build_zonotopic("segment_min"), checks=_ZONO_CHECKS,
-                   description="[Alamo2005] segment minimisation (papers.md §5.1)")
+                   description="[Alamo2005] segment minimisation (Methods › Zonotopic estimation › Segment minimisation)")
 register_estimator("volume_min", "zonotopic", _ZONO, _build_zonotopic("volume_min"), checks=_ZONO_CHECKS,
-                   description="[Alamo2005] volume minimisation (papers.md §5.2)")
+                   description="[Alamo2005] volume minimisation (Methods › Zonotopic estimation › Volume minimisation)")
 register_estimator("pradius", "zonotopic", {**_ZONO, "approach": 1}, _build_zonotopic("pradius"),
                    checks={**_ZONO_CHECKS, "approach": one_of(1, 2)},
-                   description="[Le2013] offline P-radius gains (papers.md §3.2, §3.3)")
+                   description="[Le2013] offline P-radius gains (Methods › Zonotopic estimation › P-radius designs)")

@@ -299,7 +299,28 @@ def _deep_line(text: str) -> str:
 
 def load(path, *, simulate: bool = True) -> Job:
     """Reads and validates a job file; raises ConfigError naming the key on any problem.
-    ``simulate=False``: validate only (see the module docstring)."""
+    ``simulate=False``: validate only (see the module docstring).
+
+    Parameters
+    ----------
+    path : str or Path
+        The TOML file.
+    simulate : bool, optional
+        Simulate the data (else validate only).
+
+    Returns
+    -------
+    Job
+
+    Examples
+    --------
+    >>> job = setbound.jobs.from_dict({"system": {"A": [[0.5]], "C": [[1.0]], "E": [[0.1, 0.0]], "F": [[0.0, 0.1]]},
+    ...                                "initial": {"lower": [-1.0], "upper": [1.0]},
+    ...                                "simulation": {"horizon": 5, "seed": 1},
+    ...                                "estimator": [{"method": "segment_min"}]})
+    >>> [(r.name, r.contained) for r in setbound.jobs.run(job, quiet=True)]
+    [('segment_min', True)]
+    """
     path = Path(path)
     try:
         with open(path, "rb") as fh:
@@ -331,7 +352,23 @@ def load(path, *, simulate: bool = True) -> Job:
 def from_dict(doc: dict, *, base=Path("."), source: str = "", simulate: bool = True) -> Job:
     """Validates a parsed job (the dictionary of a TOML file); relative data files are looked up
     under ``base``. Raises ConfigError naming the key on any problem. ``simulate=False``:
-    validate only, the job has no data (see the module docstring)."""
+    validate only, the job has no data (see the module docstring).
+
+    Parameters
+    ----------
+    doc : dict
+        The parsed job.
+    base : Path, optional
+        Folder of relative data files.
+    source : str, optional
+        Where it came from (for messages).
+    simulate : bool, optional
+        Simulate the data (else validate only).
+
+    Returns
+    -------
+    Job
+    """
     check_document(doc)
     # "study": the grid of `setbound study` (setbound.jobs.study); `run` and `check` use the base job
     check_keys(doc, {"title", "system", "initial", "simulation", "data", "estimator", "plots", "fault", "hypothesis",

@@ -13,7 +13,17 @@ __all__ = ["EstimatorSpec", "PlotSpec", "Job", "Result"]
 
 @dataclass
 class EstimatorSpec:
-    """One ``[[estimator]]`` table: the registered ``method``, a unique ``name`` and its options."""
+    """One ``[[estimator]]`` table: the registered ``method``, a unique ``name`` and its options.
+
+    Parameters
+    ----------
+    method : str
+        A registered estimator kind (:data:`ESTIMATORS`).
+    name : str
+        Unique name in the job.
+    options : dict
+        The method's options.
+    """
 
     method: str
     name: str
@@ -23,7 +33,19 @@ class EstimatorSpec:
 @dataclass
 class PlotSpec:
     """The ``[plots]`` table: ``reference`` estimator name for relative widths (None: the first
-    guaranteed), projection ``steps`` (None: first, middle, last), projection ``dims``, ``enabled``."""
+    guaranteed), projection ``steps`` (None: first, middle, last), projection ``dims``, ``enabled``.
+
+    Parameters
+    ----------
+    reference : str, optional
+        Reference estimator of the relative widths.
+    steps : list of int, optional
+        Steps of the projections.
+    dims : (int, int), optional
+        State components of the projections.
+    enabled : bool, optional
+        False: no PNG files.
+    """
 
     reference: str | None = None
     steps: list[int] | None = None
@@ -35,7 +57,45 @@ class PlotSpec:
 class Job:
     """A validated job: the system and initial set, the data (``y``, ``u``, ``x_true`` when known,
     time values ``t``), the estimators to run and the plot options. A job loaded for checking
-    only (``simulate=False``) has ``horizon`` set and no data (``y`` is None)."""
+    only (``simulate=False``) has ``horizon`` set and no data (``y`` is None).
+
+    Parameters
+    ----------
+    title : str
+        Title.
+    system : LinearSystem, DescriptorSystem or a registered system object
+        The model.
+    initial : Ellipsoid, Zonotope or Box
+        The initial set.
+    y, u, x_true : ndarray, optional
+        Measurements, inputs and (simulated) true states, one row per step.
+    t : ndarray, optional
+        Time of each step.
+    estimators : list of EstimatorSpec, optional
+        The ``[[estimator]]`` tables.
+    source : str, optional
+        Where the job came from (a file name).
+    plots : PlotSpec, optional
+        The ``[plots]`` table.
+    system_kind : str, optional
+        The registered ``[system] kind``.
+    constant_input : bool, optional
+        The last input column is the constant 1 (offset of ``[system.omega]``).
+    extra : dict, optional
+        Per-step data besides ``y``/``u`` (e.g. ``"rho"``).
+    designs : dict, optional
+        Offline designs shared by the estimators (:meth:`cached_design`).
+    horizon : int, optional
+        Number of steps.
+    memory_estimate : int, optional
+        Estimated peak memory of a run, in bytes.
+    faults : list of Fault, optional
+        ``[[fault]]`` tables.
+    hypotheses : list of Hypothesis, optional
+        ``[[hypothesis]]`` tables.
+    isolation : Isolation, optional
+        The bank's result after :func:`setbound.jobs.run`.
+    """
 
     title: str
     system: Any
@@ -74,7 +134,20 @@ class Job:
     def cached_design(self, key, make):
         """``make()`` once per ``key`` and system: estimators with the same design options share
         the design, also across jobs of one process with an identical system (``setbound compare``,
-        tests). Returns ``(design, seconds it took to compute)``."""
+        tests). Returns ``(design, seconds it took to compute)``.
+
+        Parameters
+        ----------
+        key : hashable
+            The design's options.
+        make : callable
+            ``make() -> design``.
+
+        Returns
+        -------
+        design : object
+        seconds : float
+        """
         full = (_fingerprint(self.system), key)
         if full not in _DESIGN_CACHE:
             t0 = time.perf_counter()
@@ -107,7 +180,27 @@ class Result:
     ``error`` says why, e.g. an infeasible design), the offline ``design`` (or None), timings in
     seconds, ``contained`` (was the true state inside at every step; None when unknown or not
     guaranteed) and ``steady_volume`` with ``steady_volume_kind`` (``"rho_inf"``: the design's
-    steady-state volume, ``"final"``: the volume of the last set, ``""``: none)."""
+    steady-state volume, ``"final"``: the volume of the last set, ``""``: none).
+
+    Parameters
+    ----------
+    name, method : str
+        The estimator's name and registered method.
+    trajectory : Trajectory or None
+        Its result.
+    design_time, step_time : float
+        Seconds (offline design; mean per step).
+    contained : bool or None
+        The true state was inside at every step.
+    design : object, optional
+        The offline design.
+    error : str, optional
+        Why it failed.
+    steady_volume : float, optional
+        See above.
+    steady_volume_kind : str, optional
+        See above.
+    """
 
     name: str
     method: str

@@ -24,7 +24,15 @@ __all__ = ["BuiltSystem", "SystemKind", "EstimatorKind", "SYSTEMS", "ESTIMATORS"
 class BuiltSystem:
     """What a system kind's ``build`` may return instead of the bare system: the system and
     ``constant_input`` — True when the conversion appended an input column that is always 1 (the
-    offset of non-centred disturbance bounds); jobs then append that column to the inputs."""
+    offset of non-centred disturbance bounds); jobs then append that column to the inputs.
+
+    Parameters
+    ----------
+    system : object
+        The system.
+    constant_input : bool, optional
+        See above.
+    """
 
     system: Any
     constant_input: bool = False
@@ -32,7 +40,21 @@ class BuiltSystem:
 
 @dataclass(frozen=True)
 class SystemKind:
-    """A registered ``[system] kind``: allowed ``keys``, ``build(table) -> system``, the Python ``cls``."""
+    """A registered ``[system] kind``: allowed ``keys``, ``build(table) -> system``, the Python ``cls``.
+
+    Parameters
+    ----------
+    kind : str
+        Name used as ``[system] kind``.
+    keys : frozenset of str
+        Allowed keys of the table.
+    build : callable
+        ``build(table) -> system``.
+    cls : type
+        The Python class of the systems.
+    description : str, optional
+        One line for the command line's listings.
+    """
 
     kind: str
     keys: frozenset
@@ -43,7 +65,29 @@ class SystemKind:
 
 @dataclass(frozen=True)
 class EstimatorKind:
-    """A registered ``[[estimator]] method``: see :mod:`setbound.jobs` (Registry)."""
+    """A registered ``[[estimator]] method``: see :mod:`setbound.jobs` (Registry).
+
+    Parameters
+    ----------
+    method : str
+        Name used as ``[[estimator]] method``.
+    family : str
+        Family (ellipsoidal, zonotopic, …).
+    options : dict
+        Options and their defaults.
+    build : callable
+        ``build(job, options) -> (estimator, design)``.
+    systems : tuple of str, optional
+        System kinds it accepts.
+    guaranteed : bool, optional
+        Whether its sets are guaranteed.
+    steady_volume : callable, optional
+        ``steady_volume(design, estimator) -> float``.
+    description : str, optional
+        One line for the command line's listings.
+    checks : dict, optional
+        Validation of option values (see :func:`register_estimator`).
+    """
 
     method: str
     family: str
@@ -67,7 +111,27 @@ METHODS: dict[str, tuple[str, dict[str, Any]]] = {}
 
 def register_system(kind: str, keys, build: Callable[[dict], Any], cls: type, *, description: str = "",
                     replace: bool = False) -> SystemKind:
-    """Adds a system kind usable as ``[system] kind = "<kind>"`` (see :mod:`setbound.jobs`)."""
+    """Adds a system kind usable as ``[system] kind = "<kind>"`` (see :mod:`setbound.jobs`).
+
+    Parameters
+    ----------
+    kind : str
+        The name.
+    keys : iterable of str
+        Allowed keys.
+    build : callable
+        ``build(table) -> system``.
+    cls : type
+        The Python class of the systems.
+    description : str, optional
+        One line for listings.
+    replace : bool, optional
+        Replace an existing registration of ``kind``.
+
+    Returns
+    -------
+    SystemKind
+    """
     if kind in SYSTEMS and not replace:
         raise ValueError(f"kind: the system kind {kind!r} is already registered (replace=True to override)")
     entry = SystemKind(kind, frozenset(keys) | {"kind"}, build, cls, description)
@@ -81,7 +145,35 @@ def register_estimator(method: str, family: str, options: dict[str, Any], build,
     """Adds an estimator kind usable as ``[[estimator]] method = "<method>"`` (see
     :mod:`setbound.jobs`). ``options`` must not contain ``method`` or ``name``. ``checks`` maps an
     option to a conversion ``f(value, key)`` or to ``(predicate, what it must be)``: values given
-    in a job file are validated when it is loaded."""
+    in a job file are validated when it is loaded.
+
+    Parameters
+    ----------
+    method : str
+        The name.
+    family : str
+        Family.
+    options : dict
+        Options and their defaults.
+    build : callable
+        ``build(job, options) -> (estimator, design)``.
+    systems : tuple of str, optional
+        System kinds it accepts.
+    guaranteed : bool, optional
+        Whether its sets are guaranteed.
+    steady_volume : callable, optional
+        Steady-state volume of a design.
+    description : str, optional
+        One line for listings.
+    checks : dict, optional
+        Option validation.
+    replace : bool, optional
+        Replace an existing registration of ``method``.
+
+    Returns
+    -------
+    EstimatorKind
+    """
     if method in ESTIMATORS and not replace:
         raise ValueError(f"method: the estimator {method!r} is already registered (replace=True to override)")
     bad = {"method", "name"} & set(options)
@@ -95,7 +187,17 @@ def register_estimator(method: str, family: str, options: dict[str, Any], build,
 
 
 def system_kind_of(system) -> str:
-    """The registered kind of a system object (the most specific registered class)."""
+    """The registered kind of a system object (the most specific registered class).
+
+    Parameters
+    ----------
+    system : object
+        A system.
+
+    Returns
+    -------
+    str
+    """
     for kind, entry in SYSTEMS.items():
         if type(system) is entry.cls:
             return kind

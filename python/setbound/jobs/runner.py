@@ -32,7 +32,27 @@ def run_trajectory(estimator, y, u=None, *, label: str = "", quiet: bool = False
     """``estimator.run(y, u)`` with a progress bar (see :mod:`setbound.progress`) when stderr is a
     terminal: then in chunks (``chunk`` rows, default N/50). The first chunk starts from the
     initial set and the others continue from the current state (``run(..., reset=False)``), so
-    the chunks join into the same trajectory as one call."""
+    the chunks join into the same trajectory as one call.
+
+    Parameters
+    ----------
+    estimator : estimator object
+        Any estimator with ``run``.
+    y : ndarray, shape (N, n_y)
+        Measurements.
+    u : ndarray, shape (N, n_u), optional
+        Inputs.
+    label : str, optional
+        Progress-bar label.
+    quiet : bool, optional
+        No progress bar.
+    chunk : int, optional
+        Rows per chunk.
+
+    Returns
+    -------
+    Trajectory
+    """
     from ..progress import Progress
 
     N = len(y)
@@ -52,7 +72,23 @@ def run_trajectory(estimator, y, u=None, *, label: str = "", quiet: bool = False
 def run_estimator(job: Job, spec: EstimatorSpec, *, keep_going: bool = False, quiet: bool = False) -> Result:
     """Builds and runs one estimator of ``job``. With ``keep_going`` a library error (an
     infeasible design, an undetectable pair, …) is returned in :attr:`Result.error` instead of
-    raised."""
+    raised.
+
+    Parameters
+    ----------
+    job : Job
+        The job.
+    spec : EstimatorSpec
+        The estimator.
+    keep_going : bool, optional
+        Return a library error in the Result instead of raising.
+    quiet : bool, optional
+        No progress output.
+
+    Returns
+    -------
+    Result
+    """
     if job.y is None:
         raise ValueError("job: loaded for checking only (simulate=False); load it with simulate=True to run it")
     kind = ESTIMATORS[spec.method]
@@ -90,7 +126,21 @@ def run_estimator(job: Job, spec: EstimatorSpec, *, keep_going: bool = False, qu
 
 def run(job: Job, *, keep_going: bool = False, quiet: bool = False) -> list[Result]:
     """Runs every estimator of ``job`` in order (see :func:`run_estimator`), then the isolation
-    bank of its ``[[hypothesis]]`` tables (``job.isolation``)."""
+    bank of its ``[[hypothesis]]`` tables (``job.isolation``).
+
+    Parameters
+    ----------
+    job : Job
+        The job.
+    keep_going : bool, optional
+        Report a failing estimator in its Result instead of raising.
+    quiet : bool, optional
+        No progress output.
+
+    Returns
+    -------
+    list of Result
+    """
     results = [run_estimator(job, spec, keep_going=keep_going, quiet=quiet) for spec in job.estimators]
     if job.hypotheses and job.y is not None:
         from ..fault import FaultBank

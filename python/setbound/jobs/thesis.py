@@ -1,10 +1,10 @@
-"""Job-file kinds for the thesis (thesis.md): system kinds in the thesis letters and the thesis
+"""Job-file kinds for the thesis ([Loukkas2018]): system kinds in the thesis letters and the thesis
 estimators, registered in :mod:`setbound.jobs.registry` on import (``setbound.thesis_jobs``
 re-exports this module's public names).
 
 System kinds
 ------------
-``kind = "thesis"`` — the plant ``x⁺ = A x + B u + F d``, ``y = C x + Z v`` (thesis.md §2)::
+``kind = "thesis"`` — the plant ``x⁺ = A x + B u + F d``, ``y = C x + Z v`` (Methods › H∞ set-membership observers › Model)::
 
     [system]
     kind = "thesis"
@@ -25,7 +25,7 @@ System kinds
   deterministic profile ``{d = ["expr", …], v = ["expr", …]}`` (expressions of ``t`` and ``k``,
   checked against the boxes).
 
-``kind = "lpv"`` — polytopic LPV (thesis.md §5.2): ``A = [A_1, …, A_N]`` (vertex matrices),
+``kind = "lpv"`` — polytopic LPV (Methods › H∞ set-membership observers › LPV systems): ``A = [A_1, …, A_N]`` (vertex matrices),
   ``B``, ``F`` likewise (optional), common ``C``, ``Z``, the vertices ``theta`` (N × n_ρ, in the
   order of the matrices), the boxes ``d``, ``v`` and the scheduling signal ``scheduling = [expr,
   …]`` — expressions of ``t``, ``k`` and the state ``x1 … xn`` (quasi-LPV: ``"x1"``). ``clip``
@@ -34,7 +34,7 @@ System kinds
   ``Σ α_i M_i`` with the weights of :func:`polytopic_weights_lp`. The simulated ρ is kept in
   ``job.extra["rho"]`` and given to the LPV observer.
 
-``kind = "nonlinear"`` — ``x⁺ = A x + h(p, x, k) + B u``, ``y = C x + Z v`` (thesis.md §6.6):
+``kind = "nonlinear"`` — ``x⁺ = A x + h(p, x, k) + B u``, ``y = C x + Z v`` (Methods › Interval observers › Nonlinear interval observer):
   ``h = [expr, …]`` (n_x expressions of ``t``, ``k``, ``x1 … xn`` and the parameter ``p``),
   ``p = {lower, upper}`` (the parameter's interval), ``h_bounds = {lower, upper}`` (the
   inclusion box [h], validated along the simulation), ``v``. ``[simulation] parameter`` is the
@@ -42,8 +42,8 @@ System kinds
 
 Estimator kinds
 ---------------
-``interval_luenberger`` (Ch. 4 §6.2; ``variant`` tight | wrapped | naive), ``interval_invariant``
-(§6.3; ``mu``, ``inflation``, ``epsilon``, ``variant``), ``nonlinear_interval`` (§6.6),
+``interval_luenberger`` (Methods › Interval observers › Interval Luenberger observer; ``variant`` tight | wrapped | naive), ``interval_invariant``
+(Methods › Interval observers › Invariant-set observer; ``mu``, ``inflation``, ``epsilon``, ``variant``), ``nonlinear_interval`` (Methods › Interval observers › Nonlinear interval observer),
 ``ellipsoidal_sm`` (Ch. 2, Algorithm 2), ``lpv_sm`` (Ch. 3, Algorithm 3) and
 ``invariant_tube`` (Ch. 1 Algorithm 1 as an open-loop estimator, for the autonomous Ex 1.5:
 the error of the "observer" x̂ ≡ 0 is the state itself, so x_k ∈ A^k[x_0] ⊕ Ω_k, bounded by the
@@ -218,7 +218,17 @@ class ThesisSystem(LinearSystem):
     :class:`~setbound.LinearSystem` (so every estimator of the papers applies). ``plant`` is the
     unscaled :class:`~setbound.Plant`, ``d``/``v`` the boxes of d and v (``None`` when n_d or
     n_v is 0) and ``offset`` True when the boxes are not centred (then the last input of the
-    LinearSystem is the constant 1)."""
+    LinearSystem is the constant 1).
+
+    Parameters
+    ----------
+    plant : Plant
+        The unscaled plant.
+    dlo, dhi : ndarray
+        Box of the state disturbance ``d``.
+    vlo, vhi : ndarray
+        Box of the measurement noise ``v``.
+    """
 
     simulation_keys = ()
 
@@ -264,7 +274,29 @@ class ThesisSystem(LinearSystem):
 
     def simulate_job(self, sim, initial, N, t, u, x0, seed) -> ThesisSimulation:
         """The ``[simulation]`` of a job in the thesis letters (d, v sampled in their boxes or
-        given as expressions of t, k); ``u`` includes the constant offset column, if any."""
+        given as expressions of t, k); ``u`` includes the constant offset column, if any.
+
+        Parameters
+        ----------
+        sim : dict
+            The ``[simulation]`` table.
+        initial : set
+            The initial set.
+        N : int
+            Number of steps.
+        t : ndarray, shape (N,)
+            Time values.
+        u : ndarray, shape (N, n_u)
+            Inputs.
+        x0 : ndarray, optional
+            True initial state (default: drawn in ``initial``).
+        seed : int
+            Random seed.
+
+        Returns
+        -------
+        ThesisSimulation
+        """
         p = self.plant
         rng, src, xt = _sim_common(sim, initial, x0, seed, p.nd, p.nv, self.dlo, self.dhi, self.vlo, self.vhi)
         _check_x0_inside(initial, xt)
@@ -327,7 +359,19 @@ def _thesis_system(tab):
 
 # ---------------------------------------------------------------- kind = "lpv"
 def polytopic_weights_lp(theta: np.ndarray, rho: np.ndarray) -> np.ndarray | None:
-    """Weights α ≥ 0, Σα = 1, Σ α_i θ_i = ρ (a feasibility LP; None when ρ ∉ conv{θ_i})."""
+    """Weights α ≥ 0, Σα = 1, Σ α_i θ_i = ρ (a feasibility LP; None when ρ ∉ conv{θ_i}).
+
+    Parameters
+    ----------
+    theta : ndarray, shape (N, n_ρ)
+        Vertices.
+    rho : ndarray, shape (n_ρ,)
+        The point.
+
+    Returns
+    -------
+    ndarray or None
+    """
     from scipy.optimize import linprog
 
     N = theta.shape[0]
@@ -353,7 +397,25 @@ class _OutputModel:
 
 
 class LpvSystem(_OutputModel):
-    """Polytopic LPV plant with its scheduling signal (see the module docstring)."""
+    """Polytopic LPV plant with its scheduling signal (see the module docstring).
+
+    Parameters
+    ----------
+    A, B, F : list of ndarray
+        Vertex matrices (one per row of ``theta``).
+    C, Z : ndarray
+        Common output and noise matrices.
+    theta : ndarray, shape (N, n_ρ)
+        Vertices of the scheduling polytope.
+    dlo, dhi : ndarray
+        Box of the state disturbance ``d``.
+    vlo, vhi : ndarray
+        Box of the measurement noise ``v``.
+    scheduling : callable
+        ``ρ(t, k, x)`` (compiled from the job file).
+    clip : bool
+        Clip ``ρ`` into the box of ``theta`` instead of refusing it.
+    """
 
     simulation_keys = ()
 
@@ -389,7 +451,19 @@ class LpvSystem(_OutputModel):
                                            self.vlo, self.vhi))
 
     def matrices_at(self, rho, k: int):
-        """(A(ρ), B(ρ), F(ρ)) after the clip/validation of ρ; raises ConfigError naming the key."""
+        """(A(ρ), B(ρ), F(ρ)) after the clip/validation of ρ; raises ConfigError naming the key.
+
+        Parameters
+        ----------
+        rho : ndarray, shape (n_ρ,)
+            Scheduling vector.
+        k : int
+            Step (for messages).
+
+        Returns
+        -------
+        A, B, F : ndarray
+        """
         if self.clip:
             rho = np.clip(rho, self.rho_lo, self.rho_hi)
         a = polytopic_weights_lp(self.theta, rho)
@@ -402,7 +476,29 @@ class LpvSystem(_OutputModel):
 
     def simulate_job(self, sim, initial, N, t, u, x0, seed) -> ThesisSimulation:
         """Simulates with the state-dependent scheduling ρ_k (validated or clipped, see
-        :meth:`matrices_at`); ``extra["rho"]`` is the N × n_ρ signal."""
+        :meth:`matrices_at`); ``extra["rho"]`` is the N × n_ρ signal.
+
+        Parameters
+        ----------
+        sim : dict
+            The ``[simulation]`` table.
+        initial : set
+            The initial set.
+        N : int
+            Number of steps.
+        t : ndarray, shape (N,)
+            Time values.
+        u : ndarray, shape (N, n_u)
+            Inputs.
+        x0 : ndarray, optional
+            True initial state (default: drawn in ``initial``).
+        seed : int
+            Random seed.
+
+        Returns
+        -------
+        ThesisSimulation
+        """
         n, nu = self.nx, self.nu
         rng, src, xt = _sim_common(sim, initial, x0, seed, self.dlo.size, self.vlo.size, self.dlo, self.dhi,
                                    self.vlo, self.vhi)
@@ -459,7 +555,21 @@ def _lpv_system(tab):
 
 # ---------------------------------------------------------------- kind = "nonlinear"
 class NonlinearSystem(_OutputModel):
-    """``x⁺ = A x + h(p, x, k) + B u``, ``y = C x + Z v`` with the inclusion box [h] (§6.6)."""
+    """``x⁺ = A x + h(p, x, k) + B u``, ``y = C x + Z v`` with the inclusion box [h] (Methods › Interval observers › Nonlinear interval observer).
+
+    Parameters
+    ----------
+    A, B, C, Z : ndarray
+        The linear part.
+    h : callable
+        ``h(p, x, k)`` (compiled from the job file).
+    plo, phi : ndarray
+        Bounds of the parameter ``p``.
+    hlo, hhi : ndarray
+        The inclusion box ``[h]``.
+    vlo, vhi : ndarray
+        Box of the measurement noise ``v``.
+    """
 
     simulation_keys = ("parameter",)
 
@@ -487,7 +597,29 @@ class NonlinearSystem(_OutputModel):
 
     def simulate_job(self, sim, initial, N, t, u, x0, seed) -> ThesisSimulation:
         """Simulates with the parameter ``[simulation] parameter``; every h(p, x_k, k) is
-        checked against [h]; ``extra["h"]`` holds the values."""
+        checked against [h]; ``extra["h"]`` holds the values.
+
+        Parameters
+        ----------
+        sim : dict
+            The ``[simulation]`` table.
+        initial : set
+            The initial set.
+        N : int
+            Number of steps.
+        t : ndarray, shape (N,)
+            Time values.
+        u : ndarray, shape (N, n_u)
+            Inputs.
+        x0 : ndarray, optional
+            True initial state (default: drawn in ``initial``).
+        seed : int
+            Random seed.
+
+        Returns
+        -------
+        ThesisSimulation
+        """
         n = self.nx
         p = as_float(sim.get("parameter", float(self.phi)), "simulation.parameter")
         if not self.plo <= p <= self.phi:
@@ -820,17 +952,17 @@ _WINDOW_MAX = _API_MAX_WINDOW
 _ITERATIONS_MAX = _API_MAX_ITERATIONS
 
 register_system("thesis", {"A", "B", "C", "F", "Z", "d", "v"}, _thesis_system, ThesisSystem,
-                description="x+ = A x + B u + F d, y = C x + Z v with boxes d, v (thesis.md §2)")
+                description="x+ = A x + B u + F d, y = C x + Z v with boxes d, v (Methods › H∞ set-membership observers › Model)")
 register_system("lpv", {"A", "B", "C", "F", "Z", "d", "v", "theta", "scheduling", "clip"}, _lpv_system,
                 LpvSystem, description="polytopic LPV x+ = A(rho) x + B(rho) u + F(rho) d, y = C x + Z v, "
-                                       "rho(t, k, x) in conv(theta) (thesis.md §5.2)")
+                                       "rho(t, k, x) in conv(theta) (Methods › H∞ set-membership observers › LPV systems)")
 register_system("nonlinear", {"A", "B", "C", "Z", "h", "p", "h_bounds", "v"}, _nonlinear_system,
                 NonlinearSystem, description="x+ = A x + h(p, x, k) + B u, y = C x + Z v, h in [h] "
-                                             "(thesis.md §6.6)")
+                                             "(Methods › Interval observers › Nonlinear interval observer)")
 register_estimator("interval_luenberger", "interval", {"xhat0": None, "L": None, "variant": "tight", **_POLICY},
                    _build_luenberger, systems=("thesis", "linear"),
                    checks={**_XHAT, **_GAIN, **_POLICY_CHECKS, "variant": one_of("tight", "wrapped", "naive")},
-                   description="thesis Ch. 4 interval Luenberger observer (thesis.md §6.2)")
+                   description="thesis Ch. 4 interval Luenberger observer (Methods › Interval observers › Interval Luenberger observer)")
 register_estimator("interval_invariant", "interval",
                    {"xhat0": None, "mu": 2.0, "inflation": None, "epsilon": 0.01, "variant": "tight", **_POLICY},
                    _build_invariant, systems=("thesis", "linear"),
@@ -838,11 +970,11 @@ register_estimator("interval_invariant", "interval",
                            "inflation": _optional(number(lo=1)),
                            "epsilon": number(lo=0, lo_open=True),
                            "variant": one_of("tight", "wrapped")},
-                   description="thesis Ch. 4 interval observer with an invariant-set tail (thesis.md §6.3)")
+                   description="thesis Ch. 4 interval observer with an invariant-set tail (Methods › Interval observers › Invariant-set observer)")
 register_estimator("nonlinear_interval", "interval", {"xhat0": None, "L": None, "window": 256, **_POLICY},
                    _build_nonlinear, systems=("nonlinear",),
                    checks={**_XHAT, **_GAIN, **_POLICY_CHECKS, "window": positive_int(_WINDOW_MAX)},
-                   description="thesis Ch. 4 nonlinear interval observer (thesis.md §6.6)")
+                   description="thesis Ch. 4 nonlinear interval observer (Methods › Interval observers › Nonlinear interval observer)")
 # The Ch. 1-3 estimators need setbound.hinf / setbound.invariant (the thesis branches); a kind is
 # registered only when its module is present, so a job naming it otherwise fails as an unknown method.
 _HAVE = {m: importlib.util.find_spec(f"setbound.{m}") is not None for m in ("hinf", "invariant")}
@@ -850,10 +982,10 @@ if _HAVE["hinf"]:
     register_estimator("ellipsoidal_sm", "thesis-ellipsoidal", dict(_SM), _build_ellipsoidal_sm,
                        systems=("thesis", "linear"),
                        checks=_SM_CHECKS,
-                       description="thesis Ch. 2 ellipsoidal-invariant-set observer, Algorithm 2 (thesis.md §4)")
+                       description="thesis Ch. 2 ellipsoidal-invariant-set observer, Algorithm 2 (Methods › H∞ set-membership observers › Algorithm 2)")
     register_estimator("lpv_sm", "thesis-ellipsoidal", dict(_SM), _build_lpv_sm, systems=("lpv",),
                        checks=_SM_CHECKS,
-                       description="thesis Ch. 3 LPV ellipsoidal-invariant-set observer, Algorithm 3 (thesis.md §5)")
+                       description="thesis Ch. 3 LPV ellipsoidal-invariant-set observer, Algorithm 3 (Methods › H∞ set-membership observers › LPV systems)")
 if _HAVE["invariant"]:
     register_estimator("invariant_tube", "invariant", {"mu": 1.05, "epsilon": 4.4e-3, "stop": "shrinking_index",
                                                        "max_iterations": 1000},
@@ -863,4 +995,4 @@ if _HAVE["invariant"]:
                                "stop": one_of("radius", "shrinking_index", "vertex_norm"),
                                "max_iterations": positive_int(_ITERATIONS_MAX)},
                        description="thesis Ch. 1 Algorithm 1 as an open-loop tube x_k in Phi_k for the "
-                                   "autonomous x+ = A x + F d (thesis.md §3.6, Ex 1.5)")
+                                   "autonomous x+ = A x + F d (Methods › Invariant sets › Algorithm 1, Ex 1.5)")

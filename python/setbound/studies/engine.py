@@ -39,11 +39,26 @@ def default_processes() -> int:
 
 
 class Engine:
-    """The task engine (see the module docstring); a context manager::
+    """The task engine (see the module docstring), a context manager.
+
+    ::
 
         with Engine(processes=2) as eng:
             eng.client    # a distributed.Client, or None on the serial path
             eng.threads   # tasks that run at once (worker threads, 1 when serial)
+
+    Parameters
+    ----------
+    client : distributed.Client, optional
+        Yours, left open.
+    scheduler : str, optional
+        Address ``tcp://HOST:PORT`` of a running scheduler.
+    scheduler_file : str or Path, optional
+        A Dask scheduler file.
+    processes : int, optional
+        Workers of an embedded LocalCluster (default: one per core; 1 runs serially).
+    timeout : float, optional
+        Seconds to reach a scheduler.
     """
 
     def __init__(self, *, client=None, scheduler=None, scheduler_file=None, processes=None,

@@ -64,7 +64,21 @@ def _ident(case) -> dict:
 def run_chunk(task: str, context, cases) -> dict:
     """Runs ``task`` on each case of the chunk (in a worker, or in the caller on the serial path).
     Returns ``{"records": [...], "seconds": wall time}``; each record gets ``seconds`` (its case's
-    wall time) unless the task set it."""
+    wall time) unless the task set it.
+
+    Parameters
+    ----------
+    task : str
+        ``"module:function"``.
+    context : object
+        Passed to the task.
+    cases : list of dict
+        The chunk.
+
+    Returns
+    -------
+    dict
+    """
     fn = resolve_task(task)
     out = []
     t0 = time.perf_counter()
@@ -83,7 +97,15 @@ def run_chunk(task: str, context, cases) -> dict:
 class RunStats:
     """What :func:`run_cases` did: ``records`` handed to the sink, ``tasks`` submitted,
     ``crashed`` cases, ``errors`` (cases whose task raised), ``worker_deaths`` (chunks lost to a
-    dead worker and split), ``seconds`` of wall time."""
+    dead worker and split), ``seconds`` of wall time.
+
+    Parameters
+    ----------
+    records, tasks, crashed, errors, worker_deaths : int, optional
+        Counts (see above).
+    seconds : float, optional
+        Wall time.
+    """
 
     records: int = 0
     tasks: int = 0
@@ -136,7 +158,41 @@ def run_cases(task: str, cases, sink, *, context=None, engine=None, total: int |
     ``engine`` (an entered :class:`~setbound.studies.engine.Engine`; None: serially in this
     process) and calls ``sink(records)`` in this process for each finished chunk (see the module
     docstring). ``reproduce(case)`` gives the command recorded with a crashed case. ``total``: the
-    number of cases, for the progress bar. Returns :class:`RunStats`."""
+    number of cases, for the progress bar. Returns :class:`RunStats`.
+
+    Parameters
+    ----------
+    task : str
+        ``"module:function"`` called as ``function(context, case)``.
+    cases : iterable of dict
+        The cases.
+    sink : callable
+        ``sink(records)``, called in this process.
+    context : object, optional
+        Passed to every task (sent once to the workers).
+    engine : Engine, optional
+        An entered engine (None: serially in this process).
+    total : int, optional
+        Number of cases (for the progress bar).
+    chunk_seconds : float, optional
+        Target work per task.
+    max_in_flight : int, optional
+        Chunks submitted at once (default: from the engine's threads).
+    max_chunk : int, optional
+        Largest number of cases per chunk.
+    reproduce : callable, optional
+        ``reproduce(case) -> str``, the command recorded with a crashed case.
+    label : str, optional
+        Progress-bar label.
+    quiet : bool, optional
+        No progress bar.
+    poll : float, optional
+        Seconds between checks of the running tasks.
+
+    Returns
+    -------
+    RunStats
+    """
     task = as_str(task, "task")
     resolve_task(task)  # a wrong name fails here, not in every worker
     chunk_seconds = as_float(chunk_seconds, "chunk_seconds", lo=0)

@@ -65,7 +65,17 @@ class ResultStore:
     ``manifest``: ``{"kind": ..., "options": {...}, "cases": n}`` (schema and setbound versions
     are added). A folder that holds a manifest is resumed when ``resume`` is true (refused if its
     kind, options, schema or setbound version differ); with ``resume=False`` a folder that holds
-    results is refused."""
+    results is refused.
+
+    Parameters
+    ----------
+    out : str or Path
+        The output folder.
+    manifest : dict
+        See above.
+    resume : bool, optional
+        Continue an existing folder of the same study.
+    """
 
     def __init__(self, out, manifest: dict, *, resume: bool = True):
         resume = as_bool(resume, "resume")
@@ -109,7 +119,13 @@ class ResultStore:
         return self._fh
 
     def append(self, records) -> None:
-        """Appends the records (dicts) as JSON lines in one write, then flushes and fsyncs."""
+        """Appends the records (dicts) as JSON lines in one write, then flushes and fsyncs.
+
+        Parameters
+        ----------
+        records : iterable of dict
+            The records.
+        """
         if not records:
             return
         fh = self._fh or self._open()
@@ -159,7 +175,17 @@ class ResultStore:
 
     def done(self, n: int) -> bytearray:
         """A bitmap (one bit per case index, ``n`` cases) of the cases recorded so far: O(n/8)
-        bytes, whatever the size of the records."""
+        bytes, whatever the size of the records.
+
+        Parameters
+        ----------
+        n : int
+            Number of cases.
+
+        Returns
+        -------
+        bytearray
+        """
         bits = bytearray((n + 7) // 8)
         for rec in self.records():
             i = rec["i"]

@@ -25,7 +25,23 @@ STUDY_TASK = "setbound.studies.tasks:study_case"
 class StudyResult:
     """What :func:`run_study` did: the output folder, the number of cases of the grid, the cases
     run now (``stats.records``; the others were already recorded), the summary rebuilt from the
-    files and the files written."""
+    files and the files written.
+
+    Parameters
+    ----------
+    out : Path
+        Output folder.
+    cases : int
+        Cases of the grid.
+    already : int
+        Cases recorded before this run.
+    stats : RunStats
+        What this run did.
+    summary : StudySummary
+        The summary.
+    files : list of Path, optional
+        Files written.
+    """
 
     out: Path
     cases: int
@@ -59,7 +75,33 @@ def run_study(path, *, out=None, client=None, scheduler=None, scheduler_file=Non
     ``timeout``: seconds to reach a scheduler. ``resume``: an existing output folder of the same
     study is continued (only the missing cases run); False refuses a folder that holds results.
     ``chunk_seconds``: target work per task. ``sink(records)``: also called with each batch saved
-    (after it is on disk)."""
+    (after it is on disk).
+
+    Parameters
+    ----------
+    path : str or Path
+        The study file.
+    out : str or Path, optional
+        Output folder.
+    client, scheduler, scheduler_file, processes : optional
+        The engine (see above).
+    resume : bool, optional
+        Continue an existing output folder.
+    timeout : float, optional
+        Seconds to reach a scheduler.
+    chunk_seconds : float, optional
+        Target work per task.
+    plots : bool, optional
+        Write the plots.
+    quiet : bool, optional
+        No progress output.
+    sink : callable, optional
+        Called with each batch saved.
+
+    Returns
+    -------
+    StudyResult
+    """
     source = str(as_str(path, "path") if not isinstance(path, Path) else path)
     resume = as_bool(resume, "resume")
     plots = as_bool(plots, "plots")
@@ -99,7 +141,19 @@ def run_study(path, *, out=None, client=None, scheduler=None, scheduler_file=Non
 
 def run_one_case(path, key: str) -> dict:
     """Runs the case ``key`` of the study file ``path`` in this process (no cluster, nothing
-    written) and returns its record: the reproduction of a crashed or failed case."""
+    written) and returns its record: the reproduction of a crashed or failed case.
+
+    Parameters
+    ----------
+    path : str or Path
+        The study file.
+    key : str
+        The case key.
+
+    Returns
+    -------
+    dict
+    """
     key = as_str(key, "key")
     study = load_study(path)
     for case in study.cases():

@@ -88,7 +88,19 @@ class StudySummary:
     cases recorded), ``duplicates`` (identical repeats ignored), ``torn`` (torn last lines
     skipped), ``leaked`` (keys of cases whose true state left a guaranteed set), ``crashed`` and
     ``errors`` (the records of crashed cases and of cases whose task raised), and per estimator the
-    mean widths (``widths``) and the swept values (``by_param``) the plots draw."""
+    mean widths (``widths``) and the swept values (``by_param``) the plots draw.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Table rows.
+    cases, duplicates, torn : int
+        Counts (see above).
+    leaked, crashed, errors : list
+        See above.
+    widths, by_param : dict
+        Data of the plots.
+    """
 
     rows: list
     cases: int
@@ -102,7 +114,17 @@ class StudySummary:
 
 
 def summarize(store) -> StudySummary:
-    """Reads every record of ``store`` (a :class:`~setbound.studies.store.ResultStore`) once."""
+    """Reads every record of ``store`` (a :class:`~setbound.studies.store.ResultStore`) once.
+
+    Parameters
+    ----------
+    store : ResultStore
+        The output folder.
+
+    Returns
+    -------
+    StudySummary
+    """
     seen: dict = {}
     groups: dict = {}
     widths: dict = {}
@@ -157,7 +179,17 @@ def _fmt(v, width: int, spec: str = ".4g") -> str:
 
 
 def format_summary(summary: StudySummary) -> str:
-    """The summary table as text: one row per estimator (all its cases), then per parameter value."""
+    """The summary table as text: one row per estimator (all its cases), then per parameter value.
+
+    Parameters
+    ----------
+    summary : StudySummary
+        The summary.
+
+    Returns
+    -------
+    str
+    """
     head = (f"{'estimator':<18}{'parameter':<24}{'cases':>7}{'ok':>6}{'fail':>5}{'crash':>6}{'inside':>8}"
             f"{'mean width':>12}{'final width':>12}{'hull ratio':>11}{'µs/step':>9}{'design s':>9}")
     lines = [head, "-" * len(head)]
