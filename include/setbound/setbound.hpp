@@ -18,8 +18,6 @@ extern "C" {
 #include "setbound/core/linear_system.hpp"
 #include "setbound/core/validate.hpp"
 #include "setbound/sets/box.hpp"
-#include "setbound/sets/box_lp.hpp"
-#include "setbound/sets/constrained_zonotope.hpp"
 #include "setbound/sets/ellipsoid.hpp"
 #include "setbound/sets/interval.hpp"
 #include "setbound/sets/inclusion.hpp"

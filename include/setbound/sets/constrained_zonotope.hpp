@@ -83,8 +83,21 @@ class ConstrainedZonotope {
   ConstrainedZonotope intersect_output(const Eigen::Ref<const Eigen::MatrixXd>& C,
                                        const Eigen::Ref<const Eigen::VectorXd>& y, const Zonotope& V) const;
 
+  /// The same set written differently (CZN-B's correction, spec §2.18): with the rows
+  /// A_L ξ = b_L from `first_row` on and any Λ (n × their count), x = c + Gξ equals
+  /// c + Λ b_L + (G − Λ A_L) ξ on every ξ satisfying them, so c' = c + Λ b_L, G' = G − Λ A_L
+  /// (the rows stay). Rounding of c' and G' goes to the rounding box.
+  ConstrainedZonotope substitute_rows(const Eigen::Ref<const Eigen::MatrixXd>& Lambda, Eigen::Index first_row) const;
+
   /// Drops constraint rows that are exactly zero with a zero right-hand side (they say 0 = 0).
   ConstrainedZonotope remove_zero_constraints() const;
+
+  /// CORA's reduction (conZonotope/reduce.m, spec §2.17): zero constraint rows dropped, then the
+  /// lifted zonotope [c; −b] ⊕ [G; A]B in R^{n+n_c} is reduced with `technique` (Girard or PCA)
+  /// to at most order·n + n_c generators, and split back. Only when there are more generators
+  /// than that. Guaranteed: {x : (x, 0) ∈ reduced lift} ⊇ {x : (x, 0) ∈ lift} = Z, and the
+  /// zonotope reduction rounds outward. `order` >= 1 ("order").
+  ConstrainedZonotope reduce_cora(ZonotopeReduction technique, double order) const;
 
   // ---- Queries (certified; each solves LPs with BoxLP) -----------------------------------
 

@@ -245,6 +245,30 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::intersect_output(const 
   return intersect(Y, C);
 }
 
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::substitute_rows(const Eigen::Ref<const Eigen::MatrixXd>& Lambda,
+                                                                        Eigen::Index first_row) const {
+  if (first_row < 0 || first_row > num_constraints())
+    throw InvalidArgumentError("first_row: expected 0.." + std::to_string(num_constraints()) + ", got " +
+                               std::to_string(first_row));
+  const Eigen::Index p = num_constraints() - first_row;
+  if (Lambda.rows() != dimension() || Lambda.cols() != p)
+    throw DimensionError("Lambda: expected shape " + detail::shape_string(dimension(), p) + ", got " +
+                         detail::shape_string(Lambda.rows(), Lambda.cols()));
+  require_finite(Lambda, "Lambda");
+  if (p == 0) return *this;
+  const auto AL = A_.bottomRows(p);
+  const auto bL = b_.tail(p);
+  const Eigen::VectorXd c = c_ + Lambda * bL;
+  const Eigen::MatrixXd G = G_ - Lambda * AL;
+  // |error| <= γ_{p+1} (|c| + |Λ||b_L| + (|G| + |Λ||A_L|) 1), per row.
+  Eigen::VectorXd mag = c_.cwiseAbs() + Lambda.cwiseAbs() * bL.cwiseAbs();
+  if (num_generators() > 0)
+    mag += G_.cwiseAbs().rowwise().sum() + Lambda.cwiseAbs() * AL.cwiseAbs().rowwise().sum();
+  const Eigen::VectorXd r =
+      czono_detail::inflate(r_ + rounding_bounds::gamma(p + 1) * czono_detail::inflate(mag, num_generators() + p + 2), 2);
+  return ConstrainedZonotope(c, G, A_, b_, r, true);
+}
+
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::remove_zero_constraints() const {
   std::vector<Eigen::Index> keep;
   for (Eigen::Index i = 0; i < num_constraints(); ++i)
@@ -256,6 +280,36 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::remove_zero_constraints
     b(static_cast<Eigen::Index>(k)) = b_(keep[k]);
   }
   return ConstrainedZonotope(c_, G_, std::move(A), std::move(b), r_, true);
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_cora(ZonotopeReduction technique, double order) const {
+  require_finite(order, "order");
+  if (!(order >= 1.0)) throw InvalidArgumentError("order: must be >= 1, got " + std::to_string(order));
+  const ConstrainedZonotope Z = remove_zero_constraints();
+  const Eigen::Index n = Z.dimension(), q = Z.num_constraints(), m = Z.num_generators();
+  const double limit_d = std::floor(order * static_cast<double>(n)) + static_cast<double>(q);
+  const Eigen::Index nonzero = [&] {
+    Eigen::Index k = 0;
+    for (Eigen::Index j = 0; j < m; ++j)
+      if (box_lp_detail::max_abs(Z.G_.col(j)) > 0.0 || box_lp_detail::max_abs(Z.A_.col(j)) > 0.0) ++k;
+    return k;
+  }();
+  if (static_cast<double>(nonzero) <= limit_d) return Z;
+  const Eigen::Index limit = static_cast<Eigen::Index>(limit_d);
+  Eigen::VectorXd centre(n + q);
+  centre << Z.c_, -Z.b_;
+  Eigen::MatrixXd gens(n + q, m);
+  gens << Z.G_, Z.A_;
+  const Zonotope lift(centre, gens);
+  Zonotope reduced = lift;
+  switch (technique) {
+    case ZonotopeReduction::Pca: reduced = lift.reduce_pca(std::max(limit, n + q)); break;
+    case ZonotopeReduction::Girard: reduced = lift.reduce_girard_to(std::max(limit, n + q)); break;
+    default: reduced = lift.reduce_combastel(std::max(limit, n + q)); break;
+  }
+  const Eigen::MatrixXd& H = reduced.generators();
+  // The centre is unchanged by these reductions; the split keeps c and b exactly.
+  return ConstrainedZonotope(Z.c_, H.topRows(n), H.bottomRows(q), Z.b_, Z.r_, true);
 }
 
 SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull() const {
