@@ -13,4 +13,6 @@
 #include "setbound/sets/impl/strip.ipp"
 #include "setbound/sets/impl/zonotope_reduction.ipp"
 #include "setbound/sets/impl/zonotope.ipp"
+#include "setbound/sets/impl/box_lp.ipp"
+#include "setbound/sets/impl/constrained_zonotope.ipp"
 #include "setbound/sets/impl/polytope.ipp"

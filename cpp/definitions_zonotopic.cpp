@@ -6,3 +6,4 @@
 #include "setbound/estimators/impl/pradius.ipp"
 #include "setbound/estimators/impl/volume_min.ipp"
 #include "setbound/estimators/impl/exact_hull.ipp"
+#include "setbound/estimators/impl/constrained_zonotopic.ipp"

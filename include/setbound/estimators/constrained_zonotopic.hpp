@@ -1,0 +1,131 @@
+// setbound — the constrained-zonotope estimators CZN-A and CZN-B (spec cora_observers.md §2.17,
+// §2.18; [Scott2016]; Alanwar et al., arXiv:2010.11097, for CZN-B's gain).
+//
+//   prediction:  X⁺ = A X + B u ⊕ E B^{n_w}                        (W = E·box, exact)
+//   correction (CZN-A, ExactOutput): X ∩ {x : y − D u − C x ∈ F B^{n_w}}  (V used as a set)
+//   correction (CZN-B, WangStrips):  the same strips |C_i x + D_i u − y_i| <= σ_i, σ_i = Σ_j |F_ij|,
+//       written with CORA's representation change c' = c + Λ(y − Cc), G' = [(I − ΛC)G, Λ diag σ],
+//       Λ = R̄Cᵀ(CR̄Cᵀ + F Fᵀ)⁻¹, R̄ = A GGᵀAᵀ + EEᵀ (A applied twice, as CORA does: sic);
+//       the set is the same, the representation differs (so they differ only after a reduction).
+//   reduction: CORA's lift (ConstrainedZonotope::reduce_cora) after every correction but the
+//       first, at `order` (CORA's zonotopeOrder), or none.
+//
+// The state disturbance and the output noise share ω in LinearSystem; they are treated as
+// independent here (an outer bound; exact for the usual E = [E_d, 0], F = [0, F_v]).
+//
+// Time indexing (as every estimator of the library): step(y_k, u_k) returns the set for x_k
+// after using y_k, then predicts x_{k+1} with u_k. The first set is the initial set corrected
+// with y_0 and not reduced (CORA: R{1} = Corr(R0, y_1)).
+//
+// Real data (issue 24): NaN outputs are missing (not used); each present reading is first tested
+// against the predicted output set [C_i X] + D_i u ± σ_i, whose ends are certified support values
+// (LPs), and an impossible one is handled by `on_inconsistency`. Readings that are each possible
+// but jointly impossible leave a certified-empty set: every output of the step is then reported
+// inconsistent (margin NaN) and the policy applies to the step.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "setbound/core/linear_system.hpp"
+#include "setbound/estimators/measurement_check.hpp"
+#include "setbound/sets/constrained_zonotope.hpp"
+#include "setbound/sets/zonotope.hpp"
+
+namespace setbound {
+
+enum class CZCorrection : int {
+  ExactOutput = 0,  ///< CZN-A: intersection with the output set y − D u − F B (exact)
+  WangStrips = 1,   ///< CZN-B: strips with the Wang gain's representation
+};
+
+enum class CZReduction : int {
+  None = 0,  ///< the exact consistent set; memory grows by n_w + n_y columns and n_y rows per step
+  Cora = 1,  ///< CORA's lift reduction at `order` (conZonotope/reduce.m)
+};
+
+struct CZOptions {
+  CZCorrection correction = CZCorrection::ExactOutput;
+  CZReduction reduction = CZReduction::Cora;
+  ZonotopeReduction technique = ZonotopeReduction::Girard;  ///< of the lifted zonotope
+  double order = 20.0;                ///< CORA's zonotopeOrder: at most order·n + n_c generators
+  bool use_first_measurement = true;  ///< correct the initial set with y_0 (CORA's loop)
+  OnInconsistency on_inconsistency = OnInconsistency::Flag;
+};
+
+/// Sets of one run: row k of lower/upper and element k of the lists describe x_k.
+struct CZTrajectory {
+  Eigen::MatrixXd lower, upper;  ///< N × n_x interval hulls (certified)
+  std::vector<ConstrainedZonotope> sets;
+  std::vector<MeasurementCheck> checks;
+};
+
+class ConstrainedZonotopicEstimator {
+ public:
+  /// Validates the options ("order" >= 1 and finite) and that x0 lives in R^{n_x} ("x0"). The
+  /// system must have a known A (an interval A is refused: "system").
+  ConstrainedZonotopicEstimator(LinearSystem system, ConstrainedZonotope x0, CZOptions options = {});
+
+  const LinearSystem& system() const { return sys_; }
+  const CZOptions& options() const { return opt_; }
+  Eigen::Index steps_taken() const { return k_; }
+
+  /// Back to the initial set, no step taken.
+  void reset();
+  /// The policy from the next step on; `reset_set` (policy Reset) defaults to x0.
+  void set_inconsistency_policy(OnInconsistency policy);
+  void set_inconsistency_policy(OnInconsistency policy, const ConstrainedZonotope& reset_set);
+
+  /// Uses y_k (NaN entries missing) and u_k, then predicts x_{k+1}. On error (bad input, policy
+  /// Raise) the estimator is unchanged.
+  void update(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u);
+  const ConstrainedZonotope& step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u) {
+    update(y, u);
+    return current_set();
+  }
+
+  bool has_current() const { return has_current_; }
+  /// The set for x_k of the last update (throws InvalidArgumentError before the first).
+  const ConstrainedZonotope& current_set() const;
+  const Eigen::VectorXd& current_lower() const { return lo_; }
+  const Eigen::VectorXd& current_upper() const { return hi_; }
+  const MeasurementCheck& last_check() const { return check_; }
+  /// The set for x_{k+1} before its measurement.
+  const ConstrainedZonotope& prediction() const { return prior_; }
+
+  /// Runs over the rows of Y (N × n_y) and U (N × n_u, or empty when n_u = 0) from the initial
+  /// set (reset() first: the same data give the same result).
+  CZTrajectory run(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& U = Eigen::MatrixXd());
+
+  /// One correction of X with (y, u) by the estimator's method, for the outputs in `used`
+  /// (indices into y). No screening, no reduction.
+  ConstrainedZonotope correct(const ConstrainedZonotope& X, const Eigen::Ref<const Eigen::VectorXd>& y,
+                              const Eigen::Ref<const Eigen::VectorXd>& u, const std::vector<Eigen::Index>& used) const;
+  /// A X + B u ⊕ E B.
+  ConstrainedZonotope predict(const ConstrainedZonotope& X, const Eigen::Ref<const Eigen::VectorXd>& u) const;
+
+ private:
+  /// Screens the present outputs of y against X; returns the consistent ones (policy Raise
+  /// throws). Fills chk.
+  std::vector<Eigen::Index> screen(const ConstrainedZonotope& X, const Eigen::Ref<const Eigen::VectorXd>& y,
+                                   const Eigen::Ref<const Eigen::VectorXd>& u, MeasurementCheck& chk) const;
+
+  LinearSystem sys_;
+  ConstrainedZonotope x0_;
+  CZOptions opt_;
+  ConstrainedZonotope reset_set_;
+  ConstrainedZonotope prior_;
+  ConstrainedZonotope current_;
+  Eigen::VectorXd sigma_;  // strip half-widths Σ_j |F_ij|, rounded up
+  Eigen::VectorXd lo_, hi_;
+  MeasurementCheck check_;
+  bool has_current_ = false;
+  Eigen::Index k_ = 0;
+};
+
+}  // namespace setbound
+
+// The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
+#if !defined(SETBOUND_SEPARATE_COMPILATION)
+#include "setbound/estimators/impl/constrained_zonotopic.ipp"
+#endif

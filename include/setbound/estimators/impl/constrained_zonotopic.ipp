@@ -1,0 +1,278 @@
+// setbound — definitions of the functions declared in setbound/estimators/constrained_zonotopic.hpp.
+// Included by that header (header-only use) or compiled once into libsetbound
+// (SETBOUND_SEPARATE_COMPILATION); see setbound/core/config.hpp.
+#pragma once
+
+#include <Eigen/LU>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "setbound/core/config.hpp"
+#include "setbound/core/error.hpp"
+#include "setbound/core/validate.hpp"
+#include "setbound/estimators/constrained_zonotopic.hpp"
+#include "setbound/sets/interval.hpp"
+#include "setbound/sets/zonotope_reduction.hpp"
+
+namespace setbound {
+
+namespace czn_detail {
+
+/// D u, or zeros when the system has no feed-through.
+SETBOUND_INLINE Eigen::VectorXd feedthrough(const LinearSystem& s, const Eigen::Ref<const Eigen::VectorXd>& u) {
+  if (s.D().size() == 0 || s.nu() == 0) return Eigen::VectorXd::Zero(s.ny());
+  return s.D() * u;
+}
+
+}  // namespace czn_detail
+
+SETBOUND_INLINE ConstrainedZonotopicEstimator::ConstrainedZonotopicEstimator(LinearSystem system, ConstrainedZonotope x0,
+                                                                            CZOptions options)
+    : sys_(std::move(system)), x0_(std::move(x0)), opt_(options), reset_set_(x0_), prior_(x0_), current_(x0_) {
+  if (sys_.uncertain_A())
+    throw InvalidArgumentError("system: the constrained-zonotope estimators need a known A (no interval A)");
+  if (x0_.dimension() != sys_.nx())
+    throw DimensionError("x0: expected a set in R^" + std::to_string(sys_.nx()) + ", got R^" +
+                         std::to_string(x0_.dimension()));
+  require_finite(opt_.order, "order");
+  if (!(opt_.order >= 1.0)) throw InvalidArgumentError("order: must be >= 1, got " + std::to_string(opt_.order));
+  if (opt_.correction != CZCorrection::ExactOutput && opt_.correction != CZCorrection::WangStrips)
+    throw InvalidArgumentError("correction: unknown method " + std::to_string(static_cast<int>(opt_.correction)));
+  if (opt_.reduction != CZReduction::None && opt_.reduction != CZReduction::Cora)
+    throw InvalidArgumentError("reduction: unknown method " + std::to_string(static_cast<int>(opt_.reduction)));
+  sigma_.resize(sys_.ny());
+  for (Eigen::Index i = 0; i < sys_.ny(); ++i) {
+    const double s = sys_.F().row(i).cwiseAbs().sum();
+    sigma_(i) = s * (1.0 + 2.0 * rounding_bounds::gamma(sys_.F().cols()));
+  }
+  reset();
+}
+
+SETBOUND_INLINE void ConstrainedZonotopicEstimator::reset() {
+  prior_ = x0_;
+  current_ = x0_;
+  has_current_ = false;
+  k_ = 0;
+  lo_.resize(0);
+  hi_.resize(0);
+  check_.clear(sys_.ny());
+}
+
+SETBOUND_INLINE void ConstrainedZonotopicEstimator::set_inconsistency_policy(OnInconsistency policy) {
+  set_inconsistency_policy(policy, x0_);
+}
+
+SETBOUND_INLINE void ConstrainedZonotopicEstimator::set_inconsistency_policy(OnInconsistency policy,
+                                                                            const ConstrainedZonotope& reset_set) {
+  if (policy != OnInconsistency::Flag && policy != OnInconsistency::Raise && policy != OnInconsistency::Reset)
+    throw InvalidArgumentError("on_inconsistency: unknown policy " + std::to_string(static_cast<int>(policy)));
+  if (reset_set.dimension() != sys_.nx())
+    throw DimensionError("reset_set: expected a set in R^" + std::to_string(sys_.nx()) + ", got R^" +
+                         std::to_string(reset_set.dimension()));
+  opt_.on_inconsistency = policy;
+  reset_set_ = reset_set;
+}
+
+SETBOUND_INLINE const ConstrainedZonotope& ConstrainedZonotopicEstimator::current_set() const {
+  if (!has_current_) throw InvalidArgumentError("current_set: no step has been taken yet");
+  return current_;
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotopicEstimator::predict(const ConstrainedZonotope& X,
+                                                                          const Eigen::Ref<const Eigen::VectorXd>& u) const {
+  ConstrainedZonotope P = X.linear_map(sys_.A());
+  if (sys_.nu() > 0) P = P.translate(sys_.B() * u);  // B u's own rounding: P.translate adds γ|c'|
+  if (sys_.nw() > 0) {
+    Eigen::MatrixXd E = sys_.E();
+    // Columns of E that are zero (pure output noise) add nothing.
+    std::vector<Eigen::Index> keep;
+    for (Eigen::Index j = 0; j < E.cols(); ++j)
+      if (box_lp_detail::max_abs(E.col(j)) > 0.0) keep.push_back(j);
+    Eigen::MatrixXd Ek(E.rows(), static_cast<Eigen::Index>(keep.size()));
+    for (size_t j = 0; j < keep.size(); ++j) Ek.col(static_cast<Eigen::Index>(j)) = E.col(keep[j]);
+    if (Ek.cols() > 0) P = P.minkowski_sum(Zonotope(Eigen::VectorXd::Zero(sys_.nx()), Ek));
+  }
+  return P;
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotopicEstimator::correct(const ConstrainedZonotope& X,
+                                                                          const Eigen::Ref<const Eigen::VectorXd>& y,
+                                                                          const Eigen::Ref<const Eigen::VectorXd>& u,
+                                                                          const std::vector<Eigen::Index>& used) const {
+  if (used.empty()) return X;
+  const Eigen::Index p = static_cast<Eigen::Index>(used.size()), n = sys_.nx();
+  const Eigen::VectorXd Du = czn_detail::feedthrough(sys_, u);
+  Eigen::MatrixXd C(p, n);
+  Eigen::VectorXd ys(p);
+  for (Eigen::Index k = 0; k < p; ++k) {
+    const Eigen::Index i = used[static_cast<size_t>(k)];
+    C.row(k) = sys_.C().row(i);
+    ys(k) = y(i) - Du(i);
+  }
+  if (opt_.correction == CZCorrection::ExactOutput) {
+    // y − D u − C x ∈ F_S B: the noise rows of the used outputs, zero columns dropped. The
+    // rounding of y − D u (and of D u) is absorbed by intersect_output's rounding box of the
+    // output set's centre only for the subtraction; D u's own product error is added below.
+    Eigen::MatrixXd FS(p, sys_.F().cols());
+    for (Eigen::Index k = 0; k < p; ++k) FS.row(k) = sys_.F().row(used[static_cast<size_t>(k)]);
+    std::vector<Eigen::Index> keep;
+    for (Eigen::Index j = 0; j < FS.cols(); ++j)
+      if (box_lp_detail::max_abs(FS.col(j)) > 0.0) keep.push_back(j);
+    Eigen::MatrixXd V(p, static_cast<Eigen::Index>(keep.size()));
+    for (size_t j = 0; j < keep.size(); ++j) V.col(static_cast<Eigen::Index>(j)) = FS.col(keep[j]);
+    if (sys_.nu() > 0 && sys_.D().size() > 0) {
+      // |fl(D u) − D u| <= γ |D||u| per row: a private noise column per row covers it.
+      const Eigen::VectorXd err =
+          rounding_bounds::gamma(sys_.nu()) * (sys_.D().cwiseAbs() * u.cwiseAbs()) * 2.0;
+      Eigen::MatrixXd Vx(p, V.cols() + p);
+      Vx << V, Eigen::MatrixXd::Zero(p, p);
+      for (Eigen::Index k = 0; k < p; ++k) Vx(k, V.cols() + k) = err(used[static_cast<size_t>(k)]);
+      V = std::move(Vx);
+    }
+    return X.intersect_output(C, ys, Zonotope(Eigen::VectorXd::Zero(p), V));
+  }
+  // CZN-B (WangStrips): strips |C_i x − ys_i| <= σ_i as one generalized intersection (the
+  // strip variable t_i private to its row, so the rounding slack widens σ_i), then CORA's
+  // representation x = c + Λ(b_S − M ξ + σ ∘ t) + G ξ on the stored rows M ξ − σ t = b_S.
+  Eigen::VectorXd sig(p);
+  for (Eigen::Index k = 0; k < p; ++k) sig(k) = sigma_(used[static_cast<size_t>(k)]);
+  if (sys_.nu() > 0 && sys_.D().size() > 0) {
+    const Eigen::VectorXd err = rounding_bounds::gamma(sys_.nu()) * (sys_.D().cwiseAbs() * u.cwiseAbs()) * 2.0;
+    for (Eigen::Index k = 0; k < p; ++k) sig(k) = rounding::add_up(sig(k), err(used[static_cast<size_t>(k)]));
+  }
+  const ConstrainedZonotope strips(ys, sig.asDiagonal().toDenseMatrix(), Eigen::MatrixXd(0, p), Eigen::VectorXd(0));
+  const ConstrainedZonotope Xs = X.intersect(strips, C);
+  // The gain from the set entering the correction: P = G Gᵀ, R̄ = A P Aᵀ + E Eᵀ, S = C R̄ Cᵀ + F Fᵀ.
+  const Eigen::MatrixXd& G = X.generators();
+  const Eigen::MatrixXd P = G * G.transpose();
+  const Eigen::MatrixXd Rbar = sys_.A() * P * sys_.A().transpose() + sys_.E() * sys_.E().transpose();
+  Eigen::MatrixXd FS(p, sys_.F().cols());
+  for (Eigen::Index k = 0; k < p; ++k) FS.row(k) = sys_.F().row(used[static_cast<size_t>(k)]);
+  const Eigen::MatrixXd S = C * Rbar * C.transpose() + FS * FS.transpose();
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(S);
+  if (!lu.isInvertible()) return Xs;  // no gain: the intersection's own representation (same set)
+  const Eigen::MatrixXd Lambda = Rbar * C.transpose() * lu.inverse();
+  if (!Lambda.allFinite()) return Xs;
+  return Xs.substitute_rows(Lambda, Xs.num_constraints() - p);
+}
+
+SETBOUND_INLINE std::vector<Eigen::Index> ConstrainedZonotopicEstimator::screen(const ConstrainedZonotope& X,
+                                                                               const Eigen::Ref<const Eigen::VectorXd>& y,
+                                                                               const Eigen::Ref<const Eigen::VectorXd>& u,
+                                                                               MeasurementCheck& chk) const {
+  chk.clear(sys_.ny(), OutputStatus::Missing);
+  const Eigen::VectorXd Du = czn_detail::feedthrough(sys_, u);
+  std::vector<Eigen::Index> used;
+  for (Eigen::Index i = 0; i < sys_.ny(); ++i) {
+    if (std::isnan(y(i))) continue;
+    // [lo, hi] ⊇ {C_i x : x ∈ X} (certified support values).
+    const Eigen::VectorXd ci = sys_.C().row(i).transpose();
+    const double hi = X.support(ci), lo = -X.support(-ci);
+    if (!(lo <= hi)) {  // X itself is certified empty: nothing is consistent with it
+      chk.status[static_cast<size_t>(i)] = OutputStatus::Inconsistent;
+      continue;
+    }
+    const double center = 0.5 * lo + 0.5 * hi;
+    const double radius = std::max(rounding::sub_up(hi, center), rounding::sub_up(center, lo));
+    const double magnitude = std::abs(lo) + std::abs(hi) + std::abs(Du(i));
+    const OutputTest t = test_output(y(i) - Du(i), center, radius, sigma_(i), magnitude, sys_.nu() + 2);
+    chk.margin(i) = t.margin;
+    if (t.inconsistent) {
+      chk.status[static_cast<size_t>(i)] = OutputStatus::Inconsistent;
+      if (opt_.on_inconsistency == OnInconsistency::Raise)
+        throw_inconsistent(k_, i, y(i) - Du(i), center, radius, sigma_(i), t.margin);
+      continue;
+    }
+    chk.status[static_cast<size_t>(i)] = OutputStatus::Used;
+    used.push_back(i);
+  }
+  return used;
+}
+
+SETBOUND_INLINE void ConstrainedZonotopicEstimator::update(const Eigen::Ref<const Eigen::VectorXd>& y,
+                                                          const Eigen::Ref<const Eigen::VectorXd>& u) {
+  if (y.size() != sys_.ny())
+    throw DimensionError("y: expected length " + std::to_string(sys_.ny()) + ", got " + std::to_string(y.size()));
+  require_no_infinity(y, "y");
+  if (u.size() != sys_.nu())
+    throw DimensionError("u: expected length " + std::to_string(sys_.nu()) + ", got " + std::to_string(u.size()));
+  require_finite(u, "u");
+  MeasurementCheck chk;
+  ConstrainedZonotope X = prior_;
+  ConstrainedZonotope corrected = X;
+  const bool correct_now = k_ > 0 || opt_.use_first_measurement;
+  if (!correct_now) {
+    chk.clear(sys_.ny(), OutputStatus::Unused);
+  } else {
+    std::vector<Eigen::Index> used = screen(X, y, u, chk);
+    if (chk.flagged() && opt_.on_inconsistency == OnInconsistency::Reset) {
+      X = reset_set_;
+      MeasurementCheck again;
+      used = screen(X, y, u, again);
+      again.reset = true;
+      for (size_t i = 0; i < again.status.size(); ++i)  // keep what the first screening found
+        if (chk.status[i] == OutputStatus::Inconsistent) again.status[i] = OutputStatus::Inconsistent;
+      chk = again;
+    }
+    corrected = correct(X, y, u, used);
+    if (!used.empty() && corrected.emptiness().empty) {
+      // Each reading was possible, together they are not: report the step, keep the prediction
+      // (or restart, or raise), never an empty "estimate".
+      for (Eigen::Index i : used) {
+        chk.status[static_cast<size_t>(i)] = OutputStatus::Inconsistent;
+        chk.margin(i) = std::numeric_limits<double>::quiet_NaN();
+      }
+      if (opt_.on_inconsistency == OnInconsistency::Raise)
+        throw InconsistentMeasurementError("step " + std::to_string(k_) + ": outputs jointly inconsistent: each reading "
+                                           "is possible alone, but no state of the predicted set produces them all "
+                                           "(a fault, a glitch or a wrong model)");
+      corrected = (opt_.on_inconsistency == OnInconsistency::Reset) ? reset_set_ : X;
+      if (opt_.on_inconsistency == OnInconsistency::Reset) chk.reset = true;
+    }
+    if (k_ > 0 && opt_.reduction == CZReduction::Cora) corrected = corrected.reduce_cora(opt_.technique, opt_.order);
+  }
+  const BoundingBox hull = corrected.interval_hull();
+  ConstrainedZonotope next = predict(corrected, u);
+  // Commit (everything above may throw; nothing was changed before this point).
+  current_ = std::move(corrected);
+  prior_ = std::move(next);
+  lo_ = hull.lo;
+  hi_ = hull.hi;
+  check_ = std::move(chk);
+  has_current_ = true;
+  ++k_;
+}
+
+SETBOUND_INLINE CZTrajectory ConstrainedZonotopicEstimator::run(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& U) {
+  if (Y.cols() != sys_.ny())
+    throw DimensionError("Y: expected " + std::to_string(sys_.ny()) + " columns (one per output), got shape " +
+                         detail::shape_string(Y.rows(), Y.cols()));
+  const bool no_input = sys_.nu() == 0;
+  if (!no_input && (U.rows() != Y.rows() || U.cols() != sys_.nu()))
+    throw DimensionError("U: expected shape " + detail::shape_string(Y.rows(), sys_.nu()) + ", got " +
+                         detail::shape_string(U.rows(), U.cols()));
+  for (Eigen::Index k = 0; k < Y.rows(); ++k)
+    for (Eigen::Index i = 0; i < Y.cols(); ++i)
+      if (std::isinf(Y(k, i)))
+        throw NotFiniteError("Y: row " + std::to_string(k) + ", output " + std::to_string(i) +
+                             " is inf; a reading must be finite (NaN marks a missing one)");
+  if (!no_input) require_finite(U, "U");
+  reset();
+  CZTrajectory t;
+  t.lower.resize(Y.rows(), sys_.nx());
+  t.upper.resize(Y.rows(), sys_.nx());
+  const Eigen::VectorXd none(0);
+  for (Eigen::Index k = 0; k < Y.rows(); ++k) {
+    if (no_input) update(Y.row(k).transpose(), none);
+    else update(Y.row(k).transpose(), U.row(k).transpose());
+    t.lower.row(k) = lo_.transpose();
+    t.upper.row(k) = hi_.transpose();
+    t.sets.push_back(current_);
+    t.checks.push_back(check_);
+  }
+  return t;
+}
+
+}  // namespace setbound

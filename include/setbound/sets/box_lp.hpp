@@ -1,0 +1,134 @@
+// setbound — linear programs over the unit box with equality rows, the engine of constrained
+// zonotopes (spec cora_observers.md §1.5, §2.17; Scott et al. 2016 §3):
+//
+//   maximise gᵀξ   subject to   A ξ = b,   −1 <= ξ_j <= 1.
+//
+// The interval hull, the support function, the membership and the emptiness test of a constrained
+// zonotope {c + Gξ : Aξ = b, ‖ξ‖∞ <= 1} are all LPs of this form with the same rows and different
+// objectives (the hull alone is 2n of them), so one BoxLP is built per set and solved many times:
+// a dense bounded-variable primal simplex (variables at either bound, no slack columns) whose basis
+// is kept between objectives, so each LP after the first starts from a feasible, usually
+// near-optimal basis.
+//
+// Why a simplex of our own: these LPs are small (tens to a few hundred columns, a few to a hundred
+// rows) and solved thousands of times per second; the per-call set-up of a general solver costs more
+// than the solve (docs/benchmarks.md "LP engine": this code, the LMI solver's interior point and
+// HiGHS side by side).
+//
+// Guarantee. The simplex runs in floating point and may be inexact; the numbers it returns are not
+// trusted. What is returned comes from weak duality, which holds for *any* vector μ:
+//
+//   max {gᵀξ : Aξ = b, ‖ξ‖∞ <= 1}  <=  μᵀb + ‖g − Aᵀμ‖₁          (gᵀξ = μᵀAξ + (g − Aᵀμ)ᵀξ),
+//
+// evaluated with an a-priori bound on its rounding errors (Higham, Accuracy and Stability, §3.1),
+// so the returned bound is >= the exact maximum whatever the simplex did; with the optimal dual μ
+// it equals the maximum up to that rounding. Likewise a vector y with yᵀb − ‖Aᵀy‖₁ > 0 (evaluated
+// as a certified lower bound) proves that no ξ exists (for a feasible ξ, yᵀb = yᵀAξ <= ‖Aᵀy‖₁):
+// emptiness is reported only with such a certificate. When the simplex cannot decide (an almost
+// empty set whose certificate does not verify, or a breakdown), the status says so and the bounds
+// fall back to valid ones (μ = 0: the unconstrained box), never to guesses.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace setbound {
+
+namespace box_lp_detail {
+
+// Tolerances of the floating-point simplex. They decide only which basis is found, never what is
+// returned (the returned numbers are certified by duality), so they aim at robustness.
+inline constexpr double kPivotTol = 1e-9;        // relative to the entering column's largest entry
+inline constexpr double kReducedCostTol = 1e-10;  // relative to the largest cost
+inline constexpr double kFeasibilityTol = 1e-9;   // phase 1 objective below this (rows scaled) = feasible
+inline constexpr int kRefactorEvery = 64;         // pivots between fresh factorisations of the basis
+
+/// max |v_i|, 0 for an empty vector (Eigen's maxCoeff asserts on those).
+template <class V>
+double max_abs(const V& v) {
+  return v.size() ? v.cwiseAbs().maxCoeff() : 0.0;
+}
+
+/// A certified upper bound of qᵀw + ‖Mᵀw‖₁ (M: k×m, q and w: length k), the form both duality
+/// bounds take: Higham's bound |fl(s) − s| <= γ_k Σ|terms| for each inner product (any summation
+/// order, FMA or not), the final additions rounded upward.
+double upper_bound_q_plus_l1(const Eigen::Ref<const Eigen::MatrixXd>& M, const Eigen::Ref<const Eigen::VectorXd>& q,
+                             const Eigen::Ref<const Eigen::VectorXd>& w);
+
+}  // namespace box_lp_detail
+
+class BoxLP {
+ public:
+  /// What phase 1 found about {ξ : Aξ = b, ‖ξ‖∞ <= 1}.
+  enum class Feasibility {
+    feasible,      ///< a basis satisfying the rows (to the simplex's tolerance) was found
+    empty,         ///< certified empty: infeasibility_certificate() proves it
+    inconclusive,  ///< neither (almost empty set, or numerical breakdown): bounds fall back
+  };
+
+  /// The result of one maximisation.
+  struct Bound {
+    double value;           ///< certified upper bound of max gᵀξ (+inf never; the empty set gives -inf)
+    double estimate;        ///< the simplex's optimum gᵀξ* (not certified; NaN when not feasible)
+    Eigen::VectorXd dual;   ///< the μ that gave `value` (length rows(); zeros on fallback)
+    Eigen::VectorXd point;  ///< the simplex's maximiser ξ* (empty when not feasible)
+    bool optimal;           ///< the simplex reached optimality (false: iteration limit, fallback)
+  };
+
+  /// Validates: A finite with at least one column ("A"), b finite of length rows(A) ("b").
+  /// A may have zero rows (then the feasible set is the whole box).
+  BoxLP(Eigen::MatrixXd A, Eigen::VectorXd b);
+
+  Eigen::Index rows() const { return A_.rows(); }
+  Eigen::Index cols() const { return A_.cols(); }
+  const Eigen::MatrixXd& A() const { return A_; }
+  const Eigen::VectorXd& b() const { return b_; }
+
+  /// Runs phase 1 (once; later calls return the stored answer).
+  Feasibility feasibility();
+  /// A y with a certified yᵀb − ‖Aᵀy‖₁ > 0 when feasibility() is empty (else an empty vector).
+  const Eigen::VectorXd& infeasibility_certificate() { feasibility(); return certificate_; }
+  /// The certified lower bound of yᵀb − ‖Aᵀy‖₁ for the certificate (> 0 when empty).
+  double certificate_margin() { feasibility(); return certificate_margin_; }
+
+  /// max gᵀξ over the set, warm-started from the basis of the previous call. g must have length
+  /// cols() and be finite. On an empty set value = −inf (certified); when inconclusive, value is
+  /// the valid bound ‖g‖₁ (μ = 0) and optimal = false.
+  Bound maximize(const Eigen::Ref<const Eigen::VectorXd>& g);
+
+  /// Simplex pivots done so far (all calls), for benchmarks and tests.
+  long pivots() const { return pivots_; }
+
+ private:
+  void phase1();
+  void refactor();                              // T = B⁻¹A, beta = x_B, from the original data
+  Eigen::VectorXd duals(const Eigen::VectorXd& cost_basic) const;  // solves Bᵀμ = c_B
+  bool run_simplex(const Eigen::VectorXd& cost, long max_pivots);  // minimises costᵀx; false: limit
+  double value_of(int var) const;
+
+  Eigen::MatrixXd A_;  // original rows (zero rows kept: they are checked in phase 1)
+  Eigen::VectorXd b_;
+  Eigen::VectorXd row_scale_;  // rows are scaled to unit max-norm for the simplex
+  Eigen::MatrixXd As_;         // scaled A
+  Eigen::VectorXd bs_;         // scaled b
+
+  // Simplex state: variables 0..m-1 are ξ, m..m+r-1 the artificials (column s_i e_i).
+  Eigen::VectorXd art_sign_;   // s_i
+  std::vector<int> basis_;     // basic variable of each row
+  std::vector<signed char> state_;  // per variable: 0 basic, -1 at lower, +1 at upper
+  Eigen::MatrixXd T_;          // B⁻¹ [As | S], r × (m + r)
+  Eigen::VectorXd beta_;       // values of the basic variables
+  bool phase1_done_ = false;
+  Feasibility feasibility_ = Feasibility::inconclusive;
+  Eigen::VectorXd certificate_;
+  double certificate_margin_ = 0.0;
+  long pivots_ = 0;
+  int since_refactor_ = 0;
+};
+
+}  // namespace setbound
+
+// The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
+#if !defined(SETBOUND_SEPARATE_COMPILATION)
+#include "setbound/sets/impl/box_lp.ipp"
+#endif

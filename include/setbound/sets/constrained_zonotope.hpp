@@ -1,0 +1,141 @@
+// setbound — constrained zonotopes Z = {c + Gξ : Aξ = b, ‖ξ‖∞ <= 1} (spec cora_observers.md §1.5,
+// §2.17, §2.18; Scott, Raimondo, Marseglia, Braatz, Automatica 69 (2016) 126–136, "[Scott2016]").
+//
+// Why: a zonotope loses accuracy at every strip intersection (it can only outer-bound it); a
+// constrained zonotope represents the intersection with a measurement exactly (one more row), so
+// with generous limits it tracks the exact consistent set, and with bounded limits (reduction) it
+// stays guaranteed and tighter than the zonotope methods.
+//
+// Rounding. Every operation contains its exact counterpart after floating-point rounding: the
+// errors of the computed centre and generators (Higham's a-priori bounds) are collected in a
+// *rounding box* r >= 0, so the set this class stands for is
+//
+//   Z = {c + Gξ + diag(r) η : Aξ = b, ‖ξ‖∞ <= 1, ‖η‖∞ <= 1},
+//
+// η free (it enters no constraint). r is zero for a set built from exact data and stays at the
+// level of a few ulps of the set's size; keeping it apart (instead of appending n tiny generator
+// columns per operation) keeps the LPs small. A new constraint row accounts for r and for its own
+// rounding by widening the row's noise term ([Scott2016] eq. 13 written for Z ⊕ box(r)), which is
+// an outer bound, never a cut. The queries (interval hull, support, membership, emptiness) are
+// certified through BoxLP's duality bounds (box_lp.hpp): the hull contains the exact hull,
+// "empty" and "not a member" are reported only with a verified certificate.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "setbound/sets/box_lp.hpp"
+#include "setbound/sets/ellipsoid.hpp"  // BoundingBox
+#include "setbound/sets/strip.hpp"      // Strip, HalfSpace
+#include "setbound/sets/zonotope.hpp"
+
+namespace setbound {
+
+class ConstrainedZonotope {
+ public:
+  /// Validates: c non-empty and finite ("c"); G with n rows ("G"); A with G's column count
+  /// ("A", any number of rows, also zero); b of length rows(A) ("b"); all finite. The rounding
+  /// box starts at zero.
+  ConstrainedZonotope(Eigen::VectorXd c, Eigen::MatrixXd G, Eigen::MatrixXd A, Eigen::VectorXd b);
+
+  /// The zonotope as a constrained zonotope with no constraints (exact).
+  explicit ConstrainedZonotope(const Zonotope& z);
+
+  /// The box [lo, hi] (finite, lo <= hi): centre and radii rounded so that it contains the box.
+  static ConstrainedZonotope from_bounds(const Eigen::Ref<const Eigen::VectorXd>& lo,
+                                         const Eigen::Ref<const Eigen::VectorXd>& hi);
+
+  Eigen::Index dimension() const { return c_.size(); }
+  Eigen::Index num_generators() const { return G_.cols(); }
+  Eigen::Index num_constraints() const { return A_.rows(); }
+  const Eigen::VectorXd& center() const { return c_; }
+  const Eigen::MatrixXd& generators() const { return G_; }
+  const Eigen::MatrixXd& constraint_matrix() const { return A_; }
+  const Eigen::VectorXd& constraint_vector() const { return b_; }
+  /// The rounding box r (see the file comment): zero unless operations rounded.
+  const Eigen::VectorXd& rounding_radius() const { return r_; }
+
+  // ---- Operations (each returns a set containing the exact result) ----------------------
+
+  /// K Z (K: k×n, finite): K c ⊕ K G, constraints unchanged ([Scott2016] eq. 11).
+  ConstrainedZonotope linear_map(const Eigen::Ref<const Eigen::MatrixXd>& K) const;
+  /// Z + v.
+  ConstrainedZonotope translate(const Eigen::Ref<const Eigen::VectorXd>& v) const;
+  /// Z ⊕ W for a zonotope: W's generators appended, constraints unchanged (eq. 12).
+  ConstrainedZonotope minkowski_sum(const Zonotope& W) const;
+  /// Z ⊕ Y: generators side by side, constraints block-diagonal (eq. 12).
+  ConstrainedZonotope minkowski_sum(const ConstrainedZonotope& Y) const;
+
+  /// Generalized intersection {x ∈ Z : R x ∈ Y} (R: k×n, Y in R^k; eq. 13): Y's generators and
+  /// constraints appended, plus the k rows R G ξ − G_Y ζ = c_Y − R c. The rows' rounding and Z's
+  /// rounding box enter as a widening of a generator of Y private to the row when there is one,
+  /// else as one extra column per row.
+  ConstrainedZonotope intersect(const ConstrainedZonotope& Y, const Eigen::Ref<const Eigen::MatrixXd>& R) const;
+  /// Z ∩ Y (R = I).
+  ConstrainedZonotope intersect(const ConstrainedZonotope& Y) const;
+  /// Z ∩ {x : |hᵀx − y| <= φ}: one row and one generator (exact up to rounding).
+  ConstrainedZonotope intersect_strip(const Strip& s) const;
+  /// Z ∩ {x : aᵀx <= f}: one row and one slack generator ([Scott2016] §3: the slack spans
+  /// [L, f] for a lower bound L of aᵀx over Z, so the row cuts nothing the half-space keeps).
+  /// Unchanged when the half-space contains Z (certified by the support function).
+  ConstrainedZonotope intersect_halfspace(const HalfSpace& h) const;
+  /// The states consistent with a measurement: {x ∈ Z : y − C x ∈ V} (CZN-A's correction,
+  /// spec §2.17: V used as a set, not as strips). C: p×n, y: length p, V in R^p.
+  ConstrainedZonotope intersect_output(const Eigen::Ref<const Eigen::MatrixXd>& C,
+                                       const Eigen::Ref<const Eigen::VectorXd>& y, const Zonotope& V) const;
+
+  /// The same set written differently (CZN-B's correction, spec §2.18): with the rows
+  /// A_L ξ = b_L from `first_row` on and any Λ (n × their count), x = c + Gξ equals
+  /// c + Λ b_L + (G − Λ A_L) ξ on every ξ satisfying them, so c' = c + Λ b_L, G' = G − Λ A_L
+  /// (the rows stay). Rounding of c' and G' goes to the rounding box.
+  ConstrainedZonotope substitute_rows(const Eigen::Ref<const Eigen::MatrixXd>& Lambda, Eigen::Index first_row) const;
+
+  /// Drops constraint rows that are exactly zero with a zero right-hand side (they say 0 = 0).
+  ConstrainedZonotope remove_zero_constraints() const;
+
+  /// CORA's reduction (conZonotope/reduce.m, spec §2.17): zero constraint rows dropped, then the
+  /// lifted zonotope [c; −b] ⊕ [G; A]B in R^{n+n_c} is reduced with `technique` (Girard or PCA)
+  /// to at most order·n + n_c generators, and split back. Only when there are more generators
+  /// than that. Guaranteed: {x : (x, 0) ∈ reduced lift} ⊇ {x : (x, 0) ∈ lift} = Z, and the
+  /// zonotope reduction rounds outward. `order` >= 1 ("order").
+  ConstrainedZonotope reduce_cora(ZonotopeReduction technique, double order) const;
+
+  // ---- Queries (certified; each solves LPs with BoxLP) -----------------------------------
+
+  /// The interval hull: 2n LPs sharing one warm-started basis; contains the exact hull. An
+  /// empty set gives lo = +inf, hi = −inf (the empty box).
+  BoundingBox interval_hull() const;
+  /// A certified upper bound of max_{x ∈ Z} dᵀx (−inf when Z is certified empty).
+  double support(const Eigen::Ref<const Eigen::VectorXd>& d) const;
+
+  struct Emptiness {
+    bool empty;                   ///< true only with a verified certificate
+    bool conclusive;              ///< false: the LP could decide neither way (treated as not empty)
+    Eigen::VectorXd certificate;  ///< y with yᵀb − ‖Aᵀy‖₁ > 0 (certified) when empty
+    double margin;                ///< the certified lower bound of that quantity
+  };
+  /// Emptiness with a certificate ([Scott2016] §5: the fault-detection test).
+  Emptiness emptiness() const;
+  bool is_empty() const { return emptiness().empty; }
+
+  /// x ∈ Z? Returns false only when a certificate of non-membership verifies (so a point on the
+  /// boundary, or one the LP cannot separate, counts as a member: the guaranteed direction for
+  /// containment tests).
+  bool contains(const Eigen::Ref<const Eigen::VectorXd>& x) const;
+
+ private:
+  ConstrainedZonotope(Eigen::VectorXd c, Eigen::MatrixXd G, Eigen::MatrixXd A, Eigen::VectorXd b,
+                      Eigen::VectorXd r, bool /*trusted*/);
+
+  Eigen::VectorXd c_;
+  Eigen::MatrixXd G_;
+  Eigen::MatrixXd A_;
+  Eigen::VectorXd b_;
+  Eigen::VectorXd r_;
+};
+
+}  // namespace setbound
+
+// The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
+#if !defined(SETBOUND_SEPARATE_COMPILATION)
+#include "setbound/sets/impl/constrained_zonotope.ipp"
+#endif

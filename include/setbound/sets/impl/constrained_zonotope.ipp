@@ -1,0 +1,391 @@
+// setbound — definitions of the functions declared in setbound/sets/constrained_zonotope.hpp.
+// Included by that header (header-only use) or compiled once into libsetbound
+// (SETBOUND_SEPARATE_COMPILATION); see setbound/core/config.hpp.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "setbound/core/config.hpp"
+#include "setbound/core/error.hpp"
+#include "setbound/core/validate.hpp"
+#include "setbound/sets/box_lp.hpp"
+#include "setbound/sets/constrained_zonotope.hpp"
+#include "setbound/sets/interval.hpp"
+#include "setbound/sets/zonotope_reduction.hpp"  // rounding_bounds::gamma
+
+namespace setbound {
+
+namespace czono_detail {
+
+/// v·(1 + 2γ_k), elementwise: an upper bound of the exact value of a computed sum of k
+/// non-negative terms (γ_k >= 2(k+2)u already covers the sum; the factor 2 covers this product).
+SETBOUND_INLINE Eigen::VectorXd inflate(const Eigen::VectorXd& v, Eigen::Index k) {
+  return v * (1.0 + 2.0 * rounding_bounds::gamma(k));
+}
+
+/// Upper bound of |c| + |G|·1 (the magnitude of the points c + Gξ, ‖ξ‖∞ <= 1, per row).
+SETBOUND_INLINE Eigen::VectorXd magnitude(const Eigen::VectorXd& c, const Eigen::MatrixXd& G) {
+  Eigen::VectorXd s = c.cwiseAbs();
+  if (G.cols() > 0) s += G.cwiseAbs().rowwise().sum();
+  return inflate(s, G.cols() + 1);
+}
+
+SETBOUND_INLINE void require_vector(const Eigen::Ref<const Eigen::VectorXd>& v, Eigen::Index n, const std::string& name) {
+  if (v.size() != n)
+    throw DimensionError(name + ": expected length " + std::to_string(n) + ", got " + std::to_string(v.size()));
+  require_finite(v, name);
+}
+
+}  // namespace czono_detail
+
+SETBOUND_INLINE ConstrainedZonotope::ConstrainedZonotope(Eigen::VectorXd c, Eigen::MatrixXd G, Eigen::MatrixXd A,
+                                                        Eigen::VectorXd b)
+    : c_(std::move(c)), G_(std::move(G)), A_(std::move(A)), b_(std::move(b)) {
+  if (c_.size() == 0) throw DimensionError("c: the centre must have at least one entry");
+  require_finite(c_, "c");
+  if (G_.rows() != c_.size())
+    throw DimensionError("G: expected " + std::to_string(c_.size()) + " rows (the length of c), got shape " +
+                         detail::shape_string(G_.rows(), G_.cols()));
+  require_finite(G_, "G");
+  if (A_.cols() != G_.cols())
+    throw DimensionError("A: expected " + std::to_string(G_.cols()) + " columns (one per generator), got shape " +
+                         detail::shape_string(A_.rows(), A_.cols()));
+  require_finite(A_, "A");
+  if (b_.size() != A_.rows())
+    throw DimensionError("b: expected length " + std::to_string(A_.rows()) + " (the rows of A), got " +
+                         std::to_string(b_.size()));
+  require_finite(b_, "b");
+  r_ = Eigen::VectorXd::Zero(c_.size());
+}
+
+SETBOUND_INLINE ConstrainedZonotope::ConstrainedZonotope(Eigen::VectorXd c, Eigen::MatrixXd G, Eigen::MatrixXd A,
+                                                        Eigen::VectorXd b, Eigen::VectorXd r, bool)
+    : c_(std::move(c)), G_(std::move(G)), A_(std::move(A)), b_(std::move(b)), r_(std::move(r)) {
+  // Results of operations on validated sets; overflow is the only way to a non-finite entry.
+  if (!c_.allFinite() || !G_.allFinite() || !A_.allFinite() || !b_.allFinite() || !r_.allFinite())
+    throw NumericalError("constrained zonotope: an operation overflowed (entries beyond 1.8e308)");
+}
+
+SETBOUND_INLINE ConstrainedZonotope::ConstrainedZonotope(const Zonotope& z)
+    : ConstrainedZonotope(z.center(), z.generators(), Eigen::MatrixXd(0, z.num_generators()), Eigen::VectorXd(0)) {}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::from_bounds(const Eigen::Ref<const Eigen::VectorXd>& lo,
+                                                                    const Eigen::Ref<const Eigen::VectorXd>& hi) {
+  if (lo.size() == 0) throw DimensionError("lo: the box must have at least one dimension");
+  czono_detail::require_vector(lo, lo.size(), "lo");
+  czono_detail::require_vector(hi, lo.size(), "hi");
+  const Eigen::Index n = lo.size();
+  Eigen::VectorXd c(n), rad(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (lo(i) > hi(i))
+      throw InvalidArgumentError("lo: entry " + std::to_string(i) + " is above hi (" + std::to_string(lo(i)) + " > " +
+                                 std::to_string(hi(i)) + ")");
+    c(i) = 0.5 * lo(i) + 0.5 * hi(i);
+    rad(i) = std::max(rounding::sub_up(hi(i), c(i)), rounding::sub_up(c(i), lo(i)));  // covers [lo, hi]
+  }
+  return ConstrainedZonotope(c, rad.asDiagonal().toDenseMatrix(), Eigen::MatrixXd(0, n), Eigen::VectorXd(0));
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::linear_map(const Eigen::Ref<const Eigen::MatrixXd>& K) const {
+  if (K.cols() != dimension() || K.rows() == 0)
+    throw DimensionError("K: expected shape (k, " + std::to_string(dimension()) + ") with k >= 1, got " +
+                         detail::shape_string(K.rows(), K.cols()));
+  require_finite(K, "K");
+  using czono_detail::inflate;
+  const Eigen::Index n = dimension();
+  // K(c + Gξ + diag(r)η) = fl(Kc) + fl(KG)ξ + e, |e| <= γ_n |K|(|c| + |G|1) + |K| r.
+  Eigen::VectorXd per_row = r_ + rounding_bounds::gamma(n) * czono_detail::magnitude(c_, G_);
+  per_row = inflate(per_row, 2);
+  const Eigen::VectorXd r = inflate(K.cwiseAbs() * per_row, n);
+  return ConstrainedZonotope(K * c_, K * G_, A_, b_, r, true);
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::translate(const Eigen::Ref<const Eigen::VectorXd>& v) const {
+  czono_detail::require_vector(v, dimension(), "v");
+  const Eigen::VectorXd c = c_ + v;
+  const Eigen::VectorXd r = czono_detail::inflate(r_ + rounding_bounds::gamma(1) * c.cwiseAbs(), 2);
+  return ConstrainedZonotope(c, G_, A_, b_, r, true);
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::minkowski_sum(const Zonotope& W) const {
+  return minkowski_sum(ConstrainedZonotope(W));
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::minkowski_sum(const ConstrainedZonotope& Y) const {
+  if (Y.dimension() != dimension())
+    throw DimensionError("Y: expected a set in R^" + std::to_string(dimension()) + ", got R^" +
+                         std::to_string(Y.dimension()));
+  const Eigen::Index m1 = num_generators(), m2 = Y.num_generators();
+  const Eigen::Index q1 = num_constraints(), q2 = Y.num_constraints();
+  Eigen::MatrixXd G(dimension(), m1 + m2);
+  G << G_, Y.G_;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(q1 + q2, m1 + m2);
+  A.topLeftCorner(q1, m1) = A_;
+  A.bottomRightCorner(q2, m2) = Y.A_;
+  Eigen::VectorXd b(q1 + q2);
+  b << b_, Y.b_;
+  const Eigen::VectorXd c = c_ + Y.c_;
+  const Eigen::VectorXd r = czono_detail::inflate(r_ + Y.r_ + rounding_bounds::gamma(1) * c.cwiseAbs(), 3);
+  return ConstrainedZonotope(c, std::move(G), std::move(A), std::move(b), r, true);
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::intersect(const ConstrainedZonotope& Y,
+                                                                  const Eigen::Ref<const Eigen::MatrixXd>& R) const {
+  const Eigen::Index n = dimension(), k = Y.dimension();
+  if (R.rows() != k || R.cols() != n)
+    throw DimensionError("R: expected shape " + detail::shape_string(k, n) + " (Y's dimension × this set's), got " +
+                         detail::shape_string(R.rows(), R.cols()));
+  require_finite(R, "R");
+  const Eigen::Index m1 = num_generators(), m2 = Y.num_generators();
+  const Eigen::Index q1 = num_constraints(), q2 = Y.num_constraints();
+  // R x ∈ Y with x = c + Gξ + diag(r)η and Y = c_Y + G_Y ζ + diag(r_Y)η_Y:
+  //   fl(RG) ξ − G_Y ζ = fl(c_Y − fl(R c)) + s ∘ t,  ‖t‖∞ <= 1,
+  // where s bounds everything left out: |R| r + r_Y and the rounding of RG (on the box) and of
+  // the right-hand side. s is absorbed by a generator of Y used only in that row (its
+  // coefficient widened by s_i: {gζ + s_i t} = {(|g| + s_i)ζ'} in one dimension), else by a
+  // new column.
+  const Eigen::MatrixXd RG = R * G_;
+  const Eigen::VectorXd rhs = Y.c_ - R * c_;
+  const Eigen::VectorXd magnitude = czono_detail::magnitude(c_, G_);
+  Eigen::VectorXd s = R.cwiseAbs() * czono_detail::inflate(r_ + rounding_bounds::gamma(n + 1) * magnitude, 2) + Y.r_ +
+                      rounding_bounds::gamma(1) * Y.c_.cwiseAbs();
+  s = czono_detail::inflate(s, n + 3);
+  Eigen::MatrixXd link_Y = -Y.G_;  // the linking rows' ζ block
+  std::vector<Eigen::Index> extra;  // rows needing their own slack column
+  for (Eigen::Index i = 0; i < k; ++i) {
+    if (s(i) == 0.0) continue;
+    Eigen::Index private_col = -1;
+    for (Eigen::Index j = 0; j < m2 && private_col < 0; ++j) {
+      if (Y.G_(i, j) == 0.0) continue;
+      bool alone = true;
+      for (Eigen::Index i2 = 0; i2 < k && alone; ++i2) alone = (i2 == i) || Y.G_(i2, j) == 0.0;
+      for (Eigen::Index q = 0; q < q2 && alone; ++q) alone = Y.A_(q, j) == 0.0;
+      if (alone) private_col = j;
+    }
+    if (private_col >= 0) {
+      const double g = link_Y(i, private_col);
+      link_Y(i, private_col) = std::copysign(rounding::add_up(std::abs(g), s(i)), g);
+    } else {
+      extra.push_back(i);
+    }
+  }
+  const Eigen::Index me = static_cast<Eigen::Index>(extra.size());
+  const Eigen::Index m = m1 + m2 + me;
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, m);
+  G.leftCols(m1) = G_;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(q1 + q2 + k, m);
+  A.topLeftCorner(q1, m1) = A_;
+  A.block(q1, m1, q2, m2) = Y.A_;
+  A.block(q1 + q2, 0, k, m1) = RG;
+  A.block(q1 + q2, m1, k, m2) = link_Y;
+  for (Eigen::Index e = 0; e < me; ++e) A(q1 + q2 + extra[static_cast<size_t>(e)], m1 + m2 + e) = s(extra[static_cast<size_t>(e)]);
+  Eigen::VectorXd b(q1 + q2 + k);
+  b << b_, Y.b_, rhs;
+  return ConstrainedZonotope(c_, std::move(G), std::move(A), std::move(b), r_, true);
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::intersect(const ConstrainedZonotope& Y) const {
+  if (Y.dimension() != dimension())
+    throw DimensionError("Y: expected a set in R^" + std::to_string(dimension()) + ", got R^" +
+                         std::to_string(Y.dimension()));
+  return intersect(Y, Eigen::MatrixXd::Identity(dimension(), dimension()));
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::intersect_strip(const Strip& s) const {
+  if (s.dimension() != dimension())
+    throw DimensionError("strip: expected a strip in R^" + std::to_string(dimension()) + ", got R^" +
+                         std::to_string(s.dimension()));
+  const ConstrainedZonotope Y(Eigen::VectorXd::Constant(1, s.measurement()),
+                              Eigen::MatrixXd::Constant(1, 1, s.half_width()), Eigen::MatrixXd(0, 1), Eigen::VectorXd(0));
+  return intersect(Y, s.normal().transpose());
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::intersect_halfspace(const HalfSpace& h) const {
+  czono_detail::require_vector(h.a, dimension(), "a");
+  require_finite(h.b, "b");
+  if (support(h.a) <= h.b) return *this;  // the half-space keeps all of Z (certified)
+  // L <= aᵀx on c + Gξ + diag(r)η for every ξ in the box: −(−aᵀc + ‖Gᵀa‖₁ + |a|ᵀr), certified.
+  const double upper_neg = rounding::add_up(
+      box_lp_detail::upper_bound_q_plus_l1(G_, c_, -h.a),
+      (h.a.cwiseAbs().dot(r_)) * (1.0 + 2.0 * rounding_bounds::gamma(dimension())));
+  const double L = -upper_neg;
+  if (h.b < L) {  // not even the unconstrained zonotope meets the half-space: the empty set
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(num_constraints() + 1, num_generators());
+    A.topRows(num_constraints()) = A_;
+    Eigen::VectorXd b(num_constraints() + 1);
+    b << b_, 1.0;  // 0 = 1: BoxLP certifies the emptiness with y = e_last
+    return ConstrainedZonotope(c_, G_, std::move(A), std::move(b), r_, true);
+  }
+  // aᵀx ∈ [L, f] as a strip centred at (L + f)/2, half-width rounded to cover both ends.
+  const double mid = 0.5 * L + 0.5 * h.b;
+  const double half = std::max(rounding::sub_up(h.b, mid), rounding::sub_up(mid, L));
+  const ConstrainedZonotope Y(Eigen::VectorXd::Constant(1, mid), Eigen::MatrixXd::Constant(1, 1, half),
+                              Eigen::MatrixXd(0, 1), Eigen::VectorXd(0));
+  return intersect(Y, h.a.transpose());
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::intersect_output(const Eigen::Ref<const Eigen::MatrixXd>& C,
+                                                                         const Eigen::Ref<const Eigen::VectorXd>& y,
+                                                                         const Zonotope& V) const {
+  if (C.cols() != dimension() || C.rows() == 0)
+    throw DimensionError("C: expected shape (p, " + std::to_string(dimension()) + ") with p >= 1, got " +
+                         detail::shape_string(C.rows(), C.cols()));
+  czono_detail::require_vector(y, C.rows(), "y");
+  if (V.dimension() != C.rows())
+    throw DimensionError("V: expected a set in R^" + std::to_string(C.rows()) + " (one entry per output), got R^" +
+                         std::to_string(V.dimension()));
+  // C x ∈ y − V = (y − c_V) ⊕ G_V B (V symmetric about its centre): exact, V used as a set.
+  const Eigen::VectorXd centre = y - V.center();
+  const Eigen::VectorXd r = czono_detail::inflate(rounding_bounds::gamma(1) * centre.cwiseAbs(), 1);
+  const ConstrainedZonotope Y(centre, V.generators(), Eigen::MatrixXd(0, V.num_generators()), Eigen::VectorXd(0), r,
+                              true);
+  return intersect(Y, C);
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::substitute_rows(const Eigen::Ref<const Eigen::MatrixXd>& Lambda,
+                                                                        Eigen::Index first_row) const {
+  if (first_row < 0 || first_row > num_constraints())
+    throw InvalidArgumentError("first_row: expected 0.." + std::to_string(num_constraints()) + ", got " +
+                               std::to_string(first_row));
+  const Eigen::Index p = num_constraints() - first_row;
+  if (Lambda.rows() != dimension() || Lambda.cols() != p)
+    throw DimensionError("Lambda: expected shape " + detail::shape_string(dimension(), p) + ", got " +
+                         detail::shape_string(Lambda.rows(), Lambda.cols()));
+  require_finite(Lambda, "Lambda");
+  if (p == 0) return *this;
+  const auto AL = A_.bottomRows(p);
+  const auto bL = b_.tail(p);
+  const Eigen::VectorXd c = c_ + Lambda * bL;
+  const Eigen::MatrixXd G = G_ - Lambda * AL;
+  // |error| <= γ_{p+1} (|c| + |Λ||b_L| + (|G| + |Λ||A_L|) 1), per row.
+  Eigen::VectorXd mag = c_.cwiseAbs() + Lambda.cwiseAbs() * bL.cwiseAbs();
+  if (num_generators() > 0)
+    mag += G_.cwiseAbs().rowwise().sum() + Lambda.cwiseAbs() * AL.cwiseAbs().rowwise().sum();
+  const Eigen::VectorXd r =
+      czono_detail::inflate(r_ + rounding_bounds::gamma(p + 1) * czono_detail::inflate(mag, num_generators() + p + 2), 2);
+  return ConstrainedZonotope(c, G, A_, b_, r, true);
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::remove_zero_constraints() const {
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index i = 0; i < num_constraints(); ++i)
+    if (b_(i) != 0.0 || box_lp_detail::max_abs(A_.row(i)) > 0.0) keep.push_back(i);
+  Eigen::MatrixXd A(static_cast<Eigen::Index>(keep.size()), num_generators());
+  Eigen::VectorXd b(static_cast<Eigen::Index>(keep.size()));
+  for (size_t k = 0; k < keep.size(); ++k) {
+    A.row(static_cast<Eigen::Index>(k)) = A_.row(keep[k]);
+    b(static_cast<Eigen::Index>(k)) = b_(keep[k]);
+  }
+  return ConstrainedZonotope(c_, G_, std::move(A), std::move(b), r_, true);
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_cora(ZonotopeReduction technique, double order) const {
+  require_finite(order, "order");
+  if (!(order >= 1.0)) throw InvalidArgumentError("order: must be >= 1, got " + std::to_string(order));
+  const ConstrainedZonotope Z = remove_zero_constraints();
+  const Eigen::Index n = Z.dimension(), q = Z.num_constraints(), m = Z.num_generators();
+  const double limit_d = std::floor(order * static_cast<double>(n)) + static_cast<double>(q);
+  const Eigen::Index nonzero = [&] {
+    Eigen::Index k = 0;
+    for (Eigen::Index j = 0; j < m; ++j)
+      if (box_lp_detail::max_abs(Z.G_.col(j)) > 0.0 || box_lp_detail::max_abs(Z.A_.col(j)) > 0.0) ++k;
+    return k;
+  }();
+  if (static_cast<double>(nonzero) <= limit_d) return Z;
+  const Eigen::Index limit = static_cast<Eigen::Index>(limit_d);
+  Eigen::VectorXd centre(n + q);
+  centre << Z.c_, -Z.b_;
+  Eigen::MatrixXd gens(n + q, m);
+  gens << Z.G_, Z.A_;
+  const Zonotope lift(centre, gens);
+  Zonotope reduced = lift;
+  switch (technique) {
+    case ZonotopeReduction::Pca: reduced = lift.reduce_pca(std::max(limit, n + q)); break;
+    case ZonotopeReduction::Girard: reduced = lift.reduce_girard_to(std::max(limit, n + q)); break;
+    default: reduced = lift.reduce_combastel(std::max(limit, n + q)); break;
+  }
+  const Eigen::MatrixXd& H = reduced.generators();
+  // The centre is unchanged by these reductions; the split keeps c and b exactly.
+  return ConstrainedZonotope(Z.c_, H.topRows(n), H.bottomRows(q), Z.b_, Z.r_, true);
+}
+
+SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull() const {
+  const Eigen::Index n = dimension();
+  BoxLP lp(A_, b_);
+  if (lp.feasibility() == BoxLP::Feasibility::empty)
+    return {Eigen::VectorXd::Constant(n, rounding::kInf), Eigen::VectorXd::Constant(n, -rounding::kInf)};
+  BoundingBox box{Eigen::VectorXd(n), Eigen::VectorXd(n)};
+  for (Eigen::Index i = 0; i < n; ++i) {
+    // ±G_i is exact, so BoxLP's certified bound of max ±G_i ξ is the hull's radius part.
+    const double up = lp.maximize(G_.row(i).transpose()).value;
+    const double down = lp.maximize(-G_.row(i).transpose()).value;
+    box.hi(i) = rounding::add_up(c_(i), rounding::add_up(up, r_(i)));
+    box.lo(i) = rounding::sub_down(c_(i), rounding::add_up(down, r_(i)));
+  }
+  return box;
+}
+
+SETBOUND_INLINE double ConstrainedZonotope::support(const Eigen::Ref<const Eigen::VectorXd>& d) const {
+  czono_detail::require_vector(d, dimension(), "d");
+  BoxLP lp(A_, b_);
+  if (lp.feasibility() == BoxLP::Feasibility::empty) return -rounding::kInf;
+  const Eigen::VectorXd g = G_.transpose() * d;  // rounded: only used to find μ
+  const Eigen::VectorXd mu = lp.maximize(g).dual;
+  // dᵀc + μᵀb + ‖Gᵀd − Aᵀμ‖₁ = qᵀw + ‖Mᵀw‖₁ with M = [G; A], q = [c; −b], w = [d; −μ].
+  const Eigen::Index n = dimension(), q = num_constraints();
+  Eigen::MatrixXd M(n + q, num_generators());
+  M << G_, A_;
+  Eigen::VectorXd qv(n + q), w(n + q);
+  qv << c_, -b_;
+  w << d, -mu;
+  const double core = box_lp_detail::upper_bound_q_plus_l1(M, qv, w);
+  const double box = d.cwiseAbs().dot(r_) * (1.0 + 2.0 * rounding_bounds::gamma(n));
+  return rounding::add_up(core, box);
+}
+
+SETBOUND_INLINE ConstrainedZonotope::Emptiness ConstrainedZonotope::emptiness() const {
+  BoxLP lp(A_, b_);
+  const BoxLP::Feasibility f = lp.feasibility();
+  Emptiness e{f == BoxLP::Feasibility::empty, f != BoxLP::Feasibility::inconclusive, Eigen::VectorXd(), 0.0};
+  if (e.empty) {
+    e.certificate = lp.infeasibility_certificate();
+    e.margin = lp.certificate_margin();
+  }
+  return e;
+}
+
+SETBOUND_INLINE bool ConstrainedZonotope::contains(const Eigen::Ref<const Eigen::VectorXd>& x) const {
+  czono_detail::require_vector(x, dimension(), "x");
+  const Eigen::Index n = dimension(), m = num_generators(), q = num_constraints();
+  // Variables ξ and the η of the non-zero rounding radii; rows: G ξ + diag(r) η = x − c, A ξ = b.
+  std::vector<Eigen::Index> nz;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (r_(i) > 0.0) nz.push_back(i);
+  const Eigen::Index me = static_cast<Eigen::Index>(nz.size());
+  Eigen::MatrixXd Gx = Eigen::MatrixXd::Zero(n, m + me), Ax = Eigen::MatrixXd::Zero(q, m + me);
+  Gx.leftCols(m) = G_;
+  for (Eigen::Index e = 0; e < me; ++e) Gx(nz[static_cast<size_t>(e)], m + e) = r_(nz[static_cast<size_t>(e)]);
+  Ax.leftCols(m) = A_;
+  if (m + me == 0) return box_lp_detail::max_abs(x - c_) == 0.0 && !emptiness().empty;
+  Eigen::MatrixXd rows(n + q, m + me);
+  rows << Gx, Ax;
+  Eigen::VectorXd rhs(n + q);
+  rhs << x - c_, b_;  // rounded: the certificate is re-checked against the exact x and c below
+  BoxLP lp(rows, rhs);
+  if (lp.feasibility() != BoxLP::Feasibility::empty) return true;
+  const Eigen::VectorXd y = lp.infeasibility_certificate();
+  // Margin y₁ᵀ(x − c) + y₂ᵀb − ‖Gxᵀy₁ + Axᵀy₂‖₁ = −(qᵀw + ‖Mᵀw‖₁) with
+  // M = [Gx; 0; Ax], q = [−x; c; −b], w = [y₁; y₁; y₂].
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(2 * n + q, m + me);
+  M.topRows(n) = Gx;
+  M.bottomRows(q) = Ax;
+  Eigen::VectorXd qv(2 * n + q), w(2 * n + q);
+  qv << -x, c_, -b_;
+  w << y.head(n), y.head(n), y.tail(q);
+  return !(-box_lp_detail::upper_bound_q_plus_l1(M, qv, w) > 0.0);
+}
+
+}  // namespace setbound

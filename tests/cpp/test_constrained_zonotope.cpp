@@ -1,0 +1,421 @@
+// Constrained zonotopes and their LP engine (spec cora_observers.md §1.5, §2.17; [Scott2016]).
+//
+// Independent references: a brute-force LP optimum (enumeration of the basic solutions of the
+// box-and-rows polytope for small sizes), an exact polygon (a 2-D zonotope's vertices clipped by
+// half-planes, Sutherland–Hodgman) for hulls of intersections, and sampling for images and sums.
+// The Python tests compare the same LPs with SciPy's HiGHS.
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "setbound/sets/box_lp.hpp"
+#include "setbound/sets/constrained_zonotope.hpp"
+#include "test_helpers.hpp"
+
+using setbound::BoxLP;
+using setbound::ConstrainedZonotope;
+using setbound::HalfSpace;
+using setbound::Strip;
+using setbound::Zonotope;
+using setbound::testing::expect_error_naming;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+namespace {
+
+MatrixXd randn(int r, int c, std::mt19937& rng, double scale = 1.0) {
+  std::normal_distribution<double> g;
+  MatrixXd A(r, c);
+  for (int i = 0; i < r; ++i)
+    for (int j = 0; j < c; ++j) A(i, j) = scale * g(rng);
+  return A;
+}
+
+VectorXd box_point(int m, std::mt19937& rng, bool vertex) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  VectorXd z(m);
+  for (int j = 0; j < m; ++j) z(j) = vertex ? (u(rng) < 0 ? -1.0 : 1.0) : u(rng);
+  return z;
+}
+
+/// max gᵀξ over {Aξ = b, ‖ξ‖∞ <= 1} by enumerating basic solutions: choose which m − rank(A)
+/// variables sit at ±1, solve the rest from the rows (least squares, accepted when consistent and
+/// inside the box). Exponential: only for m <= 7. Returns −inf when no basic solution exists.
+double brute_force_max(const MatrixXd& A, const VectorXd& b, const VectorXd& g) {
+  const int m = static_cast<int>(A.cols()), q = static_cast<int>(A.rows());
+  double best = -std::numeric_limits<double>::infinity();
+  for (int mask = 0; mask < (1 << m); ++mask) {       // which variables are free (basic)
+    std::vector<int> freev, fixedv;
+    for (int j = 0; j < m; ++j) ((mask >> j) & 1 ? freev : fixedv).push_back(j);
+    if (static_cast<int>(freev.size()) > q) continue;
+    for (int signs = 0; signs < (1 << fixedv.size()); ++signs) {
+      VectorXd xi = VectorXd::Zero(m);
+      for (size_t k = 0; k < fixedv.size(); ++k) xi(fixedv[k]) = (signs >> k) & 1 ? 1.0 : -1.0;
+      VectorXd rhs = b - A * xi;
+      if (!freev.empty()) {
+        MatrixXd Af(q, static_cast<int>(freev.size()));
+        for (size_t k = 0; k < freev.size(); ++k) Af.col(static_cast<int>(k)) = A.col(freev[k]);
+        const VectorXd sol = Af.colPivHouseholderQr().solve(rhs);
+        for (size_t k = 0; k < freev.size(); ++k) xi(freev[k]) = sol(static_cast<int>(k));
+        rhs = b - A * xi;
+      }
+      if (rhs.size() && rhs.cwiseAbs().maxCoeff() > 1e-9) continue;
+      if (xi.cwiseAbs().maxCoeff() > 1.0 + 1e-9) continue;
+      best = std::max(best, g.dot(xi));
+    }
+  }
+  return best;
+}
+
+using Polygon = std::vector<Eigen::Vector2d>;
+
+/// The vertices of a 2-D zonotope in counter-clockwise order (generators sorted by angle).
+Polygon zonotope_polygon(const VectorXd& c, const MatrixXd& G) {
+  std::vector<Eigen::Vector2d> gens;
+  for (int j = 0; j < G.cols(); ++j) {
+    Eigen::Vector2d g = G.col(j);
+    if (g.norm() == 0) continue;
+    if (g.y() < 0 || (g.y() == 0 && g.x() < 0)) g = -g;  // upper half-plane
+    gens.push_back(g);
+  }
+  std::sort(gens.begin(), gens.end(), [](const auto& a, const auto& b) { return std::atan2(a.y(), a.x()) < std::atan2(b.y(), b.x()); });
+  Eigen::Vector2d start = c.head<2>();
+  for (const auto& g : gens) start -= g;
+  Polygon P{start};
+  for (const auto& g : gens) P.push_back(P.back() + 2 * g);
+  for (const auto& g : gens) P.push_back(P.back() - 2 * g);
+  P.pop_back();
+  return P;
+}
+
+/// Sutherland–Hodgman: P ∩ {x : aᵀx <= f}.
+Polygon clip(const Polygon& P, const Eigen::Vector2d& a, double f) {
+  Polygon out;
+  for (size_t i = 0; i < P.size(); ++i) {
+    const auto& p = P[i];
+    const auto& q = P[(i + 1) % P.size()];
+    const double sp = a.dot(p) - f, sq = a.dot(q) - f;
+    if (sp <= 0) out.push_back(p);
+    if ((sp < 0 && sq > 0) || (sp > 0 && sq < 0)) out.push_back(p + (q - p) * (sp / (sp - sq)));
+  }
+  return out;
+}
+
+ConstrainedZonotope strip_set(const VectorXd& c, const MatrixXd& G, const std::vector<Strip>& strips) {
+  ConstrainedZonotope Z(Zonotope(c, G));
+  for (const auto& s : strips) Z = Z.intersect_strip(s);
+  return Z;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- BoxLP
+
+TEST(BoxLP, MatchesBruteForceOnRandomFeasibleLPs) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 300; ++trial) {
+    const int m = 2 + trial % 6, q = trial % std::min(m, 4);
+    const MatrixXd A = randn(q, m, rng);
+    const VectorXd b = A * (0.8 * box_point(m, rng, false));  // feasible by construction
+    BoxLP lp(A, b);
+    ASSERT_EQ(lp.feasibility(), BoxLP::Feasibility::feasible) << "trial " << trial;
+    for (int k = 0; k < 3; ++k) {  // three objectives on one basis (warm starts)
+      const VectorXd g = randn(m, 1, rng);
+      const auto res = lp.maximize(g);
+      const double exact = brute_force_max(A, b, g);
+      EXPECT_TRUE(res.optimal);
+      EXPECT_GE(res.value, exact - 1e-12) << "certified bound below the optimum, trial " << trial;
+      EXPECT_NEAR(res.value, exact, 1e-9 * (1 + std::abs(exact))) << "trial " << trial;
+      EXPECT_NEAR(res.estimate, exact, 1e-9 * (1 + std::abs(exact)));
+      ASSERT_EQ(res.point.size(), m);
+      EXPECT_LE(res.point.cwiseAbs().maxCoeff(), 1.0 + 1e-12);
+      if (q) {
+        EXPECT_LE((A * res.point - b).cwiseAbs().maxCoeff(), 1e-9);
+      }
+    }
+  }
+}
+
+TEST(BoxLP, CertifiesEmptinessAndOnlyWithAVerifiedCertificate) {
+  // ξ1 + ξ2 = 3 has no solution in the box: y = 1 gives yᵀb − ‖Aᵀy‖₁ = 3 − 2 = 1.
+  BoxLP lp(MatrixXd::Constant(1, 2, 1.0), VectorXd::Constant(1, 3.0));
+  EXPECT_EQ(lp.feasibility(), BoxLP::Feasibility::empty);
+  const VectorXd y = lp.infeasibility_certificate();
+  ASSERT_EQ(y.size(), 1);
+  EXPECT_GT(y(0) * 3.0 - 2.0 * std::abs(y(0)), 0.0);
+  EXPECT_GT(lp.certificate_margin(), 0.0);
+  EXPECT_EQ(lp.maximize(VectorXd::Ones(2)).value, -std::numeric_limits<double>::infinity());
+  // Exactly on the boundary (ξ = (1, 1)): feasible, never "empty".
+  BoxLP edge(MatrixXd::Constant(1, 2, 1.0), VectorXd::Constant(1, 2.0));
+  EXPECT_EQ(edge.feasibility(), BoxLP::Feasibility::feasible);
+  EXPECT_NEAR(edge.maximize(VectorXd::Ones(2)).value, 2.0, 1e-12);
+  // A zero row: 0 = 0 is redundant, 0 = 1 is empty with the certificate e_i.
+  MatrixXd Z(2, 3);
+  Z << 1, 2, 0, 0, 0, 0;
+  BoxLP redundant(Z, VectorXd::Zero(2));
+  EXPECT_EQ(redundant.feasibility(), BoxLP::Feasibility::feasible);
+  EXPECT_NEAR(redundant.maximize(VectorXd::Unit(3, 0)).value, 1.0, 1e-12);
+  VectorXd bz(2);
+  bz << 0, 1;
+  BoxLP contradiction(Z, bz);
+  EXPECT_EQ(contradiction.feasibility(), BoxLP::Feasibility::empty);
+}
+
+TEST(BoxLP, RandomInfeasibleSystemsAreCertified) {
+  std::mt19937 rng(11);
+  int empty = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const int m = 2 + trial % 5, q = 1 + trial % 3;
+    const MatrixXd A = randn(q, m, rng);
+    const VectorXd b = randn(q, 1, rng, 4.0);
+    BoxLP lp(A, b);
+    const auto f = lp.feasibility();
+    const double reference = brute_force_max(A, b, VectorXd::Zero(m));  // −inf iff empty
+    if (f == BoxLP::Feasibility::empty) {
+      ++empty;
+      EXPECT_EQ(reference, -std::numeric_limits<double>::infinity()) << "certified empty but feasible, trial " << trial;
+      const VectorXd y = lp.infeasibility_certificate();
+      EXPECT_GT(y.dot(b) - (A.transpose() * y).cwiseAbs().sum(), 0.0);
+    } else {
+      EXPECT_EQ(f, BoxLP::Feasibility::feasible);
+      EXPECT_GT(reference, -std::numeric_limits<double>::infinity()) << "missed an empty set, trial " << trial;
+    }
+  }
+  EXPECT_GT(empty, 20);  // the draw produces both kinds
+}
+
+TEST(BoxLP, DegenerateAndRedundantRows) {
+  // Duplicated and scaled rows, and a variable that appears nowhere: still the right optimum.
+  MatrixXd A(3, 4);
+  A << 1, 1, 0, 0, 2, 2, 0, 0, 0, 1, -1, 0;
+  VectorXd b(3);
+  b << 0.5, 1.0, 0.0;
+  BoxLP lp(A, b);
+  ASSERT_EQ(lp.feasibility(), BoxLP::Feasibility::feasible);
+  for (int k = 0; k < 4; ++k) {
+    for (double s : {1.0, -1.0}) {
+      const VectorXd g = s * VectorXd::Unit(4, k);
+      EXPECT_NEAR(lp.maximize(g).value, brute_force_max(A, b, g), 1e-10) << "k " << k << " s " << s;
+    }
+  }
+  // A row that pins ξ (1 variable, value 1): the single feasible point.
+  BoxLP pin(MatrixXd::Constant(1, 1, 2.0), VectorXd::Constant(1, 2.0));
+  EXPECT_NEAR(pin.maximize(VectorXd::Constant(1, -1.0)).value, -1.0, 1e-12);
+}
+
+TEST(BoxLP, BadInputIsNamed) {
+  MatrixXd A = MatrixXd::Ones(2, 3);
+  expect_error_naming<setbound::DimensionError>([&] { BoxLP(A, VectorXd::Zero(3)); }, "b");
+  A(1, 1) = std::numeric_limits<double>::quiet_NaN();
+  expect_error_naming<setbound::NotFiniteError>([&] { BoxLP(A, VectorXd::Zero(2)); }, "A");
+  BoxLP ok(MatrixXd::Ones(1, 3), VectorXd::Zero(1));
+  expect_error_naming<setbound::DimensionError>([&] { ok.maximize(VectorXd::Zero(2)); }, "g");
+  expect_error_naming<setbound::NotFiniteError>([&] { ok.maximize(VectorXd::Constant(3, INFINITY)); }, "g");
+}
+
+// ---------------------------------------------------------------- ConstrainedZonotope
+
+TEST(ConstrainedZonotope, WithoutConstraintsItIsTheZonotope) {
+  std::mt19937 rng(3);
+  for (int trial = 0; trial < 50; ++trial) {
+    const int n = 1 + trial % 4, m = 1 + trial % 6;
+    const Zonotope z(randn(n, 1, rng, 3.0), randn(n, m, rng));
+    const ConstrainedZonotope cz(z);
+    const auto hz = z.interval_hull(), hc = cz.interval_hull();
+    EXPECT_LE((hc.lo - hz.lo).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LE((hc.hi - hz.hi).cwiseAbs().maxCoeff(), 1e-12);
+    for (int k = 0; k < 5; ++k) {
+      const VectorXd d = randn(n, 1, rng);
+      EXPECT_GE(cz.support(d), z.support(d) - 1e-12);
+      EXPECT_NEAR(cz.support(d), z.support(d), 1e-10 * (1 + std::abs(z.support(d))));
+    }
+    EXPECT_FALSE(cz.is_empty());
+  }
+}
+
+TEST(ConstrainedZonotope, StripIntersectionHullIsTheExactPolygonsHull) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 100; ++trial) {
+    const VectorXd c = randn(2, 1, rng);
+    const MatrixXd G = randn(2, 2 + trial % 4, rng);
+    std::vector<Strip> strips;
+    Polygon P = zonotope_polygon(c, G);
+    const int ns = 1 + trial % 3;
+    const VectorXd x = c + G * box_point(static_cast<int>(G.cols()), rng, false);  // in every strip: non-empty
+    for (int k = 0; k < ns; ++k) {
+      const VectorXd h = randn(2, 1, rng);
+      const double phi = 0.05 + 0.3 * std::abs(randn(1, 1, rng)(0));
+      strips.emplace_back(h, h.dot(x), phi);
+      P = clip(P, h, h.dot(x) + phi);
+      P = clip(P, -h, -h.dot(x) + phi);
+    }
+    const ConstrainedZonotope Z = strip_set(c, G, strips);
+    EXPECT_EQ(Z.num_constraints(), ns);
+    ASSERT_FALSE(P.empty());
+    const auto hull = Z.interval_hull();
+    for (int i = 0; i < 2; ++i) {
+      double lo = INFINITY, hi = -INFINITY;
+      for (const auto& p : P) lo = std::min(lo, p(i)), hi = std::max(hi, p(i));
+      EXPECT_LE(hull.lo(i), lo + 1e-12) << "trial " << trial;  // contains the exact hull
+      EXPECT_GE(hull.hi(i), hi - 1e-12) << "trial " << trial;
+      EXPECT_NEAR(hull.lo(i), lo, 1e-9) << "trial " << trial;  // and is tight
+      EXPECT_NEAR(hull.hi(i), hi, 1e-9) << "trial " << trial;
+    }
+  }
+}
+
+TEST(ConstrainedZonotope, MembershipIsExactAwayFromTheBoundary) {
+  std::mt19937 rng(9);
+  const VectorXd c = VectorXd::Zero(2);
+  MatrixXd G(2, 3);
+  G << 1, 0, 0.5, 0, 1, 0.5;
+  const Strip s(Eigen::Vector2d(1, 1), 0.0, 0.3);  // |x1 + x2| <= 0.3
+  const ConstrainedZonotope Z = ConstrainedZonotope(Zonotope(c, G)).intersect_strip(s);
+  int inside = 0, outside = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const VectorXd x = 2.0 * box_point(2, rng, false);
+    const double t = std::abs(x(0) + x(1));
+    const bool in_z = Zonotope(c, G).contains(x);  // the zonotope's own exact membership test
+    const bool exact = in_z && t <= 0.3;
+    const bool got = Z.contains(x);
+    const bool near_boundary = std::abs(t - 0.3) < 1e-9;
+    if (!near_boundary) {
+      EXPECT_EQ(got, exact) << x.transpose();
+    }
+    (exact ? inside : outside)++;
+  }
+  EXPECT_GT(inside, 50);
+  EXPECT_GT(outside, 500);
+  // Points of the set built from its own parameters are members, vertices included.
+  for (int k = 0; k < 200; ++k) {
+    const VectorXd z = box_point(3, rng, k % 2 == 0);
+    const VectorXd x = G * z;
+    if (std::abs(x(0) + x(1)) <= 0.3) {
+      EXPECT_TRUE(Z.contains(x)) << x.transpose();
+    }
+  }
+}
+
+TEST(ConstrainedZonotope, ImagesAndSumsContainEveryImagePoint) {
+  std::mt19937 rng(13);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = 2 + trial % 3;
+    const VectorXd c = randn(n, 1, rng);
+    const MatrixXd G = randn(n, n + 2, rng);
+    const VectorXd h = randn(n, 1, rng);
+    const VectorXd xs = c + G * box_point(n + 2, rng, false);
+    const ConstrainedZonotope Z = ConstrainedZonotope(Zonotope(c, G)).intersect_strip(Strip(h, h.dot(xs), 0.2));
+    const MatrixXd K = randn(n, n, rng);
+    const Zonotope W(randn(n, 1, rng, 0.1), randn(n, 2, rng, 0.1));
+    const ConstrainedZonotope image = Z.linear_map(K).minkowski_sum(W).translate(VectorXd::Ones(n));
+    EXPECT_EQ(image.num_generators(), Z.num_generators() + 2);
+    const auto hull = image.interval_hull();
+    for (int k = 0; k < 100; ++k) {
+      // A point of Z: sample ξ until it satisfies the strip (rejection).
+      VectorXd x;
+      for (int tries = 0; tries < 1000; ++tries) {
+        const VectorXd cand = c + G * box_point(n + 2, rng, k % 3 == 0);
+        if (std::abs(h.dot(cand) - h.dot(xs)) <= 0.2) { x = cand; break; }
+      }
+      if (!x.size()) continue;
+      const VectorXd w = W.center() + W.generators() * box_point(2, rng, k % 2 == 0);
+      const VectorXd y = K * x + w + VectorXd::Ones(n);
+      EXPECT_TRUE(image.contains(y)) << "trial " << trial;
+      EXPECT_TRUE(((y.array() >= hull.lo.array()) && (y.array() <= hull.hi.array())).all()) << "trial " << trial;
+    }
+  }
+}
+
+TEST(ConstrainedZonotope, OutputSetIntersectionEqualsStripsForABoxNoise) {
+  std::mt19937 rng(17);
+  for (int trial = 0; trial < 30; ++trial) {
+    const VectorXd c = randn(3, 1, rng);
+    const MatrixXd G = randn(3, 5, rng);
+    const MatrixXd C = randn(2, 3, rng);
+    const VectorXd sigma = (VectorXd(2) << 0.1, 0.3).finished();
+    const VectorXd x = c + G * box_point(5, rng, false);
+    const VectorXd y = C * x + (VectorXd(2) << 0.05, -0.2).finished();
+    const ConstrainedZonotope Z(Zonotope(c, G));
+    const auto exact = Z.intersect_output(C, y, Zonotope(VectorXd::Zero(2), sigma.asDiagonal().toDenseMatrix()));
+    const auto strips = Z.intersect_strip(Strip(C.row(0).transpose(), y(0), 0.1)).intersect_strip(Strip(C.row(1).transpose(), y(1), 0.3));
+    const auto he = exact.interval_hull(), hs = strips.interval_hull();
+    EXPECT_LE((he.lo - hs.lo).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_LE((he.hi - hs.hi).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_TRUE(exact.contains(x));
+    // The box noise has a generator private to each row: the rounding slack is folded into it,
+    // so the exact intersection adds no column beyond V's.
+    EXPECT_EQ(exact.num_generators(), 5 + 2);
+  }
+}
+
+TEST(ConstrainedZonotope, DisjointIntersectionIsCertifiedEmpty) {
+  const ConstrainedZonotope a = ConstrainedZonotope::from_bounds(VectorXd::Zero(2), VectorXd::Ones(2));
+  const ConstrainedZonotope b = ConstrainedZonotope::from_bounds(VectorXd::Constant(2, 1.5), VectorXd::Constant(2, 2.0));
+  const auto e = a.intersect(b).emptiness();
+  EXPECT_TRUE(e.empty);
+  EXPECT_TRUE(e.conclusive);
+  EXPECT_GT(e.margin, 0.0);
+  const auto hull = a.intersect(b).interval_hull();
+  EXPECT_TRUE(std::isinf(hull.lo(0)) && hull.lo(0) > 0);
+  EXPECT_EQ(a.intersect(b).support(VectorXd::Ones(2)), -std::numeric_limits<double>::infinity());
+  // Touching boxes (a common corner) are not empty, and the corner is a member.
+  const ConstrainedZonotope touch = ConstrainedZonotope::from_bounds(VectorXd::Ones(2), VectorXd::Constant(2, 2.0));
+  EXPECT_FALSE(a.intersect(touch).is_empty());
+  EXPECT_TRUE(a.intersect(touch).contains(VectorXd::Ones(2)));
+  // A strip beside the set: empty with a certificate.
+  const auto miss = a.intersect_strip(Strip(Eigen::Vector2d(1, 0), 5.0, 0.5));
+  EXPECT_TRUE(miss.is_empty());
+}
+
+TEST(ConstrainedZonotope, HalfSpaceCutsExactlyWhatItShould) {
+  const ConstrainedZonotope box = ConstrainedZonotope::from_bounds(VectorXd::Constant(2, -1.0), VectorXd::Ones(2));
+  const auto cut = box.intersect_halfspace(HalfSpace{Eigen::Vector2d(1, 1), 0.5});  // x1 + x2 <= 0.5
+  const auto h = cut.interval_hull();
+  EXPECT_NEAR(h.hi(0), 1.0, 1e-12);  // (1, −0.5) is in the set
+  EXPECT_NEAR(h.lo(0), -1.0, 1e-12);
+  EXPECT_NEAR(cut.support(Eigen::Vector2d(1, 1)), 0.5, 1e-9);
+  EXPECT_GE(cut.support(Eigen::Vector2d(1, 1)), 0.5);
+  EXPECT_FALSE(cut.contains(Eigen::Vector2d(0.5, 0.5)));
+  EXPECT_TRUE(cut.contains(Eigen::Vector2d(0.25, 0.25)));
+  // A half-space holding the whole set changes nothing; one missing it gives the empty set.
+  EXPECT_EQ(box.intersect_halfspace(HalfSpace{Eigen::Vector2d(1, 0), 3.0}).num_constraints(), 0);
+  EXPECT_TRUE(box.intersect_halfspace(HalfSpace{Eigen::Vector2d(1, 0), -3.0}).is_empty());
+}
+
+TEST(ConstrainedZonotope, RoundingBoxKeepsTinyExactSetsGuaranteed) {
+  // A noise-free measurement (σ = 0) pins x1 + x2 exactly; the set it leaves is a segment, and
+  // rounding of the rows must not make it "empty" nor lose the true point.
+  std::mt19937 rng(23);
+  for (int trial = 0; trial < 200; ++trial) {
+    const VectorXd c = randn(2, 1, rng);
+    const MatrixXd G = randn(2, 3, rng);
+    const VectorXd x = c + G * box_point(3, rng, trial % 2 == 0);
+    const VectorXd h = randn(2, 1, rng);
+    const auto Z = ConstrainedZonotope(Zonotope(c, G)).linear_map(1.1 * MatrixXd::Identity(2, 2))
+                       .intersect_output(h.transpose(), VectorXd::Constant(1, 1.1 * h.dot(x)), Zonotope(VectorXd::Zero(1), MatrixXd::Zero(1, 1)));
+    EXPECT_FALSE(Z.is_empty()) << "trial " << trial;
+    EXPECT_TRUE(Z.contains(1.1 * x)) << "trial " << trial;
+    EXPECT_GT(Z.rounding_radius().maxCoeff(), 0.0);
+    EXPECT_LT(Z.rounding_radius().maxCoeff(), 1e-12);
+  }
+}
+
+TEST(ConstrainedZonotope, BadInputIsNamed) {
+  expect_error_naming<setbound::DimensionError>([] { ConstrainedZonotope(VectorXd::Zero(2), MatrixXd::Zero(3, 1), MatrixXd::Zero(0, 1), VectorXd(0)); }, "G");
+  expect_error_naming<setbound::DimensionError>([] { ConstrainedZonotope(VectorXd::Zero(2), MatrixXd::Zero(2, 2), MatrixXd::Zero(1, 3), VectorXd::Zero(1)); }, "A");
+  expect_error_naming<setbound::DimensionError>([] { ConstrainedZonotope(VectorXd::Zero(2), MatrixXd::Zero(2, 2), MatrixXd::Zero(1, 2), VectorXd::Zero(2)); }, "b");
+  expect_error_naming<setbound::NotFiniteError>([] { ConstrainedZonotope(VectorXd::Constant(2, NAN), MatrixXd::Zero(2, 2), MatrixXd::Zero(0, 2), VectorXd(0)); }, "c");
+  expect_error_naming<setbound::DimensionError>([] { ConstrainedZonotope(VectorXd(0), MatrixXd::Zero(0, 2), MatrixXd::Zero(0, 2), VectorXd(0)); }, "c");
+  const ConstrainedZonotope Z = ConstrainedZonotope::from_bounds(VectorXd::Zero(2), VectorXd::Ones(2));
+  expect_error_naming<setbound::DimensionError>([&] { Z.linear_map(MatrixXd::Ones(2, 3)); }, "K");
+  expect_error_naming<setbound::DimensionError>([&] { Z.contains(VectorXd::Zero(3)); }, "x");
+  expect_error_naming<setbound::NotFiniteError>([&] { Z.support(VectorXd::Constant(2, NAN)); }, "d");
+  expect_error_naming<setbound::DimensionError>([&] { Z.intersect(Z, MatrixXd::Ones(3, 2)); }, "R");
+  expect_error_naming<setbound::DimensionError>([&] { Z.intersect_output(MatrixXd::Ones(1, 2), VectorXd::Zero(2), Zonotope(VectorXd::Zero(1), MatrixXd::Ones(1, 1))); }, "y");
+  expect_error_naming<setbound::InvalidArgumentError>([] { ConstrainedZonotope::from_bounds(VectorXd::Ones(2), VectorXd::Zero(2)); }, "lo");
+}

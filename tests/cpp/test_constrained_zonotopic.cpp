@@ -1,0 +1,215 @@
+// The constrained-zonotope estimators CZN-A and CZN-B (spec cora_observers.md §2.17, §2.18):
+// CORA's saved hull, the library's exact consistent-set hull (LPs on the interior-point solver, an
+// independent computation), containment under random and vertex disturbances, real data.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "setbound/estimators/constrained_zonotopic.hpp"
+#include "setbound/estimators/exact_hull.hpp"
+#include "test_helpers.hpp"
+
+using setbound::ConstrainedZonotope;
+using setbound::ConstrainedZonotopicEstimator;
+using setbound::CZCorrection;
+using setbound::CZOptions;
+using setbound::CZReduction;
+using setbound::LinearSystem;
+using setbound::OnInconsistency;
+using setbound::OutputStatus;
+using setbound::Zonotope;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+namespace {
+
+/// The 2-state example of CORA's test_linearSysDT_observe_02_2dim.m (data:
+/// ../shared/benchmarks/cora_linearSysDT_observe/alamo2005_2d_cora_unittest.json): W and V as
+/// separate columns of the unit-box disturbance.
+LinearSystem cora_2d() {
+  MatrixXd A(2, 2), C(1, 2), E(2, 2), F(1, 2);
+  A << 0, -0.5, 1, 1;
+  C << -2, 1;
+  E << -0.12, 0, 0.02, 0;
+  F << 0, 0.2;
+  return LinearSystem(A, C, E, F);
+}
+
+MatrixXd cora_2d_y() {
+  const double y[20] = {0.0234670727523143, -4.328236471896203, -4.1973096745991345, -1.9546081148402012,
+                        0.0983604258227819, 1.1666132024783362,  1.107317638717911,   0.4263920687095986,
+                        -0.009268218571361, -0.3069527304071071, -0.1292621672249405, -0.0195793311301101,
+                        -0.0751745657276915, 0.0774426557519688, 0.2618198630568284,  -0.0222441951122745,
+                        0.0464232298590576, -0.1385809053684645, 0.0876767710448164,  -0.109466733731803};
+  MatrixXd Y(20, 1);
+  for (int k = 0; k < 20; ++k) Y(k, 0) = y[k];
+  return Y;
+}
+
+MatrixXd randn(int r, int c, std::mt19937& rng, double scale = 1.0) {
+  std::normal_distribution<double> g;
+  MatrixXd A(r, c);
+  for (int i = 0; i < r; ++i)
+    for (int j = 0; j < c; ++j) A(i, j) = scale * g(rng);
+  return A;
+}
+
+VectorXd unit_box(int m, std::mt19937& rng, bool vertex) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  VectorXd z(m);
+  for (int j = 0; j < m; ++j) z(j) = vertex ? (u(rng) < 0 ? -1.0 : 1.0) : u(rng);
+  return z;
+}
+
+struct Record {
+  LinearSystem sys;
+  Zonotope x0;
+  MatrixXd X, Y;  // true states and outputs, row k
+};
+
+/// A stable-ish random system with E = [E_d, 0], F = [0, F_v] and a simulated record.
+Record simulate(int n, int ny, int N, std::mt19937& rng, bool vertex) {
+  MatrixXd A = randn(n, n, rng);
+  A *= 0.9 / std::max(1.0, A.operatorNorm());
+  const MatrixXd C = randn(ny, n, rng);
+  MatrixXd E = MatrixXd::Zero(n, n + ny), F = MatrixXd::Zero(ny, n + ny);
+  E.leftCols(n) = randn(n, n, rng, 0.05);
+  F.rightCols(ny) = (0.02 + 0.1 * randn(ny, 1, rng).cwiseAbs().array()).matrix().asDiagonal();
+  Record r{LinearSystem(A, C, E, F), Zonotope(VectorXd::Zero(n), 2.0 * MatrixXd::Identity(n, n)), MatrixXd(N, n), MatrixXd(N, ny)};
+  VectorXd x = 2.0 * unit_box(n, rng, vertex);
+  for (int k = 0; k < N; ++k) {
+    const VectorXd w = unit_box(n + ny, rng, vertex);
+    r.X.row(k) = x.transpose();
+    r.Y.row(k) = (C * x + F * w).transpose();
+    x = A * x + E * w;
+  }
+  return r;
+}
+
+bool inside(const VectorXd& x, const VectorXd& lo, const VectorXd& hi) {
+  return ((x.array() >= lo.array()) && (x.array() <= hi.array())).all();
+}
+
+}  // namespace
+
+TEST(ConstrainedZonotopic, ReproducesCorasSavedHullOnThe2dExample) {
+  // CORA's saved final hull for CZN-A and CZN-B (test_linearSysDT_observe_02_2dim.m, order 20,
+  // girard; no reduction triggers in 20 steps): lower (-0.1062309346120359, -0.2540037859300612),
+  // upper (0.1411256696418789, 0.212784605551955). CORA's test tolerance is 1e-6.
+  const VectorXd lo = (VectorXd(2) << -0.1062309346120359, -0.2540037859300612).finished();
+  const VectorXd hi = (VectorXd(2) << 0.1411256696418789, 0.212784605551955).finished();
+  for (CZCorrection method : {CZCorrection::ExactOutput, CZCorrection::WangStrips}) {
+    CZOptions opt;
+    opt.correction = method;
+    opt.order = 20;
+    ConstrainedZonotopicEstimator est(cora_2d(), ConstrainedZonotope(Zonotope(VectorXd::Zero(2), 3.0 * MatrixXd::Identity(2, 2))), opt);
+    const auto t = est.run(cora_2d_y());
+    const VectorXd l = t.lower.row(19).transpose(), u = t.upper.row(19).transpose();
+    EXPECT_LE((l - lo).cwiseAbs().maxCoeff(), 1e-6) << "method " << static_cast<int>(method) << " lower " << l.transpose();
+    EXPECT_LE((u - hi).cwiseAbs().maxCoeff(), 1e-6) << "method " << static_cast<int>(method) << " upper " << u.transpose();
+    EXPECT_TRUE((l.array() <= lo.array() + 1e-12).all());  // and it is an outer bound of CORA's (exact) one
+    EXPECT_TRUE((u.array() >= hi.array() - 1e-12).all());
+  }
+}
+
+TEST(ConstrainedZonotopic, WithoutReductionItIsTheExactConsistentSet) {
+  std::mt19937 rng(31);
+  for (int trial = 0; trial < 6; ++trial) {
+    const Record r = simulate(2 + trial % 2, 1 + trial % 2, 12, rng, trial % 2 == 0);
+    const auto exact = setbound::exact_hull(r.sys, r.x0, r.Y);
+    for (CZCorrection method : {CZCorrection::ExactOutput, CZCorrection::WangStrips}) {
+      CZOptions opt;
+      opt.correction = method;
+      opt.reduction = CZReduction::None;
+      ConstrainedZonotopicEstimator est(r.sys, ConstrainedZonotope(r.x0), opt);
+      const auto t = est.run(r.Y);
+      EXPECT_LE((t.lower - exact.lower).cwiseAbs().maxCoeff(), 1e-7) << "trial " << trial;
+      EXPECT_LE((t.upper - exact.upper).cwiseAbs().maxCoeff(), 1e-7) << "trial " << trial;
+    }
+  }
+}
+
+TEST(ConstrainedZonotopic, ContainsTheTruthAtEveryStepWithReduction) {
+  std::mt19937 rng(37);
+  int steps = 0;
+  // CORA's reduction keeps every constraint row (n_c grows by n_y per step), so the LPs grow
+  // with the horizon: 30 steps per record keep this test at a few seconds.
+  for (int trial = 0; trial < 16; ++trial) {
+    const bool vertex = trial % 2 == 0;
+    const Record r = simulate(2 + trial % 3, 1 + trial % 2, 30, rng, vertex);
+    for (CZCorrection method : {CZCorrection::ExactOutput, CZCorrection::WangStrips}) {
+      CZOptions opt;
+      opt.correction = method;
+      opt.order = 2;  // a tight limit: the reduction runs at every step
+      opt.technique = trial % 3 == 0 ? setbound::ZonotopeReduction::Pca : setbound::ZonotopeReduction::Girard;
+      ConstrainedZonotopicEstimator est(r.sys, ConstrainedZonotope(r.x0), opt);
+      const auto t = est.run(r.Y);
+      for (int k = 0; k < r.Y.rows(); ++k, ++steps) {
+        const VectorXd x = r.X.row(k).transpose();
+        ASSERT_TRUE(inside(x, t.lower.row(k).transpose(), t.upper.row(k).transpose()))
+            << "trial " << trial << " step " << k << (vertex ? " (vertex)" : " (random)");
+        ASSERT_TRUE(t.sets[static_cast<size_t>(k)].contains(x)) << "trial " << trial << " step " << k;
+        ASSERT_FALSE(t.checks[static_cast<size_t>(k)].flagged()) << "false alarm, trial " << trial << " step " << k;
+      }
+      // bounded memory: generators <= order·n + constraints after every reduction
+      const auto& last = t.sets.back();
+      EXPECT_LE(last.num_generators(), 2 * r.sys.nx() + last.num_constraints());
+    }
+  }
+  EXPECT_GE(steps, 960);
+}
+
+TEST(ConstrainedZonotopic, MissingSamplesAndAGlitch) {
+  std::mt19937 rng(41);
+  const Record r = simulate(3, 2, 45, rng, true);
+  MatrixXd Y = r.Y;
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int k = 0; k < Y.rows(); ++k)
+    for (int i = 0; i < Y.cols(); ++i)
+      if (u(rng) < 0.2) Y(k, i) = std::numeric_limits<double>::quiet_NaN();
+  Y(30, 0) = r.Y(30, 0) + 5.0;  // an impossible reading
+  ConstrainedZonotopicEstimator est(r.sys, ConstrainedZonotope(r.x0), CZOptions{});
+  const auto t = est.run(Y);
+  for (int k = 0; k < Y.rows(); ++k) {
+    ASSERT_TRUE(inside(r.X.row(k).transpose(), t.lower.row(k).transpose(), t.upper.row(k).transpose())) << "step " << k;
+    for (int i = 0; i < Y.cols(); ++i) {
+      const auto s = t.checks[static_cast<size_t>(k)].status[static_cast<size_t>(i)];
+      if (std::isnan(Y(k, i))) EXPECT_EQ(s, OutputStatus::Missing);
+      else if (k == 30 && i == 0) EXPECT_EQ(s, OutputStatus::Inconsistent);
+      else EXPECT_EQ(s, OutputStatus::Used) << "false alarm at step " << k << " output " << i;
+    }
+  }
+  EXPECT_GT(t.checks[30].margin(0), 1.0);  // several noise bounds outside
+  // Raise: the estimator throws at step 30 and is left as it was.
+  CZOptions raise;
+  raise.on_inconsistency = OnInconsistency::Raise;
+  ConstrainedZonotopicEstimator r2(r.sys, ConstrainedZonotope(r.x0), raise);
+  for (int k = 0; k < 30; ++k) r2.update(Y.row(k).transpose(), VectorXd(0));
+  const VectorXd lo = r2.current_lower();
+  EXPECT_THROW(r2.update(Y.row(30).transpose(), VectorXd(0)), setbound::InconsistentMeasurementError);
+  EXPECT_EQ(r2.steps_taken(), 30);
+  EXPECT_EQ(r2.current_lower(), lo);
+  // run() twice gives the same result (it starts from the initial set).
+  const auto again = est.run(Y);
+  EXPECT_EQ(again.lower, t.lower);
+  EXPECT_EQ(again.upper, t.upper);
+}
+
+TEST(ConstrainedZonotopic, BadInputIsNamed) {
+  const LinearSystem s = cora_2d();
+  const ConstrainedZonotope x0(Zonotope(VectorXd::Zero(2), MatrixXd::Identity(2, 2)));
+  CZOptions bad;
+  bad.order = 0.5;
+  setbound::testing::expect_error_naming<setbound::InvalidArgumentError>([&] { ConstrainedZonotopicEstimator(s, x0, bad); }, "order");
+  setbound::testing::expect_error_naming<setbound::DimensionError>(
+      [&] { ConstrainedZonotopicEstimator(s, ConstrainedZonotope(Zonotope(VectorXd::Zero(3), MatrixXd::Identity(3, 3)))); }, "x0");
+  ConstrainedZonotopicEstimator est(s, x0);
+  setbound::testing::expect_error_naming<setbound::DimensionError>([&] { est.update(VectorXd::Zero(2), VectorXd(0)); }, "y");
+  setbound::testing::expect_error_naming<setbound::NotFiniteError>(
+      [&] { est.update(VectorXd::Constant(1, INFINITY), VectorXd(0)); }, "y");
+  setbound::testing::expect_error_naming<setbound::DimensionError>([&] { est.run(MatrixXd::Zero(3, 2)); }, "Y");
+  EXPECT_EQ(est.steps_taken(), 0);
+}
