@@ -405,6 +405,52 @@ TEST(ConstrainedZonotope, RoundingBoxKeepsTinyExactSetsGuaranteed) {
   }
 }
 
+TEST(ConstrainedZonotope, ConstraintEliminationAndLimitsKeepEveryPoint) {
+  std::mt19937 rng(29);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = 2 + trial % 2, m = n + 3, ns = 2 + trial % 3;
+    const VectorXd c = randn(n, 1, rng);
+    const MatrixXd G = randn(n, m, rng);
+    const VectorXd x0 = c + G * box_point(m, rng, false);
+    std::vector<Strip> strips;
+    for (int k = 0; k < ns; ++k) {
+      const VectorXd h = randn(n, 1, rng);
+      strips.emplace_back(h, h.dot(x0), 0.1 + 0.2 * std::abs(randn(1, 1, rng)(0)));
+    }
+    const ConstrainedZonotope Z = strip_set(c, G, strips);
+    const auto hz = Z.interval_hull();
+    // Points of Z: sample ξ, keep those in every strip.
+    std::vector<VectorXd> pts;
+    for (int k = 0; k < 4000 && pts.size() < 60; ++k) {
+      const VectorXd x = c + G * box_point(m, rng, k % 3 == 0);
+      bool in = true;
+      for (const auto& s : strips) in = in && s.contains(x, 0.0);
+      if (in) pts.push_back(x);
+    }
+    for (int keep = ns - 1; keep >= 0; --keep) {
+      const ConstrainedZonotope R = Z.eliminate_constraints(keep);
+      EXPECT_LE(R.num_constraints(), keep);
+      const auto hr = R.interval_hull();
+      EXPECT_TRUE((hr.lo.array() <= hz.lo.array() + 1e-12).all()) << "trial " << trial << " keep " << keep;
+      EXPECT_TRUE((hr.hi.array() >= hz.hi.array() - 1e-12).all()) << "trial " << trial << " keep " << keep;
+      for (const auto& x : pts) EXPECT_TRUE(R.contains(x)) << "trial " << trial << " keep " << keep;
+    }
+    const ConstrainedZonotope L = Z.reduce_limits(n + 2, 1);
+    EXPECT_LE(L.num_constraints(), 1);
+    EXPECT_LE(L.num_generators(), n + 2);
+    for (const auto& x : pts) EXPECT_TRUE(L.contains(x)) << "trial " << trial;
+  }
+  // A row that already keeps its variable in [−1, 1] is eliminated without loss: the box
+  // [−1, 1]² cut by |x1| <= 2 (no cut at all) keeps its hull exactly.
+  const auto box = ConstrainedZonotope::from_bounds(VectorXd::Constant(2, -1.0), VectorXd::Ones(2));
+  const auto cut = box.intersect_strip(Strip(Eigen::Vector2d(1, 0), 0.0, 2.0));
+  const auto h = cut.eliminate_constraints(0).interval_hull();
+  EXPECT_NEAR(h.lo(0), -1.0, 1e-12);
+  EXPECT_NEAR(h.hi(0), 1.0, 1e-12);
+  setbound::testing::expect_error_naming<setbound::InvalidArgumentError>([&] { cut.eliminate_constraints(-1); }, "max_constraints");
+  setbound::testing::expect_error_naming<setbound::InvalidArgumentError>([&] { cut.reduce_limits(2, 1); }, "max_generators");
+}
+
 TEST(ConstrainedZonotope, BadInputIsNamed) {
   expect_error_naming<setbound::DimensionError>([] { ConstrainedZonotope(VectorXd::Zero(2), MatrixXd::Zero(3, 1), MatrixXd::Zero(0, 1), VectorXd(0)); }, "G");
   expect_error_naming<setbound::DimensionError>([] { ConstrainedZonotope(VectorXd::Zero(2), MatrixXd::Zero(2, 2), MatrixXd::Zero(1, 3), VectorXd::Zero(1)); }, "A");

@@ -104,6 +104,7 @@ TEST(ConstrainedZonotopic, ReproducesCorasSavedHullOnThe2dExample) {
   for (CZCorrection method : {CZCorrection::ExactOutput, CZCorrection::WangStrips}) {
     CZOptions opt;
     opt.correction = method;
+    opt.reduction = CZReduction::Cora;
     opt.order = 20;
     ConstrainedZonotopicEstimator est(cora_2d(), ConstrainedZonotope(Zonotope(VectorXd::Zero(2), 3.0 * MatrixXd::Identity(2, 2))), opt);
     const auto t = est.run(cora_2d_y());
@@ -143,6 +144,7 @@ TEST(ConstrainedZonotopic, ContainsTheTruthAtEveryStepWithReduction) {
     for (CZCorrection method : {CZCorrection::ExactOutput, CZCorrection::WangStrips}) {
       CZOptions opt;
       opt.correction = method;
+      opt.reduction = CZReduction::Cora;
       opt.order = 2;  // a tight limit: the reduction runs at every step
       opt.technique = trial % 3 == 0 ? setbound::ZonotopeReduction::Pca : setbound::ZonotopeReduction::Girard;
       ConstrainedZonotopicEstimator est(r.sys, ConstrainedZonotope(r.x0), opt);
@@ -160,6 +162,30 @@ TEST(ConstrainedZonotopic, ContainsTheTruthAtEveryStepWithReduction) {
     }
   }
   EXPECT_GE(steps, 960);
+}
+
+TEST(ConstrainedZonotopic, BoundedModeContainsTheTruthWithBoundedSize) {
+  std::mt19937 rng(43);
+  int steps = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    const bool vertex = trial % 2 == 0;
+    const Record r = simulate(2 + trial % 3, 1 + trial % 2, 120, rng, vertex);
+    CZOptions opt;  // the default: Limits (2 n_x rows, 10 n_x + 2 n_x generators)
+    opt.correction = trial % 4 < 2 ? CZCorrection::ExactOutput : CZCorrection::WangStrips;
+    ConstrainedZonotopicEstimator est(r.sys, ConstrainedZonotope(r.x0), opt);
+    const auto t = est.run(r.Y);
+    const Eigen::Index n = r.sys.nx();
+    for (int k = 0; k < r.Y.rows(); ++k, ++steps) {
+      const VectorXd x = r.X.row(k).transpose();
+      ASSERT_TRUE(inside(x, t.lower.row(k).transpose(), t.upper.row(k).transpose()))
+          << "trial " << trial << " step " << k << (vertex ? " (vertex)" : " (random)");
+      ASSERT_FALSE(t.checks[static_cast<size_t>(k)].flagged()) << "false alarm, trial " << trial << " step " << k;
+      const auto& Z = t.sets[static_cast<size_t>(k)];
+      ASSERT_LE(Z.num_constraints(), 2 * n);
+      ASSERT_LE(Z.num_generators(), 12 * n);
+    }
+  }
+  EXPECT_GE(steps, 1400);
 }
 
 TEST(ConstrainedZonotopic, MissingSamplesAndAGlitch) {

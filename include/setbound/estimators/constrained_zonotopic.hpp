@@ -40,15 +40,19 @@ enum class CZCorrection : int {
 };
 
 enum class CZReduction : int {
-  None = 0,  ///< the exact consistent set; memory grows by n_w + n_y columns and n_y rows per step
-  Cora = 1,  ///< CORA's lift reduction at `order` (conZonotope/reduce.m)
+  None = 0,    ///< the exact consistent set; memory grows by n_w + n_y columns and n_y rows per step
+  Cora = 1,    ///< CORA's lift reduction at `order` (conZonotope/reduce.m); rows are never removed
+  Limits = 2,  ///< setbound's bounded mode: Scott's constraint elimination to max_constraints, then
+               ///< the lift reduction to max_generators (ConstrainedZonotope::reduce_limits)
 };
 
 struct CZOptions {
   CZCorrection correction = CZCorrection::ExactOutput;
-  CZReduction reduction = CZReduction::Cora;
+  CZReduction reduction = CZReduction::Limits;
   ZonotopeReduction technique = ZonotopeReduction::Girard;  ///< of the lifted zonotope
-  double order = 20.0;                ///< CORA's zonotopeOrder: at most order·n + n_c generators
+  double order = 20.0;                ///< Cora: CORA's zonotopeOrder, at most order·n + n_c generators
+  Eigen::Index max_constraints = -1;  ///< Limits: rows kept (-1: 2 n_x)
+  Eigen::Index max_generators = -1;   ///< Limits: generators kept (-1: 10 n_x + max_constraints)
   bool use_first_measurement = true;  ///< correct the initial set with y_0 (CORA's loop)
   OnInconsistency on_inconsistency = OnInconsistency::Flag;
 };

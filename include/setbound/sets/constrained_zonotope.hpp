@@ -92,6 +92,22 @@ class ConstrainedZonotope {
   /// Drops constraint rows that are exactly zero with a zero right-hand side (they say 0 = 0).
   ConstrainedZonotope remove_zero_constraints() const;
 
+  /// Constraint elimination ([Scott2016] §4.2): while more than `max_constraints` (>= 0) rows
+  /// remain, one row i and one variable ξ_j (A_ij != 0) are removed by solving row i for ξ_j and
+  /// substituting it everywhere, and ξ_j's bound |ξ_j| <= 1 is dropped — an outer bound, exact
+  /// when row i alone already keeps ξ_j in [−1, 1]. The pair chosen is the one whose dropped bound
+  /// can add the least: ‖(g_j; a_j)‖₂ times how far row i lets ξ_j leave [−1, 1] with the other
+  /// variables in their box (zero when it cannot). Rounding of the substitution goes to the
+  /// rounding box (x side) and to the rows' noise terms (constraint side); ξ_j stays bounded by
+  /// row i, which bounds the tiny column left behind.
+  ConstrainedZonotope eliminate_constraints(Eigen::Index max_constraints) const;
+
+  /// setbound's bounded mode: eliminate_constraints(max_constraints), then the lift reduction of
+  /// reduce_cora to at most `max_generators` generators (>= n + max_constraints, "max_generators").
+  /// A run of any length then has bounded memory and LP size.
+  ConstrainedZonotope reduce_limits(Eigen::Index max_generators, Eigen::Index max_constraints,
+                                    ZonotopeReduction technique = ZonotopeReduction::Girard) const;
+
   /// CORA's reduction (conZonotope/reduce.m, spec §2.17): zero constraint rows dropped, then the
   /// lifted zonotope [c; −b] ⊕ [G; A]B in R^{n+n_c} is reduced with `technique` (Girard or PCA)
   /// to at most order·n + n_c generators, and split back. Only when there are more generators
@@ -125,6 +141,8 @@ class ConstrainedZonotope {
  private:
   ConstrainedZonotope(Eigen::VectorXd c, Eigen::MatrixXd G, Eigen::MatrixXd A, Eigen::VectorXd b,
                       Eigen::VectorXd r, bool /*trusted*/);
+  /// The lift reduction to at most `limit` (>= n + n_c) non-zero generators (reduce_cora's core).
+  ConstrainedZonotope reduce_lift(ZonotopeReduction technique, Eigen::Index limit) const;
 
   Eigen::VectorXd c_;
   Eigen::MatrixXd G_;

@@ -40,8 +40,17 @@ SETBOUND_INLINE ConstrainedZonotopicEstimator::ConstrainedZonotopicEstimator(Lin
   if (!(opt_.order >= 1.0)) throw InvalidArgumentError("order: must be >= 1, got " + std::to_string(opt_.order));
   if (opt_.correction != CZCorrection::ExactOutput && opt_.correction != CZCorrection::WangStrips)
     throw InvalidArgumentError("correction: unknown method " + std::to_string(static_cast<int>(opt_.correction)));
-  if (opt_.reduction != CZReduction::None && opt_.reduction != CZReduction::Cora)
+  if (opt_.reduction != CZReduction::None && opt_.reduction != CZReduction::Cora && opt_.reduction != CZReduction::Limits)
     throw InvalidArgumentError("reduction: unknown method " + std::to_string(static_cast<int>(opt_.reduction)));
+  const Eigen::Index n = sys_.nx();
+  if (opt_.max_constraints == -1) opt_.max_constraints = 2 * n;
+  if (opt_.max_constraints < 0)
+    throw InvalidArgumentError("max_constraints: must be >= 0 (or -1 for 2 n_x), got " + std::to_string(opt_.max_constraints));
+  if (opt_.max_generators == -1) opt_.max_generators = 10 * n + opt_.max_constraints;
+  if (opt_.max_generators < n + opt_.max_constraints)
+    throw InvalidArgumentError("max_generators: must be >= n_x + max_constraints = " +
+                               std::to_string(n + opt_.max_constraints) + " (or -1 for the default), got " +
+                               std::to_string(opt_.max_generators));
   sigma_.resize(sys_.ny());
   for (Eigen::Index i = 0; i < sys_.ny(); ++i) {
     const double s = sys_.F().row(i).cwiseAbs().sum();
@@ -232,6 +241,8 @@ SETBOUND_INLINE void ConstrainedZonotopicEstimator::update(const Eigen::Ref<cons
       if (opt_.on_inconsistency == OnInconsistency::Reset) chk.reset = true;
     }
     if (k_ > 0 && opt_.reduction == CZReduction::Cora) corrected = corrected.reduce_cora(opt_.technique, opt_.order);
+    if (opt_.reduction == CZReduction::Limits)
+      corrected = corrected.reduce_limits(opt_.max_generators, opt_.max_constraints, opt_.technique);
   }
   const BoundingBox hull = corrected.interval_hull();
   ConstrainedZonotope next = predict(corrected, u);

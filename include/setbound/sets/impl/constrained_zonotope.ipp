@@ -39,6 +39,37 @@ SETBOUND_INLINE void require_vector(const Eigen::Ref<const Eigen::VectorXd>& v, 
   require_finite(v, name);
 }
 
+/// Widens every row k of A ξ = b by s_k >= 0 (it then allows |A_k ξ − b_k| <= s_k): through a
+/// column private to the row (zero in G and in every other row: {a ζ + s t} = {(|a| + s) ζ'}
+/// in one dimension) when there is one, else through a new column s_k e_k (zero in G).
+SETBOUND_INLINE void absorb_row_slack(Eigen::MatrixXd& G, Eigen::MatrixXd& A, const Eigen::VectorXd& s) {
+  const Eigen::Index q = A.rows(), m = A.cols();
+  std::vector<Eigen::Index> extra;
+  for (Eigen::Index k = 0; k < q; ++k) {
+    if (!(s(k) > 0.0)) continue;
+    Eigen::Index private_col = -1;
+    for (Eigen::Index j = 0; j < m && private_col < 0; ++j) {
+      if (A(k, j) == 0.0 || box_lp_detail::max_abs(G.col(j)) > 0.0) continue;
+      bool alone = true;
+      for (Eigen::Index k2 = 0; k2 < q && alone; ++k2) alone = (k2 == k) || A(k2, j) == 0.0;
+      if (alone) private_col = j;
+    }
+    if (private_col >= 0) {
+      const double a = A(k, private_col);
+      A(k, private_col) = std::copysign(rounding::add_up(std::abs(a), s(k)), a);
+    } else {
+      extra.push_back(k);
+    }
+  }
+  if (extra.empty()) return;
+  const Eigen::Index me = static_cast<Eigen::Index>(extra.size());
+  G.conservativeResize(Eigen::NoChange, m + me);
+  G.rightCols(me).setZero();
+  A.conservativeResize(Eigen::NoChange, m + me);
+  A.rightCols(me).setZero();
+  for (Eigen::Index e = 0; e < me; ++e) A(extra[static_cast<size_t>(e)], m + e) = s(extra[static_cast<size_t>(e)]);
+}
+
 }  // namespace czono_detail
 
 SETBOUND_INLINE ConstrainedZonotope::ConstrainedZonotope(Eigen::VectorXd c, Eigen::MatrixXd G, Eigen::MatrixXd A,
@@ -144,44 +175,25 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::intersect(const Constra
   // R x ∈ Y with x = c + Gξ + diag(r)η and Y = c_Y + G_Y ζ + diag(r_Y)η_Y:
   //   fl(RG) ξ − G_Y ζ = fl(c_Y − fl(R c)) + s ∘ t,  ‖t‖∞ <= 1,
   // where s bounds everything left out: |R| r + r_Y and the rounding of RG (on the box) and of
-  // the right-hand side. s is absorbed by a generator of Y used only in that row (its
-  // coefficient widened by s_i: {gζ + s_i t} = {(|g| + s_i)ζ'} in one dimension), else by a
-  // new column.
+  // the right-hand side. s is absorbed by a generator of Y used only in that row, else by a new
+  // column (czono_detail::absorb_row_slack).
   const Eigen::MatrixXd RG = R * G_;
   const Eigen::VectorXd rhs = Y.c_ - R * c_;
   const Eigen::VectorXd magnitude = czono_detail::magnitude(c_, G_);
   Eigen::VectorXd s = R.cwiseAbs() * czono_detail::inflate(r_ + rounding_bounds::gamma(n + 1) * magnitude, 2) + Y.r_ +
                       rounding_bounds::gamma(1) * Y.c_.cwiseAbs();
   s = czono_detail::inflate(s, n + 3);
-  Eigen::MatrixXd link_Y = -Y.G_;  // the linking rows' ζ block
-  std::vector<Eigen::Index> extra;  // rows needing their own slack column
-  for (Eigen::Index i = 0; i < k; ++i) {
-    if (s(i) == 0.0) continue;
-    Eigen::Index private_col = -1;
-    for (Eigen::Index j = 0; j < m2 && private_col < 0; ++j) {
-      if (Y.G_(i, j) == 0.0) continue;
-      bool alone = true;
-      for (Eigen::Index i2 = 0; i2 < k && alone; ++i2) alone = (i2 == i) || Y.G_(i2, j) == 0.0;
-      for (Eigen::Index q = 0; q < q2 && alone; ++q) alone = Y.A_(q, j) == 0.0;
-      if (alone) private_col = j;
-    }
-    if (private_col >= 0) {
-      const double g = link_Y(i, private_col);
-      link_Y(i, private_col) = std::copysign(rounding::add_up(std::abs(g), s(i)), g);
-    } else {
-      extra.push_back(i);
-    }
-  }
-  const Eigen::Index me = static_cast<Eigen::Index>(extra.size());
-  const Eigen::Index m = m1 + m2 + me;
+  const Eigen::Index m = m1 + m2;
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, m);
   G.leftCols(m1) = G_;
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(q1 + q2 + k, m);
   A.topLeftCorner(q1, m1) = A_;
   A.block(q1, m1, q2, m2) = Y.A_;
   A.block(q1 + q2, 0, k, m1) = RG;
-  A.block(q1 + q2, m1, k, m2) = link_Y;
-  for (Eigen::Index e = 0; e < me; ++e) A(q1 + q2 + extra[static_cast<size_t>(e)], m1 + m2 + e) = s(extra[static_cast<size_t>(e)]);
+  A.block(q1 + q2, m1, k, m2) = -Y.G_;
+  Eigen::VectorXd slack = Eigen::VectorXd::Zero(q1 + q2 + k);
+  slack.tail(k) = s;
+  czono_detail::absorb_row_slack(G, A, slack);
   Eigen::VectorXd b(q1 + q2 + k);
   b << b_, Y.b_, rhs;
   return ConstrainedZonotope(c_, std::move(G), std::move(A), std::move(b), r_, true);
@@ -282,34 +294,130 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::remove_zero_constraints
   return ConstrainedZonotope(c_, G_, std::move(A), std::move(b), r_, true);
 }
 
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::eliminate_constraints(Eigen::Index max_constraints) const {
+  if (max_constraints < 0)
+    throw InvalidArgumentError("max_constraints: must be >= 0, got " + std::to_string(max_constraints));
+  ConstrainedZonotope Z = remove_zero_constraints();
+  const double u = std::ldexp(1.0, -53);
+  while (Z.num_constraints() > max_constraints) {
+    const Eigen::Index n = Z.dimension(), q = Z.num_constraints(), m = Z.num_generators();
+    // Choose (i, j): the smallest ‖(g_j; a_j)‖ · excess_ij, larger |A_ij| among equals.
+    Eigen::Index bi = -1, bj = -1;
+    double best = rounding::kInf, best_pivot = 0.0, best_reach = 0.0;
+    Eigen::VectorXd colnorm(m);
+    for (Eigen::Index j = 0; j < m; ++j) colnorm(j) = std::sqrt(Z.G_.col(j).squaredNorm() + Z.A_.col(j).squaredNorm());
+    for (Eigen::Index i = 0; i < q; ++i) {
+      const double rowsum = Z.A_.row(i).cwiseAbs().sum();
+      const double rowmax = box_lp_detail::max_abs(Z.A_.row(i));
+      for (Eigen::Index j = 0; j < m; ++j) {
+        const double a = Z.A_(i, j);
+        if (std::abs(a) <= 1e-9 * rowmax) continue;  // a tiny pivot would blow up the rest
+        // ξ_j = (b_i − Σ_{k≠j} A_ik ξ_k)/A_ij, |ξ_k| <= 1: |ξ_j| <= (|b_i| + rest)/|A_ij|.
+        const double rest = std::max(0.0, rowsum - std::abs(a));
+        const double reach = (std::abs(Z.b_(i)) + rest) / std::abs(a);
+        const double score = colnorm(j) * std::max(0.0, reach - 1.0);
+        if (score < best || (score == best && std::abs(a) > best_pivot)) {
+          best = score, bi = i, bj = j, best_pivot = std::abs(a), best_reach = reach;
+        }
+      }
+    }
+    if (bi < 0) {  // every remaining row is (numerically) zero: drop them only if exactly 0 = 0
+      break;
+    }
+    const double piv = Z.A_(bi, bj);
+    const Eigen::VectorXd rhoG = Z.G_.col(bj) / piv;  // any ρ keeps the identity; only products round
+    const Eigen::VectorXd rhoA = Z.A_.col(bj) / piv;
+    const Eigen::RowVectorXd Ai = Z.A_.row(bi);
+    const double bi_val = Z.b_(bi);
+    const Eigen::VectorXd c = Z.c_ + rhoG * bi_val;
+    Eigen::MatrixXd G = Z.G_ - rhoG * Ai;
+    Eigen::MatrixXd A = Z.A_ - rhoA * Ai;
+    Eigen::VectorXd b = Z.b_ - rhoA * bi_val;
+    // After the substitution ξ_j is free but |ξ_j| <= reach (row i, the others in their box); its
+    // column is exactly G_j − ρ A_ij (a few ulps, not 0) and is dropped with that bound.
+    const double reach = rounding::mul_up(best_reach, 1.0 + 8.0 * u);
+    const Eigen::VectorXd absAi = Ai.transpose().cwiseAbs();
+    const double sumAi = absAi.sum();
+    // x side: |fl(c + ρ b_i) − exact| + |fl(G − ρ A_i) − exact|·1 + dropped column, per row.
+    Eigen::VectorXd rx = Z.c_.cwiseAbs() + rhoG.cwiseAbs() * std::abs(bi_val) +
+                         (m > 0 ? Eigen::VectorXd(Z.G_.cwiseAbs().rowwise().sum()) : Eigen::VectorXd::Zero(n)) +
+                         rhoG.cwiseAbs() * sumAi;
+    rx = rounding_bounds::gamma(2) * czono_detail::inflate(rx, m + 2) + (2.0 * u * reach) * Z.G_.col(bj).cwiseAbs();
+    // constraint side, every row but i: the same for A − ρ A_i and b − ρ b_i.
+    Eigen::VectorXd sk = Z.b_.cwiseAbs() + rhoA.cwiseAbs() * std::abs(bi_val) +
+                         Eigen::VectorXd(Z.A_.cwiseAbs().rowwise().sum()) + rhoA.cwiseAbs() * sumAi;
+    sk = rounding_bounds::gamma(2) * czono_detail::inflate(sk, m + 2) + (2.0 * u * reach) * Z.A_.col(bj).cwiseAbs();
+    // Remove row i and column j.
+    auto drop_row = [bi](const Eigen::MatrixXd& M) {
+      Eigen::MatrixXd out(M.rows() - 1, M.cols());
+      out << M.topRows(bi), M.bottomRows(M.rows() - bi - 1);
+      return out;
+    };
+    auto drop_col = [bj](const Eigen::MatrixXd& M) {
+      Eigen::MatrixXd out(M.rows(), M.cols() - 1);
+      out << M.leftCols(bj), M.rightCols(M.cols() - bj - 1);
+      return out;
+    };
+    A = drop_col(drop_row(A));
+    G = drop_col(G);
+    Eigen::VectorXd b2(q - 1), s2(q - 1);
+    b2 << b.head(bi), b.tail(q - bi - 1);
+    s2 << sk.head(bi), sk.tail(q - bi - 1);
+    czono_detail::absorb_row_slack(G, A, czono_detail::inflate(s2, 2));
+    const Eigen::VectorXd r = czono_detail::inflate(Z.r_ + czono_detail::inflate(rx, 2), 2);
+    Z = ConstrainedZonotope(c, std::move(G), std::move(A), std::move(b2), r, true);
+  }
+  return Z;
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_limits(Eigen::Index max_generators,
+                                                                      Eigen::Index max_constraints,
+                                                                      ZonotopeReduction technique) const {
+  if (max_constraints < 0)
+    throw InvalidArgumentError("max_constraints: must be >= 0, got " + std::to_string(max_constraints));
+  if (max_generators < dimension() + max_constraints)
+    throw InvalidArgumentError("max_generators: must be >= n + max_constraints = " +
+                               std::to_string(dimension() + max_constraints) + ", got " + std::to_string(max_generators));
+  const ConstrainedZonotope Z = eliminate_constraints(max_constraints).remove_zero_constraints();
+  // Columns zero in G and A say nothing; dropping them makes the limit a limit on every column.
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index j = 0; j < Z.num_generators(); ++j)
+    if (box_lp_detail::max_abs(Z.G_.col(j)) > 0.0 || box_lp_detail::max_abs(Z.A_.col(j)) > 0.0) keep.push_back(j);
+  const Eigen::Index mk = static_cast<Eigen::Index>(keep.size());
+  Eigen::MatrixXd G(Z.dimension(), mk), A(Z.num_constraints(), mk);
+  for (Eigen::Index k = 0; k < mk; ++k) {
+    G.col(k) = Z.G_.col(keep[static_cast<size_t>(k)]);
+    A.col(k) = Z.A_.col(keep[static_cast<size_t>(k)]);
+  }
+  return ConstrainedZonotope(Z.c_, std::move(G), std::move(A), Z.b_, Z.r_, true).reduce_lift(technique, max_generators);
+}
+
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_cora(ZonotopeReduction technique, double order) const {
   require_finite(order, "order");
   if (!(order >= 1.0)) throw InvalidArgumentError("order: must be >= 1, got " + std::to_string(order));
   const ConstrainedZonotope Z = remove_zero_constraints();
-  const Eigen::Index n = Z.dimension(), q = Z.num_constraints(), m = Z.num_generators();
-  const double limit_d = std::floor(order * static_cast<double>(n)) + static_cast<double>(q);
-  const Eigen::Index nonzero = [&] {
-    Eigen::Index k = 0;
-    for (Eigen::Index j = 0; j < m; ++j)
-      if (box_lp_detail::max_abs(Z.G_.col(j)) > 0.0 || box_lp_detail::max_abs(Z.A_.col(j)) > 0.0) ++k;
-    return k;
-  }();
-  if (static_cast<double>(nonzero) <= limit_d) return Z;
-  const Eigen::Index limit = static_cast<Eigen::Index>(limit_d);
+  const double limit = std::floor(order * static_cast<double>(Z.dimension())) + static_cast<double>(Z.num_constraints());
+  return Z.reduce_lift(technique, static_cast<Eigen::Index>(std::min(limit, 1e15)));
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_lift(ZonotopeReduction technique, Eigen::Index limit) const {
+  const Eigen::Index n = dimension(), q = num_constraints(), m = num_generators();
+  Eigen::Index nonzero = 0;
+  for (Eigen::Index j = 0; j < m; ++j)
+    if (box_lp_detail::max_abs(G_.col(j)) > 0.0 || box_lp_detail::max_abs(A_.col(j)) > 0.0) ++nonzero;
+  if (nonzero <= limit) return *this;
   Eigen::VectorXd centre(n + q);
-  centre << Z.c_, -Z.b_;
+  centre << c_, -b_;
   Eigen::MatrixXd gens(n + q, m);
-  gens << Z.G_, Z.A_;
+  gens << G_, A_;
   const Zonotope lift(centre, gens);
-  Zonotope reduced = lift;
-  switch (technique) {
-    case ZonotopeReduction::Pca: reduced = lift.reduce_pca(std::max(limit, n + q)); break;
-    case ZonotopeReduction::Girard: reduced = lift.reduce_girard_to(std::max(limit, n + q)); break;
-    default: reduced = lift.reduce_combastel(std::max(limit, n + q)); break;
-  }
+  const Eigen::Index target = std::max(limit, n + q);
+  const Zonotope reduced = technique == ZonotopeReduction::Pca      ? lift.reduce_pca(target)
+                           : technique == ZonotopeReduction::Girard ? lift.reduce_girard_to(target)
+                                                                    : lift.reduce_combastel(target);
   const Eigen::MatrixXd& H = reduced.generators();
   // The centre is unchanged by these reductions; the split keeps c and b exactly.
-  return ConstrainedZonotope(Z.c_, H.topRows(n), H.bottomRows(q), Z.b_, Z.r_, true);
+  return ConstrainedZonotope(c_, H.topRows(n), H.bottomRows(q), b_, r_, true);
 }
 
 SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull() const {
