@@ -29,19 +29,10 @@ using Eigen::VectorXd;
 namespace {
 
 MatrixXd randn(int r, int c, std::mt19937& rng, double scale = 1.0) {
-  std::normal_distribution<double> g;
-  MatrixXd A(r, c);
-  for (int i = 0; i < r; ++i)
-    for (int j = 0; j < c; ++j) A(i, j) = scale * g(rng);
-  return A;
+  return setbound::testing::random_normal(r, c, rng, scale);
 }
 
-VectorXd box_point(int m, std::mt19937& rng, bool vertex) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  VectorXd z(m);
-  for (int j = 0; j < m; ++j) z(j) = vertex ? (u(rng) < 0 ? -1.0 : 1.0) : u(rng);
-  return z;
-}
+VectorXd box_point(int m, std::mt19937& rng, bool vertex) { return setbound::testing::draw_disturbance(rng, m, vertex); }
 
 /// max gᵀξ over {Aξ = b, ‖ξ‖∞ <= 1} by enumerating basic solutions: choose which m − rank(A)
 /// variables sit at ±1, solve the rest from the rows (least squares, accepted when consistent and

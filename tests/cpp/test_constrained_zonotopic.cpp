@@ -50,19 +50,10 @@ MatrixXd cora_2d_y() {
 }
 
 MatrixXd randn(int r, int c, std::mt19937& rng, double scale = 1.0) {
-  std::normal_distribution<double> g;
-  MatrixXd A(r, c);
-  for (int i = 0; i < r; ++i)
-    for (int j = 0; j < c; ++j) A(i, j) = scale * g(rng);
-  return A;
+  return setbound::testing::random_normal(r, c, rng, scale);
 }
 
-VectorXd unit_box(int m, std::mt19937& rng, bool vertex) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  VectorXd z(m);
-  for (int j = 0; j < m; ++j) z(j) = vertex ? (u(rng) < 0 ? -1.0 : 1.0) : u(rng);
-  return z;
-}
+VectorXd unit_box(int m, std::mt19937& rng, bool vertex) { return setbound::testing::draw_disturbance(rng, m, vertex); }
 
 struct Record {
   LinearSystem sys;

@@ -56,6 +56,15 @@ inline Eigen::VectorXd draw_disturbance(std::mt19937& gen, Eigen::Index n, bool 
   return w;
 }
 
+/// An r × c matrix of independent N(0, scale²) entries.
+inline Eigen::MatrixXd random_normal(int r, int c, std::mt19937& rng, double scale = 1.0) {
+  std::normal_distribution<double> g;
+  Eigen::MatrixXd A(r, c);
+  for (int i = 0; i < r; ++i)
+    for (int j = 0; j < c; ++j) A(i, j) = scale * g(rng);
+  return A;
+}
+
 }  // namespace setbound::testing
 
 #define EXPECT_EIGEN_NEAR(a, b, tol) \
