@@ -335,7 +335,7 @@ int sb_ellipsoidal_set_inconsistency_policy(sb_ellipsoidal* estimator, int polic
           if constexpr (std::is_same_v<T, DescriptorEstimator>) {
             if (pol != OnInconsistency::Flag || P0 != nullptr)
               throw InvalidArgumentError(
-                  "policy: the descriptor estimator needs every output (papers.md §4.1), it cannot skip or restart "
+                  "policy: the descriptor estimator needs every output (setbound docs: Methods › Ellipsoidal estimation › Descriptor systems), it cannot skip or restart "
                   "on a reading; only SB_ON_INCONSISTENCY_FLAG without a reset set is accepted");
           } else {
             if (P0 == nullptr) {

@@ -45,7 +45,7 @@ SETBOUND_INLINE DescriptorSystem::DescriptorSystem(Eigen::MatrixXd E, Eigen::Mat
   if (rank < n)
     throw NotDetectableError("E, C: the infinite observability condition rank [E; C] = n_x fails (rank " +
                              std::to_string(rank) + " < n_x = " + std::to_string(n) +
-                             "): no T, N with T E + N C = I exist (papers.md §4.0)");
+                             "): no T, N with T E + N C = I exist (setbound docs: Methods › Ellipsoidal estimation › Descriptor systems)");
   Eigen::MatrixXd pinv = svd.matrixV() * sv.cwiseInverse().asDiagonal() * svd.matrixU().transpose();
   // pinv(M) = (MᵀM)⁻¹Mᵀ: the column of a zero row of M is exactly zero (the SVD leaves
   // rounding noise there, which would keep a disturbance column that does not exist).
@@ -70,7 +70,7 @@ SETBOUND_INLINE DescriptorSystem::DescriptorSystem(Eigen::MatrixXd E, Eigen::Mat
       msg << "E, A, C: the finite observability condition rank [lambda E - A; C] = n_x fails at lambda = "
           << lambda.real();
       if (lambda.imag() != 0) msg << (lambda.imag() > 0 ? " + " : " - ") << std::abs(lambda.imag()) << "i";
-      msg << " (a finite mode that C does not see; papers.md §4.0)";
+      msg << " (a finite mode that C does not see; setbound docs: Methods › Ellipsoidal estimation › Descriptor systems)";
       throw NotDetectableError(msg.str());
     }
   }
@@ -99,7 +99,7 @@ SETBOUND_INLINE DescriptorEstimator::DescriptorEstimator(EllDesign design, Descr
     throw InvalidArgumentError("sys: too many disturbance columns for the vertex LMIs");
   const detail::EllGainTerms terms(d_.P, d_.L, data, data.Et, data.Ft);
   if (!detail::ell_certify_design(d_.P, terms, data, omegas, d_.beta, d_.sigma))
-    throw InvalidArgumentError("design: the LMI of papers.md §4.1 does not hold (certified) at the design's "
+    throw InvalidArgumentError("design: the descriptor LMI (setbound docs: Methods › Ellipsoidal estimation › Descriptor systems) does not hold (certified) at the design's "
                                "(P, L, beta, sigma) for this descriptor system");
   lmax_up_ = ell_rounding::lambda_max_upper(d_.P);
   lmin_low_ = detail::ell_lambda_min_lower(d_.P);
@@ -128,7 +128,7 @@ SETBOUND_INLINE Ellipsoid DescriptorEstimator::step(const Eigen::Ref<const Eigen
     if (std::isnan(y(i)))
       throw NotFiniteError("y: entry " + std::to_string(i) +
                            " is NaN (a missing reading): the descriptor estimator needs every output, the state "
-                           "of a descriptor system is fixed through N y_k (papers.md §4.1); use an explicit model");
+                           "of a descriptor system is fixed through N y_k (setbound docs: Methods › Ellipsoidal estimation › Descriptor systems); use an explicit model");
   require_finite(y, "y");
   if (!(u.size() == sys_.nu() || (u.size() == 0 && sys_.nu() == 0)))
     detail::require_length(u.size(), sys_.nu(), "u");

@@ -389,7 +389,7 @@ SETBOUND_INLINE EllDesign ell_design_impl(const LinearSystem& sys, const EllDesi
                                  " design is unbounded (the disturbance can be cancelled by a gain); use "
                                  "EllNormalization::Ball");
     std::ostringstream msg;
-    msg << name << ": the prediction LMI (papers.md §1.1) is infeasible ";
+    msg << name << ": the prediction LMI (setbound docs: Methods › Ellipsoidal estimation › Offline design) is infeasible ";
     if (fixed_beta) msg << "at beta = " << opt.beta;
     else msg << "for every beta in (" << opt.beta_lo << ", " << opt.beta_hi << ")";
     msg << " with the " << ell_normalization_name(opt.normalization) << " normalisation"
@@ -817,7 +817,7 @@ SETBOUND_INLINE void EllipsoidalPredictor::init() {
   if (mode_ == EllPredictorMode::Offline && data_.interval)
     throw InvalidArgumentError(
         "mode: the Offline predictor cannot be used with an interval A: the centre term (A - mid[A]) x_k of the "
-        "error has no a-priori bound (papers.md §6.7); use OnlineVertex or OnlineScaled");
+        "error has no a-priori bound (setbound docs: Methods › Ellipsoidal estimation › Interval uncertainty on A); use OnlineVertex or OnlineScaled");
   halved_ = detail::ell_box_vertices(data_.m(), true);
   if (data_.m() > 24 || data_.vertices.size() * halved_.size() * (data_.interval ? 2 : 1) >
                             detail::kMaxEllVertexBlocks)

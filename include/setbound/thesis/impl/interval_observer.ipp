@@ -659,7 +659,7 @@ SETBOUND_INLINE NonlinearIntervalObserver::NonlinearIntervalObserver(const Plant
   const Eigen::Index n = plant.nx();
   if (plant.nd() != n || !plant.F.isApprox(Eigen::MatrixXd::Identity(n, n), 0.0))
     throw InvalidArgumentError("plant.F: the nonlinear observer needs F = I (h enters the state directly, "
-                               "E = [I, -L Z], thesis.md §6.6)");
+                               "E = [I, -L Z]; setbound docs: Methods › Interval observers › Nonlinear interval observer)");
   require_shape(L, n, plant.ny(), "L");
   require_finite(L, "L");
   require_box(x0, n, "x0");
@@ -915,7 +915,7 @@ SETBOUND_INLINE NonlinearIntervalObserver design_nonlinear_interval_observer(con
   const Eigen::Index n = plant.nx();
   if (plant.nd() != n || !plant.F.isApprox(Eigen::MatrixXd::Identity(n, n), 0.0))
     throw InvalidArgumentError("plant.F: the nonlinear observer needs F = I (h enters the state directly, "
-                               "E = [I, -L Z], thesis.md §6.6)");
+                               "E = [I, -L Z]; setbound docs: Methods › Interval observers › Nonlinear interval observer)");
   HinfGain g = hinf_observer_gain(plant, Eigen::MatrixXd(), hopt);
   NonlinearIntervalObserver obs(plant, g.L, x0, xhat0, v, std::move(h), opt);
   if (gain_out) *gain_out = std::move(g);
