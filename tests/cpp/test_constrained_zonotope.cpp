@@ -418,6 +418,13 @@ TEST(ConstrainedZonotope, ConstraintEliminationAndLimitsKeepEveryPoint) {
       for (const auto& s : strips) in = in && s.contains(x, 0.0);
       if (in) pts.push_back(x);
     }
+    // Rescaling describes the same set: same hull (up to rounding), every point kept.
+    const ConstrainedZonotope S = Z.rescale();
+    const auto hs = S.interval_hull();
+    EXPECT_TRUE((hs.lo.array() <= hz.lo.array() + 1e-12).all() && (hs.hi.array() >= hz.hi.array() - 1e-12).all());
+    EXPECT_LE((hs.lo - hz.lo).cwiseAbs().maxCoeff(), 1e-9) << "trial " << trial;
+    EXPECT_LE((hs.hi - hz.hi).cwiseAbs().maxCoeff(), 1e-9) << "trial " << trial;
+    for (const auto& x : pts) EXPECT_TRUE(S.contains(x)) << "trial " << trial;
     for (int keep = ns - 1; keep >= 0; --keep) {
       const ConstrainedZonotope R = Z.eliminate_constraints(keep);
       EXPECT_LE(R.num_constraints(), keep);

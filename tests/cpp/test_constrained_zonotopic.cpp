@@ -161,7 +161,7 @@ TEST(ConstrainedZonotopic, BoundedModeContainsTheTruthWithBoundedSize) {
   for (int trial = 0; trial < 12; ++trial) {
     const bool vertex = trial % 2 == 0;
     const Record r = simulate(2 + trial % 3, 1 + trial % 2, 120, rng, vertex);
-    CZOptions opt;  // the default: Limits (2 n_x rows, 10 n_x + 2 n_x generators)
+    CZOptions opt;  // the default: Limits (4 n_x rows, 20 n_x + 4 n_x generators)
     opt.correction = trial % 4 < 2 ? CZCorrection::ExactOutput : CZCorrection::WangStrips;
     ConstrainedZonotopicEstimator est(r.sys, ConstrainedZonotope(r.x0), opt);
     const auto t = est.run(r.Y);
@@ -172,8 +172,8 @@ TEST(ConstrainedZonotopic, BoundedModeContainsTheTruthWithBoundedSize) {
           << "trial " << trial << " step " << k << (vertex ? " (vertex)" : " (random)");
       ASSERT_FALSE(t.checks[static_cast<size_t>(k)].flagged()) << "false alarm, trial " << trial << " step " << k;
       const auto& Z = t.sets[static_cast<size_t>(k)];
-      ASSERT_LE(Z.num_constraints(), 2 * n);
-      ASSERT_LE(Z.num_generators(), 12 * n);
+      ASSERT_LE(Z.num_constraints(), 4 * n);
+      ASSERT_LE(Z.num_generators(), 24 * n);
     }
   }
   EXPECT_GE(steps, 1400);

@@ -51,8 +51,8 @@ struct CZOptions {
   CZReduction reduction = CZReduction::Limits;
   ZonotopeReduction technique = ZonotopeReduction::Girard;  ///< of the lifted zonotope
   double order = 20.0;                ///< Cora: CORA's zonotopeOrder, at most order·n + n_c generators
-  Eigen::Index max_constraints = -1;  ///< Limits: rows kept (-1: 2 n_x)
-  Eigen::Index max_generators = -1;   ///< Limits: generators kept (-1: 10 n_x + max_constraints)
+  Eigen::Index max_constraints = -1;  ///< Limits: rows kept (-1: 4 n_x)
+  Eigen::Index max_generators = -1;   ///< Limits: generators kept (-1: 20 n_x + max_constraints)
   bool use_first_measurement = true;  ///< correct the initial set with y_0 (CORA's loop)
   OnInconsistency on_inconsistency = OnInconsistency::Flag;
 };

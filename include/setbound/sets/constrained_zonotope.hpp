@@ -92,6 +92,13 @@ class ConstrainedZonotope {
   /// Drops constraint rows that are exactly zero with a zero right-hand side (they say 0 = 0).
   ConstrainedZonotope remove_zero_constraints() const;
 
+  /// The same set with its variables' box tightened ([Scott2016] §4.2, rescaling): bounds
+  /// [l_j, u_j] ⊆ [−1, 1] that every feasible ξ satisfies are found by interval constraint
+  /// propagation over the rows (a few sweeps, outward rounded), and ξ = m + diag(ρ) ξ' maps them
+  /// back to the unit box (c + G m, G diag ρ, A diag ρ, b − A m). Elimination after it loses less:
+  /// a row that now keeps its variable in [−1, 1] is eliminated exactly.
+  ConstrainedZonotope rescale() const;
+
   /// Constraint elimination ([Scott2016] §4.2): while more than `max_constraints` (>= 0) rows
   /// remain, one row i and one variable ξ_j (A_ij != 0) are removed by solving row i for ξ_j and
   /// substituting it everywhere, and ξ_j's bound |ξ_j| <= 1 is dropped — an outer bound, exact

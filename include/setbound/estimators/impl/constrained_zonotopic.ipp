@@ -43,10 +43,12 @@ SETBOUND_INLINE ConstrainedZonotopicEstimator::ConstrainedZonotopicEstimator(Lin
   if (opt_.reduction != CZReduction::None && opt_.reduction != CZReduction::Cora && opt_.reduction != CZReduction::Limits)
     throw InvalidArgumentError("reduction: unknown method " + std::to_string(static_cast<int>(opt_.reduction)));
   const Eigen::Index n = sys_.nx();
-  if (opt_.max_constraints == -1) opt_.max_constraints = 2 * n;
+  // Defaults from a first accuracy measurement (8 random systems, n_x 2–4: mean width 1.02–1.29×
+  // the exact hull, against 1.05–1.84× with 2 n_x rows and 12 n_x generators).
+  if (opt_.max_constraints == -1) opt_.max_constraints = 4 * n;
   if (opt_.max_constraints < 0)
-    throw InvalidArgumentError("max_constraints: must be >= 0 (or -1 for 2 n_x), got " + std::to_string(opt_.max_constraints));
-  if (opt_.max_generators == -1) opt_.max_generators = 10 * n + opt_.max_constraints;
+    throw InvalidArgumentError("max_constraints: must be >= 0 (or -1 for 4 n_x), got " + std::to_string(opt_.max_constraints));
+  if (opt_.max_generators == -1) opt_.max_generators = 20 * n + opt_.max_constraints;
   if (opt_.max_generators < n + opt_.max_constraints)
     throw InvalidArgumentError("max_generators: must be >= n_x + max_constraints = " +
                                std::to_string(n + opt_.max_constraints) + " (or -1 for the default), got " +

@@ -294,12 +294,67 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::remove_zero_constraints
   return ConstrainedZonotope(c_, G_, std::move(A), std::move(b), r_, true);
 }
 
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::rescale() const {
+  const Eigen::Index n = dimension(), q = num_constraints(), m = num_generators();
+  if (q == 0 || m == 0) return *this;
+  Eigen::VectorXd lo = Eigen::VectorXd::Constant(m, -1.0), hi = Eigen::VectorXd::Constant(m, 1.0);
+  for (int sweep = 0; sweep < 4; ++sweep) {
+    bool changed = false;
+    for (Eigen::Index i = 0; i < q; ++i) {
+      // Row sums of the terms' lower and upper ends, rounded outward. Subtracting one computed
+      // term from them stays a valid bound of the sum of the others (see the test).
+      double L = 0.0, U = 0.0;
+      for (Eigen::Index k = 0; k < m; ++k) {
+        const double a = A_(i, k);
+        if (a == 0.0) continue;
+        L = rounding::add_down(L, a > 0 ? rounding::mul_down(a, lo(k)) : rounding::mul_down(a, hi(k)));
+        U = rounding::add_up(U, a > 0 ? rounding::mul_up(a, hi(k)) : rounding::mul_up(a, lo(k)));
+      }
+      for (Eigen::Index j = 0; j < m; ++j) {
+        const double a = A_(i, j);
+        if (a == 0.0) continue;
+        const double tl = a > 0 ? rounding::mul_down(a, lo(j)) : rounding::mul_down(a, hi(j));
+        const double tu = a > 0 ? rounding::mul_up(a, hi(j)) : rounding::mul_up(a, lo(j));
+        const double SL = rounding::sub_down(L, tl), SU = rounding::sub_up(U, tu);  // Σ_{k≠j}
+        const double rl = rounding::sub_down(b_(i), SU), ru = rounding::sub_up(b_(i), SL);  // a ξ_j ∈ [rl, ru]
+        const double xl = a > 0 ? rounding::div_down(rl, a) : rounding::div_down(ru, a);
+        const double xu = a > 0 ? rounding::div_up(ru, a) : rounding::div_up(rl, a);
+        if (!(xl <= xu) || xl > hi(j) || xu < lo(j)) return *this;  // empty: BoxLP certifies that
+        if (xl > lo(j) + 1e-12 || xu < hi(j) - 1e-12) changed = true;
+        lo(j) = std::max(lo(j), xl);
+        hi(j) = std::min(hi(j), xu);
+      }
+    }
+    if (!changed) break;
+  }
+  if ((lo.array() == -1.0).all() && (hi.array() == 1.0).all()) return *this;
+  // ξ = mid + diag(ρ) ξ' with [mid − ρ, mid + ρ] ⊇ [lo, hi].
+  Eigen::VectorXd mid(m), rho(m);
+  for (Eigen::Index j = 0; j < m; ++j) {
+    mid(j) = 0.5 * lo(j) + 0.5 * hi(j);
+    rho(j) = std::max(rounding::sub_up(hi(j), mid(j)), rounding::sub_up(mid(j), lo(j)));
+  }
+  const Eigen::VectorXd c = c_ + G_ * mid;
+  Eigen::MatrixXd G = G_ * rho.asDiagonal();
+  Eigen::MatrixXd A = A_ * rho.asDiagonal();
+  const Eigen::VectorXd b = b_ - A_ * mid;
+  // Rounding: the products and sums above, over ξ' in its box.
+  const Eigen::VectorXd rx = rounding_bounds::gamma(m + 1) *
+      czono_detail::inflate(c_.cwiseAbs() + G_.cwiseAbs() * (mid.cwiseAbs() + rho), m + 2);
+  const Eigen::VectorXd s = rounding_bounds::gamma(m + 1) *
+      czono_detail::inflate(b_.cwiseAbs() + A_.cwiseAbs() * (mid.cwiseAbs() + rho), m + 2);
+  czono_detail::absorb_row_slack(G, A, czono_detail::inflate(s, 2));
+  (void)n;
+  return ConstrainedZonotope(c, std::move(G), std::move(A), b, czono_detail::inflate(r_ + rx, 2), true);
+}
+
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::eliminate_constraints(Eigen::Index max_constraints) const {
   if (max_constraints < 0)
     throw InvalidArgumentError("max_constraints: must be >= 0, got " + std::to_string(max_constraints));
   ConstrainedZonotope Z = remove_zero_constraints();
   const double u = std::ldexp(1.0, -53);
   while (Z.num_constraints() > max_constraints) {
+    Z = Z.rescale();
     const Eigen::Index n = Z.dimension(), q = Z.num_constraints(), m = Z.num_generators();
     // Choose (i, j): the smallest ‖(g_j; a_j)‖ · excess_ij, larger |A_ij| among equals.
     Eigen::Index bi = -1, bj = -1;
