@@ -249,6 +249,10 @@ TEST(ConstrainedZonotope, StripIntersectionHullIsTheExactPolygonsHull) {
     EXPECT_EQ(Z.num_constraints(), ns);
     ASSERT_FALSE(P.empty());
     const auto hull = Z.interval_hull();
+    // The same bounds through image_bounds (support in ±e_i on one LP basis).
+    const auto ib = Z.image_bounds(MatrixXd::Identity(2, 2));
+    EXPECT_LE((ib.lo - hull.lo).cwiseAbs().maxCoeff(), 1e-12) << "trial " << trial;
+    EXPECT_LE((ib.hi - hull.hi).cwiseAbs().maxCoeff(), 1e-12) << "trial " << trial;
     for (int i = 0; i < 2; ++i) {
       double lo = INFINITY, hi = -INFINITY;
       for (const auto& p : P) lo = std::min(lo, p(i)), hi = std::max(hi, p(i));
@@ -457,6 +461,7 @@ TEST(ConstrainedZonotope, BadInputIsNamed) {
   expect_error_naming<setbound::DimensionError>([] { ConstrainedZonotope(VectorXd(0), MatrixXd::Zero(0, 2), MatrixXd::Zero(0, 2), VectorXd(0)); }, "c");
   const ConstrainedZonotope Z = ConstrainedZonotope::from_bounds(VectorXd::Zero(2), VectorXd::Ones(2));
   expect_error_naming<setbound::DimensionError>([&] { Z.linear_map(MatrixXd::Ones(2, 3)); }, "K");
+  expect_error_naming<setbound::DimensionError>([&] { Z.image_bounds(MatrixXd::Ones(2, 3)); }, "K");
   expect_error_naming<setbound::DimensionError>([&] { Z.contains(VectorXd::Zero(3)); }, "x");
   expect_error_naming<setbound::NotFiniteError>([&] { Z.support(VectorXd::Constant(2, NAN)); }, "d");
   expect_error_naming<setbound::DimensionError>([&] { Z.intersect(Z, MatrixXd::Ones(3, 2)); }, "R");

@@ -129,6 +129,9 @@ class ConstrainedZonotope {
   BoundingBox interval_hull() const;
   /// A certified upper bound of max_{x ∈ Z} dᵀx (−inf when Z is certified empty).
   double support(const Eigen::Ref<const Eigen::VectorXd>& d) const;
+  /// Certified bounds of K x over Z, row by row (lo_k <= K_k x <= hi_k): the support function
+  /// in ±K_k, all 2k LPs on one warm-started basis. The empty box when Z is certified empty.
+  BoundingBox image_bounds(const Eigen::Ref<const Eigen::MatrixXd>& K) const;
 
   struct Emptiness {
     bool empty;                   ///< true only with a verified certificate
@@ -149,6 +152,8 @@ class ConstrainedZonotope {
   ConstrainedZonotope(Eigen::VectorXd c, Eigen::MatrixXd G, Eigen::MatrixXd A, Eigen::VectorXd b,
                       Eigen::VectorXd r, bool /*trusted*/);
   /// The lift reduction to at most `limit` (>= n + n_c) non-zero generators (reduce_cora's core).
+  /// The certified support in d with an LP already built on (A, b) and not certified empty.
+  double support_with(BoxLP& lp, const Eigen::Ref<const Eigen::VectorXd>& d) const;
   ConstrainedZonotope reduce_lift(ZonotopeReduction technique, Eigen::Index limit) const;
 
   Eigen::VectorXd c_;

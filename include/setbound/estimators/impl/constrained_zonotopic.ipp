@@ -115,31 +115,32 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotopicEstimator::correct(const
   if (used.empty()) return X;
   const Eigen::Index p = static_cast<Eigen::Index>(used.size()), n = sys_.nx();
   const Eigen::VectorXd Du = czn_detail::feedthrough(sys_, u);
-  Eigen::MatrixXd C(p, n);
-  Eigen::VectorXd ys(p);
+  Eigen::MatrixXd C(p, n), FS(p, sys_.F().cols());
+  Eigen::VectorXd ys(p), du_err = Eigen::VectorXd::Zero(p);
+  // |fl(D u) − D u| <= γ |D||u| per row (zero without feed-through).
+  const Eigen::VectorXd du_bound = (sys_.nu() > 0 && sys_.D().size() > 0)
+      ? Eigen::VectorXd(rounding_bounds::gamma(sys_.nu()) * (sys_.D().cwiseAbs() * u.cwiseAbs()) * 2.0)
+      : Eigen::VectorXd::Zero(sys_.ny());
   for (Eigen::Index k = 0; k < p; ++k) {
     const Eigen::Index i = used[static_cast<size_t>(k)];
     C.row(k) = sys_.C().row(i);
+    FS.row(k) = sys_.F().row(i);
     ys(k) = y(i) - Du(i);
+    du_err(k) = du_bound(i);
   }
   if (opt_.correction == CZCorrection::ExactOutput) {
     // y − D u − C x ∈ F_S B: the noise rows of the used outputs, zero columns dropped. The
     // rounding of y − D u (and of D u) is absorbed by intersect_output's rounding box of the
     // output set's centre only for the subtraction; D u's own product error is added below.
-    Eigen::MatrixXd FS(p, sys_.F().cols());
-    for (Eigen::Index k = 0; k < p; ++k) FS.row(k) = sys_.F().row(used[static_cast<size_t>(k)]);
     std::vector<Eigen::Index> keep;
     for (Eigen::Index j = 0; j < FS.cols(); ++j)
       if (box_lp_detail::max_abs(FS.col(j)) > 0.0) keep.push_back(j);
     Eigen::MatrixXd V(p, static_cast<Eigen::Index>(keep.size()));
     for (size_t j = 0; j < keep.size(); ++j) V.col(static_cast<Eigen::Index>(j)) = FS.col(keep[j]);
-    if (sys_.nu() > 0 && sys_.D().size() > 0) {
-      // |fl(D u) − D u| <= γ |D||u| per row: a private noise column per row covers it.
-      const Eigen::VectorXd err =
-          rounding_bounds::gamma(sys_.nu()) * (sys_.D().cwiseAbs() * u.cwiseAbs()) * 2.0;
+    if (du_err.maxCoeff() > 0.0) {  // a private noise column per row covers D u's rounding
       Eigen::MatrixXd Vx(p, V.cols() + p);
       Vx << V, Eigen::MatrixXd::Zero(p, p);
-      for (Eigen::Index k = 0; k < p; ++k) Vx(k, V.cols() + k) = err(used[static_cast<size_t>(k)]);
+      Vx.rightCols(p).diagonal() = du_err;
       V = std::move(Vx);
     }
     return X.intersect_output(C, ys, Zonotope(Eigen::VectorXd::Zero(p), V));
@@ -148,19 +149,13 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotopicEstimator::correct(const
   // strip variable t_i private to its row, so the rounding slack widens σ_i), then CORA's
   // representation x = c + Λ(b_S − M ξ + σ ∘ t) + G ξ on the stored rows M ξ − σ t = b_S.
   Eigen::VectorXd sig(p);
-  for (Eigen::Index k = 0; k < p; ++k) sig(k) = sigma_(used[static_cast<size_t>(k)]);
-  if (sys_.nu() > 0 && sys_.D().size() > 0) {
-    const Eigen::VectorXd err = rounding_bounds::gamma(sys_.nu()) * (sys_.D().cwiseAbs() * u.cwiseAbs()) * 2.0;
-    for (Eigen::Index k = 0; k < p; ++k) sig(k) = rounding::add_up(sig(k), err(used[static_cast<size_t>(k)]));
-  }
+  for (Eigen::Index k = 0; k < p; ++k) sig(k) = rounding::add_up(sigma_(used[static_cast<size_t>(k)]), du_err(k));
   const ConstrainedZonotope strips(ys, sig.asDiagonal().toDenseMatrix(), Eigen::MatrixXd(0, p), Eigen::VectorXd(0));
   const ConstrainedZonotope Xs = X.intersect(strips, C);
   // The gain from the set entering the correction: P = G Gᵀ, R̄ = A P Aᵀ + E Eᵀ, S = C R̄ Cᵀ + F Fᵀ.
   const Eigen::MatrixXd& G = X.generators();
   const Eigen::MatrixXd P = G * G.transpose();
   const Eigen::MatrixXd Rbar = sys_.A() * P * sys_.A().transpose() + sys_.E() * sys_.E().transpose();
-  Eigen::MatrixXd FS(p, sys_.F().cols());
-  for (Eigen::Index k = 0; k < p; ++k) FS.row(k) = sys_.F().row(used[static_cast<size_t>(k)]);
   const Eigen::MatrixXd S = C * Rbar * C.transpose() + FS * FS.transpose();
   const Eigen::FullPivLU<Eigen::MatrixXd> lu(S);
   if (!lu.isInvertible()) return Xs;  // no gain: the intersection's own representation (same set)
@@ -175,12 +170,17 @@ SETBOUND_INLINE std::vector<Eigen::Index> ConstrainedZonotopicEstimator::screen(
                                                                                MeasurementCheck& chk) const {
   chk.clear(sys_.ny(), OutputStatus::Missing);
   const Eigen::VectorXd Du = czn_detail::feedthrough(sys_, u);
+  std::vector<Eigen::Index> present;
+  for (Eigen::Index i = 0; i < sys_.ny(); ++i)
+    if (!std::isnan(y(i))) present.push_back(i);
+  // [lo_i, hi_i] ⊇ {C_i x : x ∈ X} (certified support values, one LP basis for every output).
+  Eigen::MatrixXd Cp(static_cast<Eigen::Index>(present.size()), sys_.nx());
+  for (size_t k = 0; k < present.size(); ++k) Cp.row(static_cast<Eigen::Index>(k)) = sys_.C().row(present[k]);
+  const BoundingBox out = present.empty() ? BoundingBox{} : X.image_bounds(Cp);
   std::vector<Eigen::Index> used;
-  for (Eigen::Index i = 0; i < sys_.ny(); ++i) {
-    if (std::isnan(y(i))) continue;
-    // [lo, hi] ⊇ {C_i x : x ∈ X} (certified support values).
-    const Eigen::VectorXd ci = sys_.C().row(i).transpose();
-    const double hi = X.support(ci), lo = -X.support(-ci);
+  for (size_t k = 0; k < present.size(); ++k) {
+    const Eigen::Index i = present[k];
+    const double hi = out.hi(static_cast<Eigen::Index>(k)), lo = out.lo(static_cast<Eigen::Index>(k));
     if (!(lo <= hi)) {  // X itself is certified empty: nothing is consistent with it
       chk.status[static_cast<size_t>(i)] = OutputStatus::Inconsistent;
       continue;

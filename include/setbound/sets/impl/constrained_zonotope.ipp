@@ -295,7 +295,7 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::remove_zero_constraints
 }
 
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::rescale() const {
-  const Eigen::Index n = dimension(), q = num_constraints(), m = num_generators();
+  const Eigen::Index q = num_constraints(), m = num_generators();
   if (q == 0 || m == 0) return *this;
   Eigen::VectorXd lo = Eigen::VectorXd::Constant(m, -1.0), hi = Eigen::VectorXd::Constant(m, 1.0);
   for (int sweep = 0; sweep < 4; ++sweep) {
@@ -344,7 +344,6 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::rescale() const {
   const Eigen::VectorXd s = rounding_bounds::gamma(m + 1) *
       czono_detail::inflate(b_.cwiseAbs() + A_.cwiseAbs() * (mid.cwiseAbs() + rho), m + 2);
   czono_detail::absorb_row_slack(G, A, czono_detail::inflate(s, 2));
-  (void)n;
   return ConstrainedZonotope(c, std::move(G), std::move(A), b, czono_detail::inflate(r_ + rx, 2), true);
 }
 
@@ -495,6 +494,27 @@ SETBOUND_INLINE double ConstrainedZonotope::support(const Eigen::Ref<const Eigen
   czono_detail::require_vector(d, dimension(), "d");
   BoxLP lp(A_, b_);
   if (lp.feasibility() == BoxLP::Feasibility::empty) return -rounding::kInf;
+  return support_with(lp, d);
+}
+
+SETBOUND_INLINE BoundingBox ConstrainedZonotope::image_bounds(const Eigen::Ref<const Eigen::MatrixXd>& K) const {
+  if (K.cols() != dimension())
+    throw DimensionError("K: expected " + std::to_string(dimension()) + " columns, got shape " +
+                         detail::shape_string(K.rows(), K.cols()));
+  require_finite(K, "K");
+  const Eigen::Index k = K.rows();
+  BoxLP lp(A_, b_);
+  if (lp.feasibility() == BoxLP::Feasibility::empty)
+    return {Eigen::VectorXd::Constant(k, rounding::kInf), Eigen::VectorXd::Constant(k, -rounding::kInf)};
+  BoundingBox box{Eigen::VectorXd(k), Eigen::VectorXd(k)};
+  for (Eigen::Index i = 0; i < k; ++i) {
+    box.hi(i) = support_with(lp, K.row(i).transpose());
+    box.lo(i) = -support_with(lp, -K.row(i).transpose());
+  }
+  return box;
+}
+
+SETBOUND_INLINE double ConstrainedZonotope::support_with(BoxLP& lp, const Eigen::Ref<const Eigen::VectorXd>& d) const {
   const Eigen::VectorXd g = G_.transpose() * d;  // rounded: only used to find μ
   const Eigen::VectorXd mu = lp.maximize(g).dual;
   // dᵀc + μᵀb + ‖Gᵀd − Aᵀμ‖₁ = qᵀw + ‖Mᵀw‖₁ with M = [G; A], q = [c; −b], w = [d; −μ].
