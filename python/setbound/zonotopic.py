@@ -511,3 +511,29 @@ class PRadiusEstimator(_ZonotopicEstimator):
         super().__init__(design.system, x0, max_generators=max_generators,
                          use_first_measurement=use_first_measurement, strip_order=design.strip_order,
                          reduction=reduction, on_inconsistency=on_inconsistency, reset_set=reset_set)
+
+
+# ---- CORA's names (setbound.cora.observe) -------------------------------------------------------
+
+def _cora_runner(cls):
+    """FRad-A / VolMin-A: the estimator with the model's zonotope order and reduction technique
+    (CORA's settings); the two conventions coincide for these methods."""
+    def runner(model, *, convention, gain, **options):
+        est = cls(model.system, model.x0, **{**model.estimator_options(), **options})
+
+        def run():
+            t = est.run(model.y, model.u)
+            return t.lower, t.upper, t.sets
+        return run
+    return runner
+
+
+def _register_cora_names():
+    from .cora import register_algorithm
+    register_algorithm("FRad-A", _cora_runner(SegmentMinEstimator),
+                       summary="segment (F-radius) minimisation per strip [Alamo 2005] = SegmentMinEstimator")
+    register_algorithm("VolMin-A", _cora_runner(VolumeMinEstimator),
+                       summary="exact volume minimisation per strip (LP) [Alamo 2005] = VolumeMinEstimator")
+
+
+_register_cora_names()
