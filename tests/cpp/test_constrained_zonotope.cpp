@@ -468,3 +468,104 @@ TEST(ConstrainedZonotope, BadInputIsNamed) {
   expect_error_naming<setbound::DimensionError>([&] { Z.intersect_output(MatrixXd::Ones(1, 2), VectorXd::Zero(2), Zonotope(VectorXd::Zero(1), MatrixXd::Ones(1, 1))); }, "y");
   expect_error_naming<setbound::InvalidArgumentError>([] { ConstrainedZonotope::from_bounds(VectorXd::Ones(2), VectorXd::Zero(2)); }, "lo");
 }
+
+// ---------------------------------------------------------------- one LP per estimator step
+
+TEST(BoxLP, ExtendedLPAgreesWithAFreshOne) {
+  // extend() keeps the old rows' basis and adds rows and columns (what an intersection does to a
+  // constrained zonotope); every answer must be that of an LP built on the extended data.
+  std::mt19937 rng(53);
+  int empty = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const int m0 = 2 + trial % 5, q0 = trial % std::min(m0, 3), dm = 1 + trial % 3, dq = 1 + trial % 2;
+    const MatrixXd A0 = randn(q0, m0, rng);
+    const VectorXd xi0 = 0.8 * box_point(m0, rng, false);
+    MatrixXd A = MatrixXd::Zero(q0 + dq, m0 + dm);
+    A.topLeftCorner(q0, m0) = A0;
+    A.bottomRows(dq) = randn(dq, m0 + dm, rng);
+    VectorXd xi(m0 + dm);
+    xi << xi0, 0.8 * box_point(dm, rng, false);
+    VectorXd b = A * xi;  // feasible, except every fourth trial: new rows far away
+    if (trial % 4 == 3) b.tail(dq).array() += 50.0;
+    BoxLP warm(A0, A0 * xi0);
+    ASSERT_EQ(warm.feasibility(), BoxLP::Feasibility::feasible);
+    warm.maximize(randn(m0, 1, rng));  // a basis that is not phase 1's
+    warm.extend(A, b);
+    BoxLP fresh(A, b);
+    ASSERT_EQ(warm.feasibility(), fresh.feasibility()) << "trial " << trial;
+    if (warm.feasibility() == BoxLP::Feasibility::empty) {
+      ++empty;
+      EXPECT_GT(warm.certificate_margin(), 0.0);
+      EXPECT_EQ(warm.maximize(randn(m0 + dm, 1, rng)).value, -std::numeric_limits<double>::infinity());
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const VectorXd g = randn(m0 + dm, 1, rng);
+      const double exact = m0 + dm <= 7 ? brute_force_max(A, b, g) : fresh.maximize(g).value;
+      const auto res = warm.maximize(g);
+      EXPECT_GE(res.value, exact - 1e-12) << "trial " << trial;
+      EXPECT_NEAR(res.value, exact, 1e-9 * (1 + std::abs(exact))) << "trial " << trial;
+    }
+  }
+  EXPECT_GE(empty, 40);
+  // The old rows must stay, and be zero in the new columns.
+  BoxLP lp(MatrixXd::Ones(1, 2), VectorXd::Zero(1));
+  expect_error_naming<setbound::InvalidArgumentError>([&] { lp.extend(MatrixXd::Ones(1, 3), VectorXd::Zero(1)); }, "A");
+  expect_error_naming<setbound::InvalidArgumentError>([&] { lp.extend(2.0 * MatrixXd::Ones(2, 2), VectorXd::Zero(2)); }, "A");
+  expect_error_naming<setbound::DimensionError>([&] { lp.extend(MatrixXd::Ones(0, 2), VectorXd::Zero(0)); }, "A");
+  expect_error_naming<setbound::DimensionError>([&] { lp.extend(MatrixXd::Ones(1, 2), VectorXd::Zero(2)); }, "b");
+}
+
+TEST(ConstrainedZonotope, QueriesOnAKeptLPMatchTheFreshOnesAndRedundantRowsGo) {
+  std::mt19937 rng(59);
+  int dropped = 0, kept = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = 2 + trial % 2, m = n + 2;
+    const VectorXd c = randn(n, 1, rng);
+    const MatrixXd G = randn(n, m, rng);
+    const VectorXd x0 = c + G * box_point(m, rng, false);
+    // A cutting strip through x0, then one wider than the whole set (redundant) and a second
+    // cutting one: the first and last must stay, the wide one must go.
+    const VectorXd h1 = randn(n, 1, rng), h2 = randn(n, 1, rng), h3 = randn(n, 1, rng);
+    const double wide = h2.cwiseAbs().dot(G.cwiseAbs().rowwise().sum()) + std::abs(h2.dot(c - x0)) + 1.0;
+    const ConstrainedZonotope Z0(c, G, MatrixXd(0, m), VectorXd(0));
+    const ConstrainedZonotope Z = Z0.intersect_strip(Strip(h1, h1.dot(x0), 0.05))
+                                      .intersect_strip(Strip(h2, h2.dot(x0), wide))
+                                      .intersect_strip(Strip(h3, h3.dot(x0), 0.05));
+    // One LP extended from the first intersection's, as the estimator does.
+    const ConstrainedZonotope Z1 = Z0.intersect_strip(Strip(h1, h1.dot(x0), 0.05));
+    BoxLP lp(Z1.constraint_matrix(), Z1.constraint_vector());
+    const auto b1 = Z1.image_bounds(h1.transpose(), lp);
+    EXPECT_LE(b1.hi(0) - b1.lo(0), 0.1 + 1e-9);
+    lp.extend(Z.constraint_matrix(), Z.constraint_vector());
+    EXPECT_FALSE(Z.emptiness(lp).empty);
+    const auto hk = Z.interval_hull(lp), hf = Z.interval_hull();
+    EXPECT_LE((hk.lo - hf.lo).cwiseAbs().maxCoeff(), 1e-9) << "trial " << trial;
+    EXPECT_LE((hk.hi - hf.hi).cwiseAbs().maxCoeff(), 1e-9) << "trial " << trial;
+    const MatrixXd K = randn(3, n, rng);
+    const auto ik = Z.image_bounds(K, lp), ifr = Z.image_bounds(K);
+    EXPECT_LE((ik.lo - ifr.lo).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_LE((ik.hi - ifr.hi).cwiseAbs().maxCoeff(), 1e-9);
+    const ConstrainedZonotope R = Z.remove_redundant_constraints(lp);
+    EXPECT_LE(R.num_constraints(), 2) << "the wide strip cuts nothing, trial " << trial;
+    dropped += 3 - static_cast<int>(R.num_constraints());
+    kept += static_cast<int>(R.num_constraints());
+    // The same set: equal support in many directions (certified, so only rounding differs),
+    // and every sampled point of Z is in R.
+    for (int k = 0; k < 20; ++k) {
+      const VectorXd d = randn(n, 1, rng);
+      EXPECT_NEAR(R.support(d), Z.support(d), 1e-9 * (1 + std::abs(Z.support(d)))) << "trial " << trial;
+    }
+    for (int k = 0; k < 3000; ++k) {
+      const VectorXd x = c + G * box_point(m, rng, k % 3 == 0);
+      if (std::abs(h1.dot(x - x0)) <= 0.05 && std::abs(h3.dot(x - x0)) <= 0.05) EXPECT_TRUE(R.contains(x));
+    }
+  }
+  EXPECT_GE(dropped, 40);
+  EXPECT_GE(kept, 60);  // the cutting strips stay (a cutting strip's noise term reaches ±1)
+  const ConstrainedZonotope Z = ConstrainedZonotope::from_bounds(VectorXd::Zero(2), VectorXd::Ones(2))
+                                    .intersect_strip(Strip(Eigen::Vector2d(1, 1), 1.0, 0.1));
+  BoxLP other(MatrixXd::Ones(1, 3), VectorXd::Zero(1));
+  expect_error_naming<setbound::InvalidArgumentError>([&] { Z.interval_hull(other); }, "lp");
+  expect_error_naming<setbound::InvalidArgumentError>([&] { Z.remove_redundant_constraints(other); }, "lp");
+}

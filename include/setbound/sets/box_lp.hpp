@@ -49,6 +49,10 @@ double max_abs(const V& v) {
   return v.size() ? v.cwiseAbs().maxCoeff() : 0.0;
 }
 
+/// The certified total of qᵀw + ‖Mᵀw‖₁ (M: k×m) from its computed parts, summed in any order:
+/// t = fl(qᵀw), tb = fl(|q|ᵀ|w|), R = fl(Σ_j |(Mᵀw)_j|), Aa = fl(Σ_j (|M|ᵀ|w|)_j).
+double certified_total(double t, double tb, double R, double Aa, Eigen::Index k, Eigen::Index m);
+
 /// A certified upper bound of qᵀw + ‖Mᵀw‖₁ (M: k×m, q and w: length k), the form both duality
 /// bounds take: Higham's bound |fl(s) − s| <= γ_k Σ|terms| for each inner product (any summation
 /// order, FMA or not), the final additions rounded upward.
@@ -99,18 +103,32 @@ class BoxLP {
   /// Simplex pivots done so far (all calls), for benchmarks and tests.
   long pivots() const { return pivots_; }
 
+  /// Replaces the LP by one whose rows and columns extend this one's: A_new = [A 0; A_r A_c]
+  /// (the old rows unchanged and zero in the new columns), b_new = [b; b_r]. This is what a
+  /// generalized intersection does to a constrained zonotope's rows ([Scott2016] eq. 13), so the
+  /// LP of a set and the LP of its intersection with a measurement share a warm start: the basis
+  /// of the old rows stays feasible for them, the new columns start at their lower bound, and
+  /// phase 1 (run by the next query) only has to drive the new rows' artificials to zero instead
+  /// of starting over. When this LP was empty or inconclusive, phase 1 starts afresh. Validates
+  /// the shapes and the unchanged blocks ("A", "b"; InvalidArgumentError/DimensionError).
+  void extend(Eigen::MatrixXd A_new, Eigen::VectorXd b_new);
+
  private:
-  void phase1();
+  void phase1();                                // cold start: every ξ at −1, artificials basic
+  void phase1_run();                            // drives the artificials out from any start
+  void scale_rows();                            // row_scale_, As_, bs_, absA_ from A_, b_
   void refactor();                              // T = B⁻¹A, beta = x_B, from the original data
   Eigen::VectorXd duals(const Eigen::VectorXd& cost_basic) const;  // solves Bᵀμ = c_B
+  double dual_bound(const Eigen::Ref<const Eigen::VectorXd>& g, const Eigen::VectorXd& mu) const;
   bool run_simplex(const Eigen::VectorXd& cost, long max_pivots);  // minimises costᵀx; false: limit
-  double value_of(int var) const;
 
   Eigen::MatrixXd A_;  // original rows (zero rows kept: they are checked in phase 1)
   Eigen::VectorXd b_;
   Eigen::VectorXd row_scale_;  // rows are scaled to unit max-norm for the simplex
   Eigen::MatrixXd As_;         // scaled A
   Eigen::VectorXd bs_;         // scaled b
+  Eigen::MatrixXd absA_;       // |A| (for the certified bounds of every query)
+  bool warm_ = false;          // phase 1 continues from a basis set by extend()
 
   // Simplex state: variables 0..m-1 are ξ, m..m+r-1 the artificials (column s_i e_i).
   Eigen::VectorXd art_sign_;   // s_i

@@ -148,7 +148,26 @@ class ConstrainedZonotope {
   /// containment tests).
   bool contains(const Eigen::Ref<const Eigen::VectorXd>& x) const;
 
+  // ---- The same queries on an LP the caller keeps ------------------------------------------
+  // An estimator step asks several questions of one set (screening, emptiness, hull): these
+  // overloads take an LP built on this set's rows (BoxLP(A, b), or one extended to them with
+  // BoxLP::extend), so phase 1 runs once and every LP after the first is warm-started. Each
+  // checks that `lp` has exactly this set's rows (InvalidArgumentError "lp").
+
+  BoundingBox interval_hull(BoxLP& lp) const;
+  BoundingBox image_bounds(const Eigen::Ref<const Eigen::MatrixXd>& K, BoxLP& lp) const;
+  Emptiness emptiness(BoxLP& lp) const;
+
+  /// Drops the rows that cut nothing ([Scott2016] §4.2's redundant constraints), certified by
+  /// LPs on `lp`: a row with a variable ξ_j private to it and zero in G (a measurement's noise
+  /// term, a slack) whose certified range over the set lies strictly inside (−1, 1) says nothing
+  /// (the bound |ξ_j| <= 1 is never active, so ξ_j is free and the row with it can be projected
+  /// out). Every such row is dropped at once (if each bound is inactive on the set, dropping all
+  /// of them leaves the set unchanged), with the columns left zero. Exact: no rounding.
+  ConstrainedZonotope remove_redundant_constraints(BoxLP& lp) const;
+
  private:
+  void require_lp(const BoxLP& lp) const;
   ConstrainedZonotope(Eigen::VectorXd c, Eigen::MatrixXd G, Eigen::MatrixXd A, Eigen::VectorXd b,
                       Eigen::VectorXd r, bool /*trusted*/);
   /// The lift reduction to at most `limit` (>= n + n_c) non-zero generators (reduce_cora's core).

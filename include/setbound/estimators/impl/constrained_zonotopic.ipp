@@ -164,7 +164,7 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotopicEstimator::correct(const
   return Xs.substitute_rows(Lambda, Xs.num_constraints() - p);
 }
 
-SETBOUND_INLINE std::vector<Eigen::Index> ConstrainedZonotopicEstimator::screen(const ConstrainedZonotope& X,
+SETBOUND_INLINE std::vector<Eigen::Index> ConstrainedZonotopicEstimator::screen(const ConstrainedZonotope& X, BoxLP& lp,
                                                                                const Eigen::Ref<const Eigen::VectorXd>& y,
                                                                                const Eigen::Ref<const Eigen::VectorXd>& u,
                                                                                MeasurementCheck& chk) const {
@@ -176,7 +176,7 @@ SETBOUND_INLINE std::vector<Eigen::Index> ConstrainedZonotopicEstimator::screen(
   // [lo_i, hi_i] ⊇ {C_i x : x ∈ X} (certified support values, one LP basis for every output).
   Eigen::MatrixXd Cp(static_cast<Eigen::Index>(present.size()), sys_.nx());
   for (size_t k = 0; k < present.size(); ++k) Cp.row(static_cast<Eigen::Index>(k)) = sys_.C().row(present[k]);
-  const BoundingBox out = present.empty() ? BoundingBox{} : X.image_bounds(Cp);
+  const BoundingBox out = present.empty() ? BoundingBox{} : X.image_bounds(Cp, lp);
   std::vector<Eigen::Index> used;
   for (size_t k = 0; k < present.size(); ++k) {
     const Eigen::Index i = present[k];
@@ -212,23 +212,28 @@ SETBOUND_INLINE void ConstrainedZonotopicEstimator::update(const Eigen::Ref<cons
   require_finite(u, "u");
   MeasurementCheck chk;
   ConstrainedZonotope X = prior_;
+  BoxLP lp(X.constraint_matrix(), X.constraint_vector());  // the step's LP, on the rows of `corrected`
   ConstrainedZonotope corrected = X;
   const bool correct_now = k_ > 0 || opt_.use_first_measurement;
   if (!correct_now) {
     chk.clear(sys_.ny(), OutputStatus::Unused);
   } else {
-    std::vector<Eigen::Index> used = screen(X, y, u, chk);
+    std::vector<Eigen::Index> used = screen(X, lp, y, u, chk);
     if (chk.flagged() && opt_.on_inconsistency == OnInconsistency::Reset) {
       X = reset_set_;
+      lp = BoxLP(X.constraint_matrix(), X.constraint_vector());
       MeasurementCheck again;
-      used = screen(X, y, u, again);
+      used = screen(X, lp, y, u, again);
       again.reset = true;
       for (size_t i = 0; i < again.status.size(); ++i)  // keep what the first screening found
         if (chk.status[i] == OutputStatus::Inconsistent) again.status[i] = OutputStatus::Inconsistent;
       chk = again;
     }
     corrected = correct(X, y, u, used);
-    if (!used.empty() && corrected.emptiness().empty) {
+    // The correction appended rows and columns (and kept X's rows): phase 1 goes on from the
+    // screening's basis.
+    if (!used.empty()) lp.extend(corrected.constraint_matrix(), corrected.constraint_vector());
+    if (!used.empty() && corrected.emptiness(lp).empty) {
       // Each reading was possible, together they are not: report the step, keep the prediction
       // (or restart, or raise), never an empty "estimate".
       for (Eigen::Index i : used) {
@@ -241,12 +246,23 @@ SETBOUND_INLINE void ConstrainedZonotopicEstimator::update(const Eigen::Ref<cons
                                            "(a fault, a glitch or a wrong model)");
       corrected = (opt_.on_inconsistency == OnInconsistency::Reset) ? reset_set_ : X;
       if (opt_.on_inconsistency == OnInconsistency::Reset) chk.reset = true;
+      lp = BoxLP(corrected.constraint_matrix(), corrected.constraint_vector());
     }
-    if (k_ > 0 && opt_.reduction == CZReduction::Cora) corrected = corrected.reduce_cora(opt_.technique, opt_.order);
-    if (opt_.reduction == CZReduction::Limits)
-      corrected = corrected.reduce_limits(opt_.max_generators, opt_.max_constraints, opt_.technique);
   }
-  const BoundingBox hull = corrected.interval_hull();
+  BoundingBox hull;
+  if (opt_.reduction == CZReduction::Cora) {
+    // CORA's hull is that of the reduced set (conZonotope/reduce.m, then interval()).
+    if (correct_now && k_ > 0) corrected = corrected.reduce_cora(opt_.technique, opt_.order);
+    hull = corrected.interval_hull();
+  } else {
+    hull = corrected.interval_hull(lp);  // before the reduction: see the header
+    if (correct_now && opt_.reduction == CZReduction::Limits) {
+      // Rows certified redundant go first (exact, and the LPs shrink); they are looked for only
+      // when rows must go anyway, since the test costs two LPs per candidate.
+      if (corrected.num_constraints() > opt_.max_constraints) corrected = corrected.remove_redundant_constraints(lp);
+      corrected = corrected.reduce_limits(opt_.max_generators, opt_.max_constraints, opt_.technique);
+    }
+  }
   ConstrainedZonotope next = predict(corrected, u);
   // Commit (everything above may throw; nothing was changed before this point).
   current_ = std::move(corrected);

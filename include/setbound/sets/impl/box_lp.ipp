@@ -26,17 +26,9 @@ SETBOUND_INLINE double gamma_k(Eigen::Index k) {
   return rounding::div_up(ku, rounding::sub_down(1.0, ku));
 }
 
-SETBOUND_INLINE double upper_bound_q_plus_l1(const Eigen::Ref<const Eigen::MatrixXd>& M,
-                                            const Eigen::Ref<const Eigen::VectorXd>& q,
-                                            const Eigen::Ref<const Eigen::VectorXd>& w) {
-  const Eigen::Index k = M.rows(), m = M.cols();
-  // Computed values and the sums of the absolute terms that bound their errors.
-  const Eigen::VectorXd r = M.transpose() * w;                          // Mᵀw
-  const Eigen::VectorXd a = M.cwiseAbs().transpose() * w.cwiseAbs();    // |M|ᵀ|w|
-  const double t = q.dot(w);
-  const double tb = q.cwiseAbs().dot(w.cwiseAbs());
-  const double R = r.cwiseAbs().sum();
-  const double Aa = a.sum();
+/// The certified total of qᵀw + ‖Mᵀw‖₁ from its computed parts: t = fl(qᵀw), tb = fl(|q|ᵀ|w|),
+/// R = fl(Σ_j |(Mᵀw)_j|), Aa = fl(Σ_j (|M|ᵀ|w|)_j), for a k×m matrix M.
+SETBOUND_INLINE double certified_total(double t, double tb, double R, double Aa, Eigen::Index k, Eigen::Index m) {
   if (!std::isfinite(t) || !std::isfinite(R) || !std::isfinite(Aa) || !std::isfinite(tb))
     return rounding::kInf;
   // One constant for every inner product and sum here (none has more than k + m + 4 terms).
@@ -52,6 +44,15 @@ SETBOUND_INLINE double upper_bound_q_plus_l1(const Eigen::Ref<const Eigen::Matri
   // Products that underflow are rounded absolutely (at most half the smallest subnormal each).
   const double underflow = std::numeric_limits<double>::denorm_min() * static_cast<double>(k * m + k + m + 4);
   return rounding::add_up(total, underflow);
+}
+
+SETBOUND_INLINE double upper_bound_q_plus_l1(const Eigen::Ref<const Eigen::MatrixXd>& M,
+                                            const Eigen::Ref<const Eigen::VectorXd>& q,
+                                            const Eigen::Ref<const Eigen::VectorXd>& w) {
+  // Computed values and the sums of the absolute terms that bound their errors.
+  const Eigen::VectorXd r = M.transpose() * w;                          // Mᵀw
+  const Eigen::VectorXd a = M.cwiseAbs().transpose() * w.cwiseAbs();    // |M|ᵀ|w|
+  return certified_total(q.dot(w), q.cwiseAbs().dot(w.cwiseAbs()), r.cwiseAbs().sum(), a.sum(), M.rows(), M.cols());
 }
 
 /// ‖g‖₁ rounded upward (the bound with μ = 0).
@@ -70,6 +71,10 @@ SETBOUND_INLINE BoxLP::BoxLP(Eigen::MatrixXd A, Eigen::VectorXd b) : A_(std::mov
     throw DimensionError("b: expected length " + std::to_string(A_.rows()) + " (the rows of A), got " +
                          std::to_string(b_.size()));
   require_finite(b_, "b");
+  scale_rows();
+}
+
+SETBOUND_INLINE void BoxLP::scale_rows() {
   const Eigen::Index r = A_.rows();
   row_scale_ = Eigen::VectorXd::Ones(r);
   for (Eigen::Index i = 0; i < r; ++i) {
@@ -78,16 +83,18 @@ SETBOUND_INLINE BoxLP::BoxLP(Eigen::MatrixXd A, Eigen::VectorXd b) : A_(std::mov
   }
   As_ = row_scale_.asDiagonal() * A_;
   bs_ = row_scale_.cwiseProduct(b_);
+  absA_ = A_.cwiseAbs();
 }
 
-SETBOUND_INLINE double BoxLP::value_of(int var) const {
-  const int m = static_cast<int>(A_.cols());
-  if (state_[static_cast<size_t>(var)] == 0) {
-    for (size_t i = 0; i < basis_.size(); ++i)
-      if (basis_[i] == var) return beta_(static_cast<Eigen::Index>(i));
-  }
-  if (var >= m) return 0.0;  // a non-basic artificial sits at 0
-  return state_[static_cast<size_t>(var)] > 0 ? 1.0 : -1.0;
+SETBOUND_INLINE double BoxLP::dual_bound(const Eigen::Ref<const Eigen::VectorXd>& g, const Eigen::VectorXd& mu) const {
+  // upper_bound_q_plus_l1 with M = [gᵀ; A], q = [0; −b], w = [1; −μ] (μᵀb + ‖g − Aᵀμ‖₁), its
+  // parts computed from A and the cached |A| instead of a stacked copy.
+  const Eigen::Index r = A_.rows(), m = A_.cols();
+  if (r == 0) return box_lp_detail::certified_total(0.0, 0.0, g.cwiseAbs().sum(), g.cwiseAbs().sum(), 1, m);
+  const Eigen::VectorXd res = g - A_.transpose() * mu;
+  const Eigen::VectorXd a = g.cwiseAbs() + absA_.transpose() * mu.cwiseAbs();
+  return box_lp_detail::certified_total(b_.dot(mu), b_.cwiseAbs().dot(mu.cwiseAbs()), res.cwiseAbs().sum(), a.sum(),
+                                        r + 1, m);
 }
 
 SETBOUND_INLINE void BoxLP::refactor() {
@@ -112,19 +119,13 @@ SETBOUND_INLINE void BoxLP::refactor() {
 }
 
 SETBOUND_INLINE Eigen::VectorXd BoxLP::duals(const Eigen::VectorXd& cost_basic) const {
-  const Eigen::Index r = A_.rows(), m = A_.cols();
+  const Eigen::Index r = A_.rows();
   if (r == 0) return Eigen::VectorXd();
-  Eigen::MatrixXd B(r, r);
-  for (Eigen::Index i = 0; i < r; ++i) {
-    const int v = basis_[static_cast<size_t>(i)];
-    if (v < m) B.col(i) = As_.col(v);
-    else {
-      B.col(i).setZero();
-      B(v - m, i) = art_sign_(v - m);
-    }
-  }
   // Bᵀ μ_s = c_B in the scaled rows; μ = D μ_s in the original ones (μ_sᵀ D A = (D μ_s)ᵀ A).
-  const Eigen::VectorXd mu_s = B.transpose().partialPivLu().solve(cost_basic);
+  // T's artificial columns are B⁻¹S (S = diag(s), s_i = ±1), so B⁻¹ = T_art S and
+  // μ_s = S T_artᵀ c_B: no factorisation per query. T is refreshed every kRefactorEvery pivots;
+  // a μ spoilt by drift would only loosen the bound, which duality certifies whatever μ is.
+  const Eigen::VectorXd mu_s = art_sign_.cwiseProduct(T_.rightCols(r).transpose() * cost_basic);
   return row_scale_.cwiseProduct(mu_s);
 }
 
@@ -221,6 +222,12 @@ SETBOUND_INLINE void BoxLP::phase1() {
     state_[static_cast<size_t>(m + i)] = 0;
   }
   refactor();
+  phase1_run();
+}
+
+SETBOUND_INLINE void BoxLP::phase1_run() {
+  const Eigen::Index r = A_.rows(), m = A_.cols();
+  warm_ = false;
   Eigen::VectorXd cost = Eigen::VectorXd::Zero(m + r);
   cost.tail(r).setOnes();
   const bool converged = run_simplex(cost, 50 * (m + r) + 1000);
@@ -254,6 +261,7 @@ SETBOUND_INLINE void BoxLP::phase1() {
   }
   // Phase 1 ended above zero: its dual is the candidate certificate (at the optimum
   // w = yᵀb − ‖Aᵀy‖₁, see the header). It is believed only if the certified margin is positive.
+  refactor();
   const Eigen::VectorXd y = duals(cB);
   const double margin = -box_lp_detail::upper_bound_q_plus_l1(A_, -b_, y);
   if (y.size() && margin > 0.0) {
@@ -266,8 +274,70 @@ SETBOUND_INLINE void BoxLP::phase1() {
 }
 
 SETBOUND_INLINE BoxLP::Feasibility BoxLP::feasibility() {
-  if (!phase1_done_) phase1();
+  if (!phase1_done_) {
+    if (warm_) phase1_run();
+    else phase1();
+  }
   return feasibility_;
+}
+
+SETBOUND_INLINE void BoxLP::extend(Eigen::MatrixXd A_new, Eigen::VectorXd b_new) {
+  const Eigen::Index r0 = A_.rows(), m0 = A_.cols();
+  require_finite(A_new, "A");
+  if (A_new.rows() < r0 || A_new.cols() < m0)
+    throw DimensionError("A: expected at least the " + detail::shape_string(r0, m0) + " of the LP it extends, got " +
+                         detail::shape_string(A_new.rows(), A_new.cols()));
+  if (b_new.size() != A_new.rows())
+    throw DimensionError("b: expected length " + std::to_string(A_new.rows()) + " (the rows of A), got " +
+                         std::to_string(b_new.size()));
+  require_finite(b_new, "b");
+  const Eigen::Index r = A_new.rows(), m = A_new.cols();
+  if (A_new.topLeftCorner(r0, m0) != A_ || b_new.head(r0) != b_ ||
+      (r0 > 0 && m > m0 && box_lp_detail::max_abs(A_new.topRightCorner(r0, m - m0)) > 0.0))
+    throw InvalidArgumentError("A: the rows of the LP it extends must stay unchanged and zero in the new columns");
+  const bool keep = phase1_done_ && feasibility_ == Feasibility::feasible;
+  Eigen::VectorXd x = Eigen::VectorXd::Constant(m, -1.0);  // the current point, new columns at −1
+  std::vector<signed char> old_state;
+  std::vector<int> old_basis;
+  Eigen::VectorXd old_sign;
+  if (keep) {
+    for (Eigen::Index j = 0; j < m0; ++j) x(j) = state_[static_cast<size_t>(j)] > 0 ? 1.0 : -1.0;
+    for (Eigen::Index i = 0; i < r0; ++i)
+      if (basis_[static_cast<size_t>(i)] < m0) x(basis_[static_cast<size_t>(i)]) = beta_(i);
+    old_state = std::move(state_);
+    old_basis = std::move(basis_);
+    old_sign = std::move(art_sign_);
+  }
+  A_ = std::move(A_new);
+  b_ = std::move(b_new);
+  scale_rows();
+  certificate_.resize(0);
+  certificate_margin_ = 0.0;
+  feasibility_ = Feasibility::inconclusive;
+  phase1_done_ = false;
+  warm_ = false;
+  if (!keep) return;  // the next query runs phase 1 from the start
+  // Old variables keep their state (artificial i moves from m0 + i to m + i); new columns sit at
+  // −1; each new row gets a basic artificial that absorbs its residual. B = [B0 0; * S_new] is
+  // block triangular, hence regular.
+  state_.assign(static_cast<size_t>(m + r), -1);
+  for (Eigen::Index j = 0; j < m0; ++j) state_[static_cast<size_t>(j)] = old_state[static_cast<size_t>(j)];
+  for (Eigen::Index i = 0; i < r0; ++i) state_[static_cast<size_t>(m + i)] = old_state[static_cast<size_t>(m0 + i)];
+  basis_.resize(static_cast<size_t>(r));
+  art_sign_.resize(r);
+  for (Eigen::Index i = 0; i < r0; ++i) {
+    const int v = old_basis[static_cast<size_t>(i)];
+    basis_[static_cast<size_t>(i)] = v < m0 ? v : static_cast<int>(v - m0 + m);
+    art_sign_(i) = old_sign(i);
+  }
+  for (Eigen::Index i = r0; i < r; ++i) {
+    const double res = bs_(i) - As_.row(i).dot(x);
+    art_sign_(i) = res < 0.0 ? -1.0 : 1.0;
+    basis_[static_cast<size_t>(i)] = static_cast<int>(m + i);
+    state_[static_cast<size_t>(m + i)] = 0;
+  }
+  refactor();
+  warm_ = true;
 }
 
 SETBOUND_INLINE BoxLP::Bound BoxLP::maximize(const Eigen::Ref<const Eigen::VectorXd>& g) {
@@ -288,26 +358,22 @@ SETBOUND_INLINE BoxLP::Bound BoxLP::maximize(const Eigen::Ref<const Eigen::Vecto
   Eigen::VectorXd cost = Eigen::VectorXd::Zero(m + r);
   cost.head(m) = -g;  // the simplex minimises
   const bool optimal = run_simplex(cost, 50 * (m + r) + 1000);
-  if (since_refactor_ > 0) refactor();  // fresh β for the reported point
   Eigen::VectorXd cB(r);
   for (Eigen::Index i = 0; i < r; ++i) cB(i) = cost(basis_[static_cast<size_t>(i)]);
   const Eigen::VectorXd mu = -duals(cB);  // dual of the maximisation
-  Eigen::MatrixXd M(r + 1, m);
-  M.row(0) = g.transpose();
-  M.bottomRows(r) = A_;
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(r + 1), w(r + 1);
-  q.tail(r) = -b_;
-  w(0) = 1.0;
-  w.tail(r) = -mu;
-  double value = box_lp_detail::upper_bound_q_plus_l1(M, q, w);  // μᵀb + ‖g − Aᵀμ‖₁
+  double value = dual_bound(g, mu);       // μᵀb + ‖g − Aᵀμ‖₁, certified
   Eigen::VectorXd mu_used = mu;
   const double plain = box_lp_detail::l1_upper(g);
   if (!(value <= plain)) {  // a poor dual (or NaN from a breakdown): μ = 0 is valid and better
     value = plain;
     mu_used.setZero();
   }
+  // The simplex's point (not certified: β as updated by the pivots, refreshed every
+  // kRefactorEvery of them).
   Eigen::VectorXd xi(m);
-  for (Eigen::Index j = 0; j < m; ++j) xi(j) = value_of(static_cast<int>(j));
+  for (Eigen::Index j = 0; j < m; ++j) xi(j) = state_[static_cast<size_t>(j)] > 0 ? 1.0 : -1.0;
+  for (Eigen::Index i = 0; i < r; ++i)
+    if (basis_[static_cast<size_t>(i)] < m) xi(basis_[static_cast<size_t>(i)]) = beta_(i);
   return {value, g.dot(xi), mu_used, xi, optimal};
 }
 

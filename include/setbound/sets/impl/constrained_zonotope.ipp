@@ -474,9 +474,21 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_lift(ZonotopeRed
   return ConstrainedZonotope(c_, H.topRows(n), H.bottomRows(q), b_, r_, true);
 }
 
+SETBOUND_INLINE void ConstrainedZonotope::require_lp(const BoxLP& lp) const {
+  if (lp.A().rows() != A_.rows() || lp.A().cols() != A_.cols() || lp.A() != A_ || lp.b() != b_)
+    throw InvalidArgumentError("lp: built on other rows than this set's (expected A of shape " +
+                               detail::shape_string(A_.rows(), A_.cols()) + ", got " +
+                               detail::shape_string(lp.A().rows(), lp.A().cols()) + " or other entries)");
+}
+
 SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull() const {
-  const Eigen::Index n = dimension();
   BoxLP lp(A_, b_);
+  return interval_hull(lp);
+}
+
+SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull(BoxLP& lp) const {
+  require_lp(lp);
+  const Eigen::Index n = dimension();
   if (lp.feasibility() == BoxLP::Feasibility::empty)
     return {Eigen::VectorXd::Constant(n, rounding::kInf), Eigen::VectorXd::Constant(n, -rounding::kInf)};
   BoundingBox box{Eigen::VectorXd(n), Eigen::VectorXd(n)};
@@ -502,8 +514,17 @@ SETBOUND_INLINE BoundingBox ConstrainedZonotope::image_bounds(const Eigen::Ref<c
     throw DimensionError("K: expected " + std::to_string(dimension()) + " columns, got shape " +
                          detail::shape_string(K.rows(), K.cols()));
   require_finite(K, "K");
-  const Eigen::Index k = K.rows();
   BoxLP lp(A_, b_);
+  return image_bounds(K, lp);
+}
+
+SETBOUND_INLINE BoundingBox ConstrainedZonotope::image_bounds(const Eigen::Ref<const Eigen::MatrixXd>& K, BoxLP& lp) const {
+  if (K.cols() != dimension())
+    throw DimensionError("K: expected " + std::to_string(dimension()) + " columns, got shape " +
+                         detail::shape_string(K.rows(), K.cols()));
+  require_finite(K, "K");
+  require_lp(lp);
+  const Eigen::Index k = K.rows();
   if (lp.feasibility() == BoxLP::Feasibility::empty)
     return {Eigen::VectorXd::Constant(k, rounding::kInf), Eigen::VectorXd::Constant(k, -rounding::kInf)};
   BoundingBox box{Eigen::VectorXd(k), Eigen::VectorXd(k)};
@@ -517,20 +538,26 @@ SETBOUND_INLINE BoundingBox ConstrainedZonotope::image_bounds(const Eigen::Ref<c
 SETBOUND_INLINE double ConstrainedZonotope::support_with(BoxLP& lp, const Eigen::Ref<const Eigen::VectorXd>& d) const {
   const Eigen::VectorXd g = G_.transpose() * d;  // rounded: only used to find μ
   const Eigen::VectorXd mu = lp.maximize(g).dual;
-  // dᵀc + μᵀb + ‖Gᵀd − Aᵀμ‖₁ = qᵀw + ‖Mᵀw‖₁ with M = [G; A], q = [c; −b], w = [d; −μ].
+  // dᵀc + μᵀb + ‖Gᵀd − Aᵀμ‖₁ = qᵀw + ‖Mᵀw‖₁ with M = [G; A], q = [c; −b], w = [d; −μ], from
+  // its parts (no stacked copy of G and A per query).
   const Eigen::Index n = dimension(), q = num_constraints();
-  Eigen::MatrixXd M(n + q, num_generators());
-  M << G_, A_;
-  Eigen::VectorXd qv(n + q), w(n + q);
-  qv << c_, -b_;
-  w << d, -mu;
-  const double core = box_lp_detail::upper_bound_q_plus_l1(M, qv, w);
+  const Eigen::VectorXd res = g - A_.transpose() * mu;  // fl(Gᵀd) − Aᵀμ: Gᵀd's error is in `a`
+  Eigen::VectorXd a = G_.cwiseAbs().transpose() * d.cwiseAbs();
+  if (q > 0) a += A_.cwiseAbs().transpose() * mu.cwiseAbs();
+  const double t = c_.dot(d) + (q > 0 ? b_.dot(mu) : 0.0);
+  const double tb = c_.cwiseAbs().dot(d.cwiseAbs()) + (q > 0 ? b_.cwiseAbs().dot(mu.cwiseAbs()) : 0.0);
+  const double core = box_lp_detail::certified_total(t, tb, res.cwiseAbs().sum(), a.sum(), n + q, num_generators());
   const double box = d.cwiseAbs().dot(r_) * (1.0 + 2.0 * rounding_bounds::gamma(n));
   return rounding::add_up(core, box);
 }
 
 SETBOUND_INLINE ConstrainedZonotope::Emptiness ConstrainedZonotope::emptiness() const {
   BoxLP lp(A_, b_);
+  return emptiness(lp);
+}
+
+SETBOUND_INLINE ConstrainedZonotope::Emptiness ConstrainedZonotope::emptiness(BoxLP& lp) const {
+  require_lp(lp);
   const BoxLP::Feasibility f = lp.feasibility();
   Emptiness e{f == BoxLP::Feasibility::empty, f != BoxLP::Feasibility::inconclusive, Eigen::VectorXd(), 0.0};
   if (e.empty) {
@@ -569,6 +596,47 @@ SETBOUND_INLINE bool ConstrainedZonotope::contains(const Eigen::Ref<const Eigen:
   qv << -x, c_, -b_;
   w << y.head(n), y.head(n), y.tail(q);
   return !(-box_lp_detail::upper_bound_q_plus_l1(M, qv, w) > 0.0);
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::remove_redundant_constraints(BoxLP& lp) const {
+  require_lp(lp);
+  const Eigen::Index q = num_constraints(), m = num_generators();
+  if (q == 0 || lp.feasibility() != BoxLP::Feasibility::feasible) return *this;
+  std::vector<char> drop(static_cast<size_t>(q), 0);
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(m);
+  bool any = false;
+  for (Eigen::Index j = 0; j < m; ++j) {
+    if (box_lp_detail::max_abs(G_.col(j)) > 0.0) continue;
+    Eigen::Index row = -1, count = 0;
+    for (Eigen::Index i = 0; i < q; ++i)
+      if (A_(i, j) != 0.0) row = i, ++count;
+    if (count != 1 || drop[static_cast<size_t>(row)]) continue;
+    // Certified bounds of ξ_j over the set (BoxLP's duality bounds: hi >= max ξ_j, lo <= min ξ_j).
+    e(j) = 1.0;
+    const double hi = lp.maximize(e).value;
+    e(j) = -1.0;
+    const double lo = -lp.maximize(e).value;
+    e(j) = 0.0;
+    if (hi < 1.0 && lo > -1.0) drop[static_cast<size_t>(row)] = 1, any = true;
+  }
+  if (!any) return *this;
+  std::vector<Eigen::Index> rows, cols;
+  for (Eigen::Index i = 0; i < q; ++i)
+    if (!drop[static_cast<size_t>(i)]) rows.push_back(i);
+  for (Eigen::Index j = 0; j < m; ++j) {
+    bool used = box_lp_detail::max_abs(G_.col(j)) > 0.0;
+    for (size_t k = 0; k < rows.size() && !used; ++k) used = A_(rows[k], j) != 0.0;
+    if (used) cols.push_back(j);
+  }
+  const Eigen::Index qk = static_cast<Eigen::Index>(rows.size()), mk = static_cast<Eigen::Index>(cols.size());
+  Eigen::MatrixXd G(dimension(), mk), A(qk, mk);
+  Eigen::VectorXd b(qk);
+  for (Eigen::Index k = 0; k < mk; ++k) {
+    G.col(k) = G_.col(cols[static_cast<size_t>(k)]);
+    for (Eigen::Index i = 0; i < qk; ++i) A(i, k) = A_(rows[static_cast<size_t>(i)], cols[static_cast<size_t>(k)]);
+  }
+  for (Eigen::Index i = 0; i < qk; ++i) b(i) = b_(rows[static_cast<size_t>(i)]);
+  return ConstrainedZonotope(c_, std::move(G), std::move(A), std::move(b), r_, true);
 }
 
 }  // namespace setbound
