@@ -441,6 +441,30 @@ TEST(ConstrainedZonotope, ConstraintEliminationAndLimitsKeepEveryPoint) {
     EXPECT_LE(L.num_constraints(), 1);
     EXPECT_LE(L.num_generators(), n + 2);
     for (const auto& x : pts) EXPECT_TRUE(L.contains(x)) << "trial " << trial;
+    // Rows ranked by the hull LPs' dual weights (the estimators' default) keep every point too,
+    // and the weighted hull is the plain one.
+    BoxLP lp(Z.constraint_matrix(), Z.constraint_vector());
+    VectorXd weight;
+    const auto hw = Z.interval_hull(lp, weight);
+    ASSERT_EQ(weight.size(), Z.num_constraints());
+    EXPECT_GE(weight.minCoeff(), 0.0);
+    EXPECT_EQ(hw.lo, hz.lo);
+    EXPECT_EQ(hw.hi, hz.hi);
+    for (int keep = ns - 1; keep >= 0; --keep) {
+      const ConstrainedZonotope R = Z.eliminate_constraints(keep, weight);
+      EXPECT_LE(R.num_constraints(), keep);
+      const auto hr = R.interval_hull();
+      EXPECT_TRUE((hr.lo.array() <= hz.lo.array() + 1e-12).all()) << "trial " << trial << " keep " << keep;
+      EXPECT_TRUE((hr.hi.array() >= hz.hi.array() - 1e-12).all()) << "trial " << trial << " keep " << keep;
+      for (const auto& x : pts) EXPECT_TRUE(R.contains(x)) << "trial " << trial << " keep " << keep;
+    }
+    const ConstrainedZonotope LW = Z.reduce_limits(n + 2, 1, setbound::ZonotopeReduction::Girard, weight);
+    EXPECT_LE(LW.num_constraints(), 1);
+    EXPECT_LE(LW.num_generators(), n + 2);
+    for (const auto& x : pts) EXPECT_TRUE(LW.contains(x)) << "trial " << trial;
+    expect_error_naming<setbound::DimensionError>([&] { Z.eliminate_constraints(0, VectorXd::Zero(ns + 1)); }, "row_weight");
+    expect_error_naming<setbound::NotFiniteError>(
+        [&] { Z.reduce_limits(n + 2, 1, setbound::ZonotopeReduction::Girard, VectorXd::Constant(ns, NAN)); }, "row_weight");
   }
   // A row that already keeps its variable in [−1, 1] is eliminated without loss: the box
   // [−1, 1]² cut by |x1| <= 2 (no cut at all) keeps its hull exactly.

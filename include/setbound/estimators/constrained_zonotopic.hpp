@@ -8,15 +8,16 @@
 //       Λ = R̄Cᵀ(CR̄Cᵀ + F Fᵀ)⁻¹, R̄ = A GGᵀAᵀ + EEᵀ (A applied twice, as CORA does: sic);
 //       the set is the same, the representation differs (so they differ only after a reduction).
 //   reduction: CORA's lift (ConstrainedZonotope::reduce_cora) after every correction but the
-//       first, at `order` (CORA's zonotopeOrder), or none, or (the default, Limits) the rows
-//       certified redundant dropped, then Scott's elimination and the lift reduction to limits.
+//       first, at `order` (CORA's zonotopeOrder), or none, or (the default, Limits) Scott's
+//       elimination (rows ranked by the hull LPs' duals) and the lift reduction to limits.
 //
 // One LP per step (Limits and None): the screening's LP on the predicted set's rows is extended
 // to the corrected set's rows (BoxLP::extend: the intersection only appends rows and columns), so
-// the emptiness test, the interval hull and the redundancy test share its warm basis. The hull
+// the emptiness test and the interval hull share its warm basis. The hull
 // reported (current_lower/upper) is that of the corrected set before the reduction: it holds
 // every state consistent with the data, and current_set() (reduced) contains it. With CORA's
-// reduction the hull is the reduced set's, as CORA computes it.
+// reduction the hull is the reduced set's, as CORA computes it. The hull LPs' duals also rank the
+// rows for Scott's elimination (ConstrainedZonotope::eliminate_constraints with row weights).
 //
 // The state disturbance and the output noise share ω in LinearSystem; they are treated as
 // independent here (an outer bound; exact for the usual E = [E_d, 0], F = [0, F_v]).

@@ -108,6 +108,15 @@ class ConstrainedZonotope {
   /// rounding box (x side) and to the rows' noise terms (constraint side); ξ_j stays bounded by
   /// row i, which bounds the tiny column left behind.
   ConstrainedZonotope eliminate_constraints(Eigen::Index max_constraints) const;
+  /// eliminate_constraints with the rows taken in order of increasing `row_weight` (one finite
+  /// entry per row, "row_weight"), each eliminated through the variable of the least score in it.
+  /// With interval_hull(lp, row_weight)'s dual weights, the rows the hull leans on least go first
+  /// (they say least about the set's projection onto x; the box-based score alone cannot see the
+  /// projection). Same guarantee: an outer bound, rounding absorbed as above.
+  ConstrainedZonotope eliminate_constraints(Eigen::Index max_constraints, const Eigen::VectorXd& row_weight) const;
+  /// reduce_limits with eliminate_constraints(max_constraints, row_weight): the estimators' default.
+  ConstrainedZonotope reduce_limits(Eigen::Index max_generators, Eigen::Index max_constraints,
+                                    ZonotopeReduction technique, const Eigen::VectorXd& row_weight) const;
 
   /// setbound's bounded mode: eliminate_constraints(max_constraints), then the lift reduction of
   /// reduce_cora to at most `max_generators` generators (>= n + max_constraints, "max_generators").
@@ -155,6 +164,10 @@ class ConstrainedZonotope {
   // checks that `lp` has exactly this set's rows (InvalidArgumentError "lp").
 
   BoundingBox interval_hull(BoxLP& lp) const;
+  /// The same, and each row's dual weight: Σ over the 2n hull LPs of |μ_i| · max_j |A_ij| / (the
+  /// width of that LP's coordinate). A row of weight 0 has a zero multiplier in every hull LP, so
+  /// the certified hull does not change when it is dropped.
+  BoundingBox interval_hull(BoxLP& lp, Eigen::VectorXd& row_weight) const;
   BoundingBox image_bounds(const Eigen::Ref<const Eigen::MatrixXd>& K, BoxLP& lp) const;
   Emptiness emptiness(BoxLP& lp) const;
 
@@ -174,6 +187,9 @@ class ConstrainedZonotope {
   /// The certified support in d with an LP already built on (A, b) and not certified empty.
   double support_with(BoxLP& lp, const Eigen::Ref<const Eigen::VectorXd>& d) const;
   ConstrainedZonotope reduce_lift(ZonotopeReduction technique, Eigen::Index limit) const;
+  ConstrainedZonotope eliminate_impl(Eigen::Index max_constraints, const Eigen::VectorXd* row_weight) const;
+  ConstrainedZonotope reduce_limits_impl(Eigen::Index max_generators, Eigen::Index max_constraints,
+                                         ZonotopeReduction technique, const Eigen::VectorXd* row_weight) const;
 
   Eigen::VectorXd c_;
   Eigen::MatrixXd G_;

@@ -348,8 +348,27 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::rescale() const {
 }
 
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::eliminate_constraints(Eigen::Index max_constraints) const {
+  return eliminate_impl(max_constraints, nullptr);
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::eliminate_constraints(Eigen::Index max_constraints,
+                                                                              const Eigen::VectorXd& row_weight) const {
+  if (row_weight.size() != num_constraints())
+    throw DimensionError("row_weight: expected length " + std::to_string(num_constraints()) + " (one per row), got " +
+                         std::to_string(row_weight.size()));
+  require_finite(row_weight, "row_weight");
+  return eliminate_impl(max_constraints, &row_weight);
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::eliminate_impl(Eigen::Index max_constraints,
+                                                                       const Eigen::VectorXd* row_weight) const {
   if (max_constraints < 0)
     throw InvalidArgumentError("max_constraints: must be >= 0, got " + std::to_string(max_constraints));
+  std::vector<double> weight;
+  if (row_weight) {
+    for (Eigen::Index i = 0; i < num_constraints(); ++i)
+      if (b_(i) != 0.0 || box_lp_detail::max_abs(A_.row(i)) > 0.0) weight.push_back((*row_weight)(i));
+  }
   ConstrainedZonotope Z = remove_zero_constraints();
   const double u = std::ldexp(1.0, -53);
   while (Z.num_constraints() > max_constraints) {
@@ -360,7 +379,16 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::eliminate_constraints(E
     double best = rounding::kInf, best_pivot = 0.0, best_reach = 0.0;
     Eigen::VectorXd colnorm(m);
     for (Eigen::Index j = 0; j < m; ++j) colnorm(j) = std::sqrt(Z.G_.col(j).squaredNorm() + Z.A_.col(j).squaredNorm());
+    // With weights: only the lightest row (that has a non-zero entry) is a candidate.
+    Eigen::Index only = -1;
+    if (row_weight) {
+      double wbest = rounding::kInf;
+      for (Eigen::Index i = 0; i < q; ++i)
+        if (weight[static_cast<size_t>(i)] < wbest && box_lp_detail::max_abs(Z.A_.row(i)) > 0.0)
+          wbest = weight[static_cast<size_t>(i)], only = i;
+    }
     for (Eigen::Index i = 0; i < q; ++i) {
+      if (only >= 0 && i != only) continue;
       const double rowsum = Z.A_.row(i).cwiseAbs().sum();
       const double rowmax = box_lp_detail::max_abs(Z.A_.row(i));
       for (Eigen::Index j = 0; j < m; ++j) {
@@ -412,6 +440,7 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::eliminate_constraints(E
       out << M.leftCols(bj), M.rightCols(M.cols() - bj - 1);
       return out;
     };
+    if (row_weight) weight.erase(weight.begin() + bi);
     A = drop_col(drop_row(A));
     G = drop_col(G);
     Eigen::VectorXd b2(q - 1), s2(q - 1);
@@ -427,12 +456,26 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::eliminate_constraints(E
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_limits(Eigen::Index max_generators,
                                                                       Eigen::Index max_constraints,
                                                                       ZonotopeReduction technique) const {
+  return reduce_limits_impl(max_generators, max_constraints, technique, nullptr);
+}
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_limits(Eigen::Index max_generators,
+                                                                      Eigen::Index max_constraints,
+                                                                      ZonotopeReduction technique, const Eigen::VectorXd& w) const {
+  if (w.size() != num_constraints())
+    throw DimensionError("row_weight: expected length " + std::to_string(num_constraints()) + " (one per row), got " +
+                         std::to_string(w.size()));
+  require_finite(w, "row_weight");
+  return reduce_limits_impl(max_generators, max_constraints, technique, &w);
+}
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_limits_impl(Eigen::Index max_generators,
+                                                                      Eigen::Index max_constraints,
+                                                                      ZonotopeReduction technique, const Eigen::VectorXd* w) const {
   if (max_constraints < 0)
     throw InvalidArgumentError("max_constraints: must be >= 0, got " + std::to_string(max_constraints));
   if (max_generators < dimension() + max_constraints)
     throw InvalidArgumentError("max_generators: must be >= n + max_constraints = " +
                                std::to_string(dimension() + max_constraints) + ", got " + std::to_string(max_generators));
-  const ConstrainedZonotope Z = eliminate_constraints(max_constraints).remove_zero_constraints();
+  const ConstrainedZonotope Z = eliminate_impl(max_constraints, w).remove_zero_constraints();
   // Columns zero in G and A say nothing; dropping them makes the limit a limit on every column.
   std::vector<Eigen::Index> keep;
   for (Eigen::Index j = 0; j < Z.num_generators(); ++j)
@@ -486,20 +529,30 @@ SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull() const {
   return interval_hull(lp);
 }
 
-SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull(BoxLP& lp) const {
+SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull(BoxLP& lp, Eigen::VectorXd& wt) const {
   require_lp(lp);
-  const Eigen::Index n = dimension();
+  // ±G_i is exact, so BoxLP's certified bound of max ±G_i ξ is the hull's radius part.
+  const Eigen::Index n = dimension(), q = num_constraints();
+  wt = Eigen::VectorXd::Zero(q);
   if (lp.feasibility() == BoxLP::Feasibility::empty)
     return {Eigen::VectorXd::Constant(n, rounding::kInf), Eigen::VectorXd::Constant(n, -rounding::kInf)};
   BoundingBox box{Eigen::VectorXd(n), Eigen::VectorXd(n)};
+  Eigen::VectorXd rmax(q);
+  for (Eigen::Index i = 0; i < q; ++i) rmax(i) = box_lp_detail::max_abs(A_.row(i));
   for (Eigen::Index i = 0; i < n; ++i) {
-    // ±G_i is exact, so BoxLP's certified bound of max ±G_i ξ is the hull's radius part.
-    const double up = lp.maximize(G_.row(i).transpose()).value;
-    const double down = lp.maximize(-G_.row(i).transpose()).value;
-    box.hi(i) = rounding::add_up(c_(i), rounding::add_up(up, r_(i)));
-    box.lo(i) = rounding::sub_down(c_(i), rounding::add_up(down, r_(i)));
+    const auto up = lp.maximize(G_.row(i).transpose());
+    const auto down = lp.maximize(-G_.row(i).transpose());
+    box.hi(i) = rounding::add_up(c_(i), rounding::add_up(up.value, r_(i)));
+    box.lo(i) = rounding::sub_down(c_(i), rounding::add_up(down.value, r_(i)));
+    const double width = std::max(box.hi(i) - box.lo(i), 1e-300);
+    if (q) wt += (up.dual.cwiseAbs() + down.dual.cwiseAbs()).cwiseProduct(rmax) / width;
   }
   return box;
+}
+
+SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull(BoxLP& lp) const {
+  Eigen::VectorXd unused;
+  return interval_hull(lp, unused);
 }
 
 SETBOUND_INLINE double ConstrainedZonotope::support(const Eigen::Ref<const Eigen::VectorXd>& d) const {
