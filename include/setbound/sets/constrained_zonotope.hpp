@@ -120,7 +120,9 @@ class ConstrainedZonotope {
 
   /// setbound's bounded mode: eliminate_constraints(max_constraints), then the lift reduction of
   /// reduce_cora to at most `max_generators` generators (>= n + max_constraints, "max_generators").
-  /// A run of any length then has bounded memory and LP size.
+  /// A run of any length then has bounded memory and LP size. The rounding box becomes generator
+  /// columns first (the result's rounding box is zero), so later linear maps move it exactly
+  /// instead of wrapping it (|K| r grows without bound when ρ(|K|) > 1).
   ConstrainedZonotope reduce_limits(Eigen::Index max_generators, Eigen::Index max_constraints,
                                     ZonotopeReduction technique = ZonotopeReduction::Girard) const;
 
