@@ -20,6 +20,7 @@ SETBOUND_INLINE const char* state_kind_name(StateKind k) {
     case StateKind::IntervalLuenbergerObserver: return "IntervalLuenbergerObserver";
     case StateKind::NonlinearIntervalObserver: return "NonlinearIntervalObserver";
     case StateKind::IntervalInvariantObserver: return "IntervalInvariantObserver";
+    case StateKind::ConstrainedZonotopicEstimator: return "ConstrainedZonotopicEstimator";
   }
   return "unknown estimator";
 }
