@@ -114,6 +114,12 @@ def register_algorithm(name: str, runner: Runner, *, summary: str, accepts_gain:
     accepts_gain : bool, optional
         Whether the method takes a given gain (``gain=L``, ``n_x × n_y``) instead of its design.
     """
+    from ._validate import as_bool, as_str
+
+    name, summary = as_str(name, "name"), as_str(summary, "summary")
+    accepts_gain = as_bool(accepts_gain, "accepts_gain")
+    if not callable(runner):
+        raise InvalidArgumentError(f"runner: expected a callable, got {type(runner).__name__}")
     if name in _ALGORITHMS:
         raise InvalidArgumentError(f"register_algorithm: {name!r} is registered already")
     _ALGORITHMS[name] = _Algorithm(runner, summary, accepts_gain)
@@ -140,7 +146,7 @@ def algorithms() -> dict[str, str]:
 def _load_families() -> None:
     # The families register their names on import; importing them here keeps `setbound.cora`
     # importable on its own and the registry complete.
-    from . import zonotopic  # noqa: F401
+    from . import constrained_zonotopic, zonotopic  # noqa: F401
 
 
 def as_model(model) -> CoraBenchmark:

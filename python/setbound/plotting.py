@@ -12,8 +12,8 @@ notebooks). :func:`save_png` writes one to a PNG of exactly ``figsize × dpi`` p
   and [Le2013] plot them);
 * :func:`plot_volume` — the volume of the sets over time (log scale);
 * :func:`plot_projections` — 2-D projections of the sets at chosen steps (ellipses of
-  :class:`~setbound.Ellipsoid`, the exact polygons of projected :class:`~setbound.Zonotope`,
-  boxes for box-only results such as the Kalman filter's ``mean ± 3σ``), with the true state
+  :class:`~setbound.Ellipsoid`, the exact polygons of projected :class:`~setbound.Zonotope` and
+  :class:`~setbound.sets.ConstrainedZonotope`, boxes for box-only results such as the Kalman filter's ``mean ± 3σ``), with the true state
   and the measurement strips of that step.
 
 Time axis: ``t`` (one value per row; by default the first trajectory's own ``t``) or the step
@@ -39,7 +39,7 @@ from ._validate import as_bool, as_float, as_int, as_str, check_memory
 from .errors import InvalidArgumentError
 from .interval import Box
 from .measurement import USED
-from .sets import Ellipsoid, Zonotope
+from .sets import ConstrainedZonotope, Ellipsoid, Zonotope
 
 #: Largest figure side in inches and largest ``dpi`` (a figure is drawn as a w·dpi × h·dpi raster).
 MAX_FIGSIZE = 200.0
@@ -476,6 +476,9 @@ def _set_outline(s, dims, lo=None, hi=None) -> np.ndarray | None:
         return ellipse_points(s.P, s.center, s.rho, dims)
     if isinstance(s, Zonotope):
         return zonotope_polygon(np.asarray(s.center)[dims], np.asarray(s.generators)[dims, :])
+    if isinstance(s, ConstrainedZonotope):  # the exact polygon of the projection (LP support points)
+        V = s.projection(*dims)
+        return V if len(V) >= 3 else None
     if isinstance(s, Box):
         lo, hi = np.asarray(s.lo, float), np.asarray(s.hi, float)
     if lo is None:

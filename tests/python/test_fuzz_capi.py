@@ -52,7 +52,7 @@ FINITE_FILLS = ("normal", "zeros", "ones", "eye1", "eye2", "eye3", "huge", "tiny
 # design scalars that are NaN when not computed, margins of outputs that were not tested.
 NAN_OUTPUT_OK = re.compile(
     r"^sb_(lmi_solve|lmi_solve_class|lmi_solve_gevp|lmi_dual|lmi_dual_eq|hinf_design_pass|hinf_design_get"
-    r"|zonotopic_last_check|ellipsoidal_last_check|hinf_observer_last_check|interval_luenberger_last_check"
+    r"|zonotopic_last_check|czonotopic_last_check|ellipsoidal_last_check|hinf_observer_last_check|interval_luenberger_last_check"
     r"|interval_nonlinear_last_check|interval_invariant_last_check"
     r"|interval_luenberger_info|interval_nonlinear_info|interval_luenberger_gain|interval_nonlinear_gain)$")
 
@@ -120,6 +120,8 @@ class Handles:
         self._keep += [p0, H0]
         self._make("sb_zonotopic", lib.sb_zonotopic_create, sysh, lib.SB_ZONO_GAIN_SEGMENT_MIN, ffi.NULL, 6, 1,
                    ffi.NULL, 2, _p(p0), _p(H0))
+        self._make("sb_czonotopic", lib.sb_czonotopic_create, sysh, lib.SB_CZN_EXACT_OUTPUT, lib.SB_CZN_REDUCE_LIMITS,
+                   lib.SB_REDUCE_GIRARD, 20.0, -1, -1, 1, 2, 0, _p(p0), _p(H0), ffi.NULL, ffi.NULL, ffi.NULL)
         self._make("sb_ell_design", lib.sb_ell_design_offline, sysh, lib.SB_ELL_NORM_LOGDET, 0.7)
         I2 = _arr(np.eye(2))
         self._keep.append(I2)

@@ -10,7 +10,7 @@ import numpy as np
 
 import setbound as sb
 from setbound import Box, Ellipsoid, LinearSystem, Plant, Zonotope
-from setbound import ellipsoidal, hinf, interval_observers as iobs, zonotopic
+from setbound import constrained_zonotopic, ellipsoidal, hinf, interval_observers as iobs, zonotopic
 from setbound._native import ffi, last_error, lib
 
 A = np.array([[0.5, 0.1], [0.0, 0.4]])
@@ -203,6 +203,8 @@ def _bits(value) -> bytes:
         parts = [value.center, value.generators]
     elif isinstance(value, Box):
         parts = [value.lo, value.hi]
+    elif isinstance(value, constrained_zonotopic.ConstrainedZonotope):
+        parts = [value.center, value.generators, value.A, value.b, value.rounding]
     elif isinstance(value, lmi.LmiResult):
         parts = [value.x, [value.objective, value.dual_objective, value.margin, value.iterations,
                            list(lmi.STATUS_NAMES.values()).index(value.status)]]
@@ -303,6 +305,9 @@ CASES = {
                                   lambda e, t, i: e.step(_y(t, i), U0), ["sb_zonotopic_step"], 12),
     "PRadiusEstimator": Sharing(lambda: zonotopic.PRadiusEstimator(_once("prad", lambda: zonotopic.design_pradius(
         _system())), X0Z, max_generators=6), lambda e, t, i: e.step(_y(t, i), U0), ["sb_zonotopic_step"], 30),
+    "ConstrainedZonotopicEstimator": Sharing(
+        lambda: constrained_zonotopic.ConstrainedZonotopicEstimator(_system(), X0Z),
+        lambda e, t, i: e.step(_y(t, i), U0), ["sb_czonotopic_step"], 12),
     "EllipsoidalSMObserver": Sharing(
         lambda: hinf.EllipsoidalSMObserver(_once("hinf", lambda: hinf.design_ellipsoidal_sm_observer(
             _thesis_plant(), [1.0, 1.0])), np.zeros(2), 2.0),
@@ -361,7 +366,7 @@ def test_every_class_holding_a_mutable_handle_is_threadsafe():
     from ThreadSafe; a function may create one only as a local it does not return."""
     mutable = _mutable_handle_types()
     # the two rows of the table in docs/c_api.md, "Threads: which handles may be shared"
-    assert mutable == {"sb_ellipsoidal", "sb_kalman", "sb_zonotopic", "sb_hinf_observer", "sb_lmi_problem",
+    assert mutable == {"sb_ellipsoidal", "sb_kalman", "sb_zonotopic", "sb_czonotopic", "sb_hinf_observer", "sb_lmi_problem",
                        "sb_interval_luenberger", "sb_interval_nonlinear", "sb_interval_invariant"}
     immutable = set(re.findall(r"typedef struct (sb_\w+) sb_\w+;", HEADER.read_text())) - mutable - {"sb_lmi_result"}
     assert immutable == {"sb_linear_system", "sb_descriptor_system", "sb_ell_design", "sb_hinf_design",
