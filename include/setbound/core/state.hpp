@@ -47,6 +47,9 @@ enum class StateKind : int {
   IntervalLuenbergerObserver = 8,
   NonlinearIntervalObserver = 9,
   IntervalInvariantObserver = 10,
+  // issue 22, the CORA catalogue's ellipsoidal / interval part (numbers from 21 on)
+  BoundingEllipsoid = 21,
+  IntervalHinfObserver = 22,
 };
 
 inline constexpr double kStateTagBase = 5342000.0;  // "SB" 0x53 0x42
