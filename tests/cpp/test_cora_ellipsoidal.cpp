@@ -11,8 +11,7 @@
 #include <vector>
 
 #include "setbound/estimators/ellipsoidal/bounding_ellipsoid.hpp"
-#include "setbound/setbound.h"
-#include "c_api_handles.hpp"
+#include "c_api_common.hpp"
 #include "test_helpers.hpp"
 
 using setbound::BoundingEllipsoidEstimator;
@@ -102,7 +101,8 @@ TEST(BoundingEllipsoid, MeasurementsShrinkTheSetAndLambdaIsReported) {
   BoundingEllipsoidEstimator est(c.sys, {}, {}, c.x0c, 100.0 * c.Q0, 1.0, opt);
   const double v0 = est.ellipsoid().log_volume();
   Eigen::VectorXd u = Eigen::VectorXd::Zero(1);
-  est.step(c.sys.C() * c.x0c, u);
+  // An innovation away from zero (Gollamudi's rule updates only when σ² + δᵀδ exceeds the noise level).
+  est.step(c.sys.C() * c.x0c + Eigen::VectorXd::Constant(c.sys.ny(), 3.0), u);
   EXPECT_GT(est.last_lambda(), 0.0);
   EXPECT_LT(est.ellipsoid().log_volume(), v0);
   EXPECT_EQ(est.steps(), 1);
@@ -110,7 +110,7 @@ TEST(BoundingEllipsoid, MeasurementsShrinkTheSetAndLambdaIsReported) {
 
 TEST(BoundingEllipsoid, CoraConventionFollowsItsRecursionByHandOnAScalarSystem) {
   // x+ = 0.5 x + w, y = x + v, Q_W = 0.01, Q_V = 0.04, x0 = E(0, 1): CORA's first ESO-B step
-  // with y = 0.3 (σ² = 0.3, V̄ = 5): g = 25, β = 0.7/0.09, λ = (1 − √(g/ω))/(1 − g).
+  // with y = 1 (σ² = 0.3, V̄ = 5; σ² + δᵀδ > 1): g = 25, β = 0.7, λ = (1 − √(g/ω))/(1 − g).
   LinearSystem sys((Eigen::MatrixXd(1, 1) << 0.5).finished(), Eigen::MatrixXd::Identity(1, 1),
                    Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Zero(1, 1));
   BoundingEllipsoidOptions opt;
@@ -118,12 +118,13 @@ TEST(BoundingEllipsoid, CoraConventionFollowsItsRecursionByHandOnAScalarSystem) 
   opt.convention = EstimatorConvention::Cora;
   BoundingEllipsoidEstimator est(sys, Eigen::MatrixXd::Constant(1, 1, 0.01), Eigen::MatrixXd::Constant(1, 1, 0.04),
                                  Eigen::VectorXd::Zero(1), Eigen::MatrixXd::Identity(1, 1), 1.0, opt);
-  est.step(Eigen::VectorXd::Constant(1, 0.3), Eigen::VectorXd());
-  const double s = 0.3, dd = 0.09, g = 25.0, beta = (1 - s) / dd, omega = 1 + beta * (g - 1);
+  est.step(Eigen::VectorXd::Constant(1, 1.0), Eigen::VectorXd());
+  const double s = 0.3, dd = 1.0, g = 25.0, beta = (1 - s) / dd, omega = 1 + beta * (g - 1);
   const double lam = (1 - std::sqrt(g / omega)) / (1 - g);
   const double Qt = 0.04 / lam + 1.0 / (1 - lam), K = 1.0 / (1 - lam) / Qt;
   EXPECT_NEAR(est.last_lambda(), lam, 1e-15);
-  EXPECT_NEAR(est.center()(0), K * 0.3, 1e-15);
+  EXPECT_GT(lam, 0.0);
+  EXPECT_NEAR(est.center()(0), K * 1.0, 1e-15);
   EXPECT_NEAR(est.shape()(0, 0), (1 - lam) * (1 - K), 1e-15);
 }
 
@@ -182,10 +183,16 @@ TEST(BoundingEllipsoid, BadInputIsRefusedWithTheArgumentNamed) {
 TEST(BoundingEllipsoid, CApiCreatesStepsAndRefusesBadInput) {
   const Case c = random_case(2);
   const int n = static_cast<int>(c.sys.nx()), p = static_cast<int>(c.sys.ny());
-  sb_linear_system sys{c.sys};
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> Q0 = c.Q0;
+  using RM = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const RM A = c.sys.A(), B = c.sys.B(), C = c.sys.C(), E = c.sys.E(), F = c.sys.F();
+  sb_linear_system* sysp = nullptr;
+  ASSERT_EQ(sb_linear_system_create(n, p, 1, static_cast<int>(c.sys.nw()), A.data(), B.data(), C.data(), nullptr,
+                                    E.data(), F.data(), nullptr, &sysp),
+            SB_OK)
+      << sb_last_error();
+  RM Q0 = c.Q0;
   sb_bounding_ellipsoid* h = nullptr;
-  ASSERT_EQ(sb_bounding_ellipsoid_create(&sys, nullptr, nullptr, c.x0c.data(), Q0.data(), 1.0, SB_BE_X0_SHAPE,
+  ASSERT_EQ(sb_bounding_ellipsoid_create(sysp, nullptr, nullptr, c.x0c.data(), Q0.data(), 1.0, SB_BE_X0_SHAPE,
                                          SB_BE_LIU, SB_CONVENTION_SETBOUND, 1e-4, &h),
             SB_OK)
       << sb_last_error();
@@ -201,16 +208,17 @@ TEST(BoundingEllipsoid, CApiCreatesStepsAndRefusesBadInput) {
   EXPECT_NE(std::string(sb_last_error()).find("y"), std::string::npos);
   sb_bounding_ellipsoid_free(h);
   sb_bounding_ellipsoid* bad = nullptr;
-  EXPECT_EQ(sb_bounding_ellipsoid_create(&sys, nullptr, nullptr, c.x0c.data(), Q0.data(), 1.0, SB_BE_X0_SHAPE, 7,
+  EXPECT_EQ(sb_bounding_ellipsoid_create(sysp, nullptr, nullptr, c.x0c.data(), Q0.data(), 1.0, SB_BE_X0_SHAPE, 7,
                                          SB_CONVENTION_SETBOUND, 1e-4, &bad),
             SB_ERR_INVALID_ARGUMENT);
   EXPECT_NE(std::string(sb_last_error()).find("rule"), std::string::npos);
-  EXPECT_EQ(sb_bounding_ellipsoid_create(&sys, nullptr, nullptr, c.x0c.data(), Q0.data(), 1.0, 5, SB_BE_LIU,
+  EXPECT_EQ(sb_bounding_ellipsoid_create(sysp, nullptr, nullptr, c.x0c.data(), Q0.data(), 1.0, 5, SB_BE_LIU,
                                          SB_CONVENTION_SETBOUND, 1e-4, &bad),
             SB_ERR_INVALID_ARGUMENT);
-  EXPECT_EQ(sb_bounding_ellipsoid_create(&sys, nullptr, nullptr, c.x0c.data(), Q0.data(), 1.0, SB_BE_X0_SHAPE,
+  EXPECT_EQ(sb_bounding_ellipsoid_create(sysp, nullptr, nullptr, c.x0c.data(), Q0.data(), 1.0, SB_BE_X0_SHAPE,
                                          SB_BE_LIU, 3, 1e-4, &bad),
             SB_ERR_INVALID_ARGUMENT);
   EXPECT_NE(std::string(sb_last_error()).find("convention"), std::string::npos);
   EXPECT_EQ(bad, nullptr);
+  sb_linear_system_free(sysp);
 }

@@ -7,8 +7,10 @@
 // kept as Gollamudi's pair (P, σ²): X = {x : (x − q)ᵀ P⁻¹ (x − q) ≤ σ²}.
 //
 //  * Prediction (Liu, Zhao, Wu, IET CTA 10(4), 2016, eqs. 21, 48): the Minkowski sum A X ⊕ E(Q_W)
-//    is enclosed by P⁺ = A P Aᵀ/(1 − p) + Q_W/(σ² p), σ² unchanged, with the trace-optimal
-//    p = w̄/(√(σ² tr A P Aᵀ) + w̄), w̄ = √tr Q_W.
+//    is enclosed by P⁺ = A P Aᵀ/(1 − p) + Q_W/(σ² p) at level σ², with the trace-optimal
+//    p = w̄/(√(σ² tr A P Aᵀ) + w̄), w̄ = √tr Q_W. The default convention folds σ² into the shape
+//    (P⁺ ← σ² P⁺, σ² ← 1; the same set) only when σ² leaves [1e-6, 1e6]: left alone, σ² can drift
+//    to 0 while P grows, until the step λ vanishes and the numbers overflow.
 //  * Correction: for any λ ∈ [0, 1) the convex combination of the two quadratic constraints
 //        (1 − λ)(x − q)ᵀP⁻¹(x − q) + λ (y − Cx)ᵀ R (y − Cx) ≤ (1 − λ)σ² + λ r₀
 //    is an ellipsoid that contains X ∩ {measurement set}; λ only changes its size.

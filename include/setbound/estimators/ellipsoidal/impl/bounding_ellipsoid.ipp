@@ -82,6 +82,7 @@ SETBOUND_INLINE Eigen::MatrixXd enclosing_ellipsoid_shape(const Eigen::MatrixXd&
     const double add = ell_rounding::round_up(err.row(i).sum() + 4.0 * ell_rounding::kEps * std::abs(Q(i, i)));
     Q(i, i) = ell_rounding::round_up(Q(i, i) + add);
   }
+  if (!Q.allFinite()) throw NumericalError("G: the enclosing ellipsoid's shape m G Gᵀ overflows");
   return Q;
 }
 
@@ -433,11 +434,18 @@ SETBOUND_INLINE void BoundingEllipsoidEstimator::step_setbound(const Eigen::Vect
   }
   out_inverse_ = true;
 
-  // 8. Prediction: A E(q, sp P̂) ⊕ E(0, Q_W) ⊕ (the centre's rounding box) ⊆ E(q⁺, sp S⁺),
-  //    S⁺ = A P̂ Aᵀ/b1 + Q_W/(sp b2) + n diag(d²)/(sp b3), b1 + b2 + b3 ≤ 1.
+  // 8. Prediction: A E(q, sp P̂) ⊕ E(0, Q_W) ⊕ (the centre's rounding box) ⊆ E(q⁺, t S⁺),
+  //    S⁺ = (sp/t) A P̂ Aᵀ/b1 + Q_W/(t b2) + n diag(d²)/(t b3), b1 + b2 + b3 ≤ 1, b2 = Liu's
+  //    trace-optimal p. t = sp (the papers: σ² unchanged by the prediction) while σ² stays within
+  //    [1e-6, 1e6]; outside, σ² is folded into the shape (t = 1; the set is the same): left alone,
+  //    σ² can drift to 0 while P grows, the step λ ~ 1/λ_max(C P Cᵀ) vanishes and the numbers
+  //    overflow (an 8-state campaign case after 1284 steps). CORA renormalises at every step, but
+  //    divides the shape by σ² instead of multiplying it (spec §2.13).
   const Eigen::MatrixXd& A = sys_.A();
   const Eigen::MatrixXd aA = A.cwiseAbs();
-  Eigen::MatrixXd Ah = A * Pp * A.transpose();
+  const double t = (sp >= 1e-6 && sp <= 1e6) ? sp : 1.0;
+  const double st = t == sp ? 1.0 : sp;  // sp / t, exact in both cases
+  Eigen::MatrixXd Ah = A * (st * Pp) * A.transpose();
   Ah = 0.5 * (Ah + Ah.transpose());
   Eigen::VectorXd qn = A * q_out_;
   Eigen::VectorXd dc = aA * q_out_.cwiseAbs();
@@ -446,18 +454,18 @@ SETBOUND_INLINE void BoundingEllipsoidEstimator::step_setbound(const Eigen::Vect
     dc += sys_.B().cwiseAbs() * u.cwiseAbs();
   }
   dc = be_slack(n + nu + 2) * dc;
-  const double pw = wbar_ > 0.0 ? wbar_ / (std::sqrt(sp * std::max(Ah.trace(), 0.0)) + wbar_) : 0.0;
+  const double pw = wbar_ > 0.0 ? wbar_ / (std::sqrt(t * std::max(Ah.trace(), 0.0)) + wbar_) : 0.0;
   const double b3 = dc.maxCoeff() > 0.0 ? 1e-12 : 0.0;
   const double b1 = (1.0 - pw - b3) * (1.0 - 4.0 * u_eps);
   Eigen::MatrixXd Sn = Ah / b1;
-  Eigen::MatrixXd Eb = be_slack(2 * n + 8) * ((aA * Pp.cwiseAbs() * aA.transpose()) / b1);
+  Eigen::MatrixXd Eb = be_slack(2 * n + 8) * ((aA * (st * Pp.cwiseAbs()) * aA.transpose()) / b1);
   if (pw > 0.0) {
-    const double f = 1.0 / (sp * pw);
+    const double f = 1.0 / (t * pw);
     Sn += f * QW_;
     Eb += be_slack(8) * f * QW_.cwiseAbs();
   }
   if (b3 > 0.0) {
-    const double f = static_cast<double>(n) / (sp * b3);
+    const double f = static_cast<double>(n) / (t * b3);
     const Eigen::VectorXd d2 = (f * dc.cwiseProduct(dc)).eval();
     Sn.diagonal() += d2;
     Eb.diagonal() += be_slack(8) * d2;
@@ -472,7 +480,7 @@ SETBOUND_INLINE void BoundingEllipsoidEstimator::step_setbound(const Eigen::Vect
     throw NumericalError("prediction: the predicted ellipsoid is degenerate (A singular with Q_W singular?)");
   S_ = Sn;
   q_ = qn;
-  s_ = sp;
+  s_ = t;
 }
 
 SETBOUND_INLINE Eigen::MatrixXd BoundingEllipsoidEstimator::shape() const {
