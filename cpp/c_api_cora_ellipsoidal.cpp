@@ -4,12 +4,17 @@
 
 #include "c_api_handles.hpp"
 #include "setbound/estimators/ellipsoidal/bounding_ellipsoid.hpp"
+#include "setbound/estimators/interval/cora_interval_observer.hpp"
 
 using namespace setbound;
 using namespace setbound::capi;
 
 struct sb_bounding_ellipsoid {
   BoundingEllipsoidEstimator estimator;
+};
+
+struct sb_cora_interval {
+  CoraIntervalObserver observer;
 };
 
 namespace {
@@ -164,6 +169,72 @@ int sb_bounding_ellipsoid_restore_state(sb_bounding_ellipsoid* estimator, const 
   return guard("sb_bounding_ellipsoid_restore_state", [&] {
     require_pointer(estimator, "estimator");
     estimator->estimator.restore_state(state_arg(state, n));
+  });
+}
+
+int sb_cora_interval_create(const sb_linear_system* system, const double* c0, int m, const double* G0,
+                            const double* L, sb_cora_interval** out) {
+  return guard("sb_cora_interval_create", [&] {
+    require_pointer(out, "out");
+    *out = nullptr;
+    const LinearSystem& sys = system_arg(system);
+    const int nx = static_cast<int>(sys.nx()), ny = static_cast<int>(sys.ny());
+    require_dimension(m, "m", true);
+    *out = new sb_cora_interval{CoraIntervalObserver(sys, vector_arg(c0, nx, "c0"), matrix_arg(G0, nx, m, "G0"),
+                                                     matrix_arg(L, nx, ny, "L"))};
+  });
+}
+
+int sb_cora_interval_free(sb_cora_interval* observer) {
+  delete observer;
+  return SB_OK;
+}
+
+int sb_cora_interval_step(sb_cora_interval* observer, const double* y, const double* u, double* lower,
+                          double* upper) {
+  return guard("sb_cora_interval_step", [&] {
+    require_pointer(observer, "observer");
+    CoraIntervalObserver& o = observer->observer;
+    o.step(vector_arg(y, static_cast<int>(o.system().ny()), "y"), vector_arg(u, static_cast<int>(o.system().nu()), "u"));
+    write_vector(o.box().lo, lower);
+    write_vector(o.box().hi, upper);
+  });
+}
+
+int sb_cora_interval_current(const sb_cora_interval* observer, double* lower, double* upper, int* steps) {
+  return guard("sb_cora_interval_current", [&] {
+    require_pointer(observer, "observer");
+    write_vector(observer->observer.box().lo, lower);
+    write_vector(observer->observer.box().hi, upper);
+    if (steps != nullptr) *steps = static_cast<int>(observer->observer.steps());
+  });
+}
+
+int sb_cora_interval_reset(sb_cora_interval* observer) {
+  return guard("sb_cora_interval_reset", [&] {
+    require_pointer(observer, "observer");
+    observer->observer.reset();
+  });
+}
+
+int sb_cora_interval_state_size(const sb_cora_interval* observer, int* n) {
+  return guard("sb_cora_interval_state_size", [&] {
+    require_pointer(observer, "observer");
+    state_size_out(observer->observer.save_state(), n);
+  });
+}
+
+int sb_cora_interval_save_state(const sb_cora_interval* observer, double* state, int n) {
+  return guard("sb_cora_interval_save_state", [&] {
+    require_pointer(observer, "observer");
+    state_copy_out(observer->observer.save_state(), state, n);
+  });
+}
+
+int sb_cora_interval_restore_state(sb_cora_interval* observer, const double* state, int n) {
+  return guard("sb_cora_interval_restore_state", [&] {
+    require_pointer(observer, "observer");
+    observer->observer.restore_state(state_arg(state, n));
   });
 }
 

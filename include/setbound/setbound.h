@@ -841,4 +841,23 @@ int sb_bounding_ellipsoid_reset(sb_bounding_ellipsoid* estimator);
 int sb_bounding_ellipsoid_state_size(const sb_bounding_ellipsoid* estimator, int* n);
 int sb_bounding_ellipsoid_save_state(const sb_bounding_ellipsoid* estimator, double* state, int n);
 int sb_bounding_ellipsoid_restore_state(sb_bounding_ellipsoid* estimator, const double* state, int n);
+/* CORA's interval observer as CORA runs it (Hinf-G with a given gain; estimators/interval/
+ * cora_interval_observer.hpp): x+ = A x + B u + E w, y = C x + F w (D must be zero), R0 the zonotope
+ * (c0, G0) with G0 nx x m, L nx x ny. Row k of CORA's result per step: row 0 is the hull of R0, row
+ * k >= 1 lags one step (it is computed before the update with y_{k-1}). Not guaranteed (no
+ * rounding control, CORA's quirks); setbound's guaranteed version is sb_interval_luenberger. */
+typedef struct sb_cora_interval sb_cora_interval;
+int sb_cora_interval_create(const sb_linear_system* system, const double* c0, int m, const double* G0,
+                            const double* L, sb_cora_interval** out);
+int sb_cora_interval_free(sb_cora_interval* observer);
+/* One step with y (ny) and u (nu; NULL when nu = 0); writes the row's interval lower/upper (nx;
+ * NULL skipped). On error the observer is unchanged. */
+int sb_cora_interval_step(sb_cora_interval* observer, const double* y, const double* u, double* lower,
+                          double* upper);
+/* The last row's interval (R0's hull before the first step) and the number of steps. */
+int sb_cora_interval_current(const sb_cora_interval* observer, double* lower, double* upper, int* steps);
+int sb_cora_interval_reset(sb_cora_interval* observer);
+int sb_cora_interval_state_size(const sb_cora_interval* observer, int* n);
+int sb_cora_interval_save_state(const sb_cora_interval* observer, double* state, int n);
+int sb_cora_interval_restore_state(sb_cora_interval* observer, const double* state, int n);
 /* ==== end CORA catalogue, ellipsoidal and interval part ==== */

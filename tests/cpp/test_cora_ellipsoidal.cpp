@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "setbound/estimators/ellipsoidal/bounding_ellipsoid.hpp"
+#include "setbound/estimators/interval/cora_interval_observer.hpp"
 #include "c_api_common.hpp"
 #include "test_helpers.hpp"
 
@@ -221,4 +222,35 @@ TEST(BoundingEllipsoid, CApiCreatesStepsAndRefusesBadInput) {
   EXPECT_NE(std::string(sb_last_error()).find("convention"), std::string::npos);
   EXPECT_EQ(bad, nullptr);
   sb_linear_system_free(sysp);
+}
+
+TEST(CoraIntervalObserver, FollowsCorasLaggedRecursionByHand) {
+  // x+ = 0.5 x + 0.1 w, y = x + 0.2 v, R0 = 1 + [-1, 1], L = 0.25; A_o = 0.25.
+  LinearSystem sys((Eigen::MatrixXd(1, 1) << 0.5).finished(), Eigen::MatrixXd::Identity(1, 1),
+                   (Eigen::MatrixXd(1, 2) << 0.1, 0.0).finished(), (Eigen::MatrixXd(1, 2) << 0.0, 0.2).finished());
+  setbound::CoraIntervalObserver obs(sys, Eigen::VectorXd::Ones(1), Eigen::MatrixXd::Ones(1, 1),
+                                     Eigen::MatrixXd::Constant(1, 1, 0.25));
+  const Eigen::VectorXd u(0);
+  obs.step(Eigen::VectorXd::Constant(1, 2.0), u);  // row 0: □R0 = [0, 2]
+  EXPECT_DOUBLE_EQ(obs.box().lo(0), 0.0);
+  EXPECT_DOUBLE_EQ(obs.box().hi(0), 2.0);
+  obs.step(Eigen::VectorXd::Constant(1, 0.0), u);  // row 1: c0 + □R0 = 1 + [0, 2] (centre twice)
+  EXPECT_DOUBLE_EQ(obs.box().lo(0), 1.0);
+  EXPECT_DOUBLE_EQ(obs.box().hi(0), 3.0);
+  // the update used y_0 = 2: x̂ = 0.5 + 0.25 (2 − 1) = 0.75; X = 0.25 R0 = 0.25 + 0.25[−1, 1];
+  // S = □D = [−(0.1 + 0.05), 0.15]. Row 2 = 0.75 + 0.25 + [−0.25 − 0.15, 0.25 + 0.15].
+  obs.step(Eigen::VectorXd::Constant(1, 0.0), u);
+  EXPECT_NEAR(obs.box().lo(0), 1.0 - 0.4, 1e-15);
+  EXPECT_NEAR(obs.box().hi(0), 1.0 + 0.4, 1e-15);
+  const auto state = obs.save_state();
+  setbound::CoraIntervalObserver twin(sys, Eigen::VectorXd::Ones(1), Eigen::MatrixXd::Ones(1, 1),
+                                      Eigen::MatrixXd::Constant(1, 1, 0.25));
+  twin.restore_state(state);
+  obs.step(Eigen::VectorXd::Constant(1, 0.3), u);
+  twin.step(Eigen::VectorXd::Constant(1, 0.3), u);
+  EXPECT_TRUE(setbound::testing::same_bits(obs.save_state(), twin.save_state()));
+  expect_error_naming<setbound::DimensionError>(
+      [&] { setbound::CoraIntervalObserver(sys, Eigen::VectorXd::Ones(1), Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(2, 1)); },
+      "L");
+  expect_error_naming<setbound::NotFiniteError>([&] { obs.step(Eigen::VectorXd::Constant(1, NAN), u); }, "y");
 }

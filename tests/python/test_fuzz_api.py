@@ -755,6 +755,8 @@ OPTIONS: dict[str, dict[str, str]] = {
                                                                   "step_cap": "float"},
     "setbound.ellipsoidal._BoundingEllipsoidEstimator.step": {"u": "data"},
     "setbound.ellipsoidal._BoundingEllipsoidEstimator.run": {"u": "data"},
+    "setbound.interval_observers.CoraIntervalObserver.step": {"u": "data"},
+    "setbound.interval_observers.CoraIntervalObserver.run": {"u": "data"},
     # zonotopic
     "setbound.zonotopic.exact_hull": {"u": "data", "x0": "data", "use_first_measurement": "bool"},
     "setbound.zonotopic.design_pradius": {"approach": "choice", "order": "data", "beta_range": "pair"},
