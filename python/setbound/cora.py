@@ -140,7 +140,7 @@ def algorithms() -> dict[str, str]:
 def _load_families() -> None:
     # The families register their names on import; importing them here keeps `setbound.cora`
     # importable on its own and the registry complete.
-    from . import ellipsoidal, interval_observers, zonotopic  # noqa: F401
+    from . import ellipsoidal, hinf, interval_observers, zonotopic  # noqa: F401
 
 
 def as_model(model) -> CoraBenchmark:

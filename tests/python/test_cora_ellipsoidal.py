@@ -306,3 +306,21 @@ def test_cora_interval_observer_state_and_errors():
         obs.step([np.inf])
     with pytest.raises(DimensionError, match="L"):
         setbound.interval_observers.CoraIntervalObserver(s, setbound.Box([-1, -1], [1, 1]), [[0.3, 0.1]])
+
+
+# ---- ESO-C (spec §2.15): CORA's cannot run; the name maps to Loukkas' observer of the thesis ------
+
+@needs_data
+@pytest.mark.parametrize("name", ["vehicle6", "pedestrian4"])
+def test_eso_c_maps_to_the_thesis_observer_and_contains_the_truth(name):
+    m = load_cora(DATA / f"{name}.json")
+    r = observe(m, "ESO-C")
+    tol = np.full(len(m.y), TRUTH_TOL)
+    if name == "pedestrian4":
+        tol[217:] = 3e-3  # the README's misprinted truth at step 217
+    inside = np.all((r.lower - tol[:, None] <= m.truth) & (m.truth <= r.upper + tol[:, None]), axis=1)
+    assert inside.all(), f"{name}: outside at steps {np.flatnonzero(~inside)[:10]}"
+    with pytest.raises(InvalidArgumentError, match="convention: CORA's ESO-C cannot run"):
+        observe(m, "ESO-C", convention="cora")
+    with pytest.raises(InvalidArgumentError, match="^gain"):
+        observe(m, "ESO-C", gain=np.zeros((m.system.nx, m.system.ny)))
