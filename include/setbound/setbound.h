@@ -928,3 +928,72 @@ int sb_interval_invariant_restore_state(sb_interval_invariant* observer, const d
  * message starting with "state", and the handle is unchanged. The size may change between
  * steps (zonotopic: the generator count). */
 /* ==== end saved states ==== */
+
+/* ==== CORA catalogue, ellipsoidal and interval part (issue 22; estimators/ellipsoidal/) ====
+ * CORA's linearSysDT/observe names: ESO-A, ESO-B (bounding ellipsoids). convention:
+ * SB_CONVENTION_SETBOUND = the papers' algorithm, guaranteed after rounding (default);
+ * SB_CONVENTION_CORA = CORA's exact behaviour (its saved numbers; not guaranteed where CORA is not). */
+typedef struct sb_bounding_ellipsoid sb_bounding_ellipsoid;
+#define SB_CONVENTION_SETBOUND 0
+#define SB_CONVENTION_CORA 1
+#define SB_BE_GOLLAMUDI 0
+#define SB_BE_LIU 1
+/* How x0 is given: SB_BE_X0_SHAPE {x : (x - q0)^T Q0^-1 (x - q0) <= rho0} (CORA's ellipsoid(Q, q));
+ * SB_BE_X0_INVERSE {x : (x - q0)^T Q0 (x - q0) <= rho0} (setbound's E(P, c, rho)). */
+#define SB_BE_X0_SHAPE 0
+#define SB_BE_X0_INVERSE 1
+/* Shape of an ellipsoid enclosing the zonotope {G b : |b|_inf <= 1} (G n x m row-major): m' G G^T
+ * with m' the number of non-zero columns, rounded so that it stays an outer bound. Q: n x n. */
+int sb_enclosing_ellipsoid_shape(int n, int m, const double* G, double* Q);
+/* x+ = A x + B u + w, w in E(0, QW); y = C x + D u + v, v in E(0, QV); E(q, Q) = {q + Q^(1/2) b :
+ * |b|_2 <= 1}. QW (nx x nx) symmetric PSD, QV (ny x ny) symmetric PSD (PD for SB_BE_LIU); NULL:
+ * the enclosing ellipsoids of E w and F w, w in [-1, 1]^nw, of `system`. x0: q0 (nx), Q0 (nx x nx,
+ * positive definite) and rho0 > 0 read as x0_form says. rule: SB_BE_GOLLAMUDI (ESO-A) or
+ * SB_BE_LIU (ESO-B); step_cap: Gollamudi's cap alpha on the step, in (0, 1) (CORA: 1e-4). */
+int sb_bounding_ellipsoid_create(const sb_linear_system* system, const double* QW, const double* QV,
+                                 const double* q0, const double* Q0, double rho0, int x0_form, int rule,
+                                 int convention, double step_cap, sb_bounding_ellipsoid** out);
+int sb_bounding_ellipsoid_free(sb_bounding_ellipsoid* estimator);
+/* One step: corrects the prediction for x_k with y_k (ny, finite; the first step corrects x0),
+ * writes that set, then predicts x_{k+1} with u_k (nu; NULL when nu = 0). The set as
+ * E(P, c, rho) = {x : (x - c)^T P (x - c) <= rho} (P nx x nx) and its interval hull lower/upper
+ * (guaranteed and rounded outward in the setbound convention; CORA's q +- sqrt(diag Q) in the cora
+ * convention). NULL outputs are skipped. On error the estimator is unchanged. */
+int sb_bounding_ellipsoid_step(sb_bounding_ellipsoid* estimator, const double* y, const double* u, double* P,
+                               double* c, double* rho, double* lower, double* upper);
+/* The set of the last step (x0 before the first step), as for sb_bounding_ellipsoid_step. */
+int sb_bounding_ellipsoid_current(const sb_bounding_ellipsoid* estimator, double* P, double* c, double* rho,
+                                  double* lower, double* upper);
+/* The same set in shape form {x : (x - c)^T Q^-1 (x - c) <= 1}, Q nx x nx. */
+int sb_bounding_ellipsoid_shape(const sb_bounding_ellipsoid* estimator, double* Q);
+/* lambda of the last correction (0: the set was not changed by y), *inconsistent = 1 when the last
+ * reading contradicted the prediction (the prediction was kept), the number of steps taken. */
+int sb_bounding_ellipsoid_info(const sb_bounding_ellipsoid* estimator, double* lambda, int* inconsistent,
+                               int* steps);
+/* The noise shapes in use: QW (nx x nx), QV (ny x ny). */
+int sb_bounding_ellipsoid_noise(const sb_bounding_ellipsoid* estimator, double* QW, double* QV);
+/* Back to x0, no step taken. */
+int sb_bounding_ellipsoid_reset(sb_bounding_ellipsoid* estimator);
+int sb_bounding_ellipsoid_state_size(const sb_bounding_ellipsoid* estimator, int* n);
+int sb_bounding_ellipsoid_save_state(const sb_bounding_ellipsoid* estimator, double* state, int n);
+int sb_bounding_ellipsoid_restore_state(sb_bounding_ellipsoid* estimator, const double* state, int n);
+/* CORA's interval observer as CORA runs it (Hinf-G with a given gain; estimators/interval/
+ * cora_interval_observer.hpp): x+ = A x + B u + E w, y = C x + F w (D must be zero), R0 the zonotope
+ * (c0, G0) with G0 nx x m, L nx x ny. Row k of CORA's result per step: row 0 is the hull of R0, row
+ * k >= 1 lags one step (it is computed before the update with y_{k-1}). Not guaranteed (no
+ * rounding control, CORA's quirks); setbound's guaranteed version is sb_interval_luenberger. */
+typedef struct sb_cora_interval sb_cora_interval;
+int sb_cora_interval_create(const sb_linear_system* system, const double* c0, int m, const double* G0,
+                            const double* L, sb_cora_interval** out);
+int sb_cora_interval_free(sb_cora_interval* observer);
+/* One step with y (ny) and u (nu; NULL when nu = 0); writes the row's interval lower/upper (nx;
+ * NULL skipped). On error the observer is unchanged. */
+int sb_cora_interval_step(sb_cora_interval* observer, const double* y, const double* u, double* lower,
+                          double* upper);
+/* The last row's interval (R0's hull before the first step) and the number of steps. */
+int sb_cora_interval_current(const sb_cora_interval* observer, double* lower, double* upper, int* steps);
+int sb_cora_interval_reset(sb_cora_interval* observer);
+int sb_cora_interval_state_size(const sb_cora_interval* observer, int* n);
+int sb_cora_interval_save_state(const sb_cora_interval* observer, double* state, int n);
+int sb_cora_interval_restore_state(sb_cora_interval* observer, const double* state, int n);
+/* ==== end CORA catalogue, ellipsoidal and interval part ==== */

@@ -27,6 +27,8 @@ extern "C" {
 #include "setbound/sets/zonotope.hpp"
 #include "setbound/estimators/descriptor.hpp"
 #include "setbound/estimators/ellipsoidal.hpp"
+#include "setbound/estimators/ellipsoidal/bounding_ellipsoid.hpp"
+#include "setbound/estimators/interval/cora_interval_observer.hpp"
 #include "setbound/estimators/exact_hull.hpp"
 #include "setbound/estimators/improved_correction.hpp"
 #include "setbound/estimators/improved_estimator.hpp"

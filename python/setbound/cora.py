@@ -146,7 +146,7 @@ def algorithms() -> dict[str, str]:
 def _load_families() -> None:
     # The families register their names on import; importing them here keeps `setbound.cora`
     # importable on its own and the registry complete.
-    from . import constrained_zonotopic, zonotopic  # noqa: F401
+    from . import constrained_zonotopic, ellipsoidal, hinf, interval_observers, zonotopic  # noqa: F401
 
 
 def as_model(model) -> CoraBenchmark:

@@ -752,6 +752,12 @@ OPTIONS: dict[str, dict[str, str]] = {
     "setbound.ellipsoidal.KalmanFilter.run": {"u": "data"},
     "setbound.ellipsoidal._EllipsoidalEstimator.step": {"u": "data"},
     "setbound.ellipsoidal._EllipsoidalEstimator.run": {"u": "data"},
+    "setbound.ellipsoidal._BoundingEllipsoidEstimator.__init__": {"QW": "data", "QV": "data", "convention": "choice",
+                                                                  "step_cap": "float"},
+    "setbound.ellipsoidal._BoundingEllipsoidEstimator.step": {"u": "data"},
+    "setbound.ellipsoidal._BoundingEllipsoidEstimator.run": {"u": "data"},
+    "setbound.interval_observers.CoraIntervalObserver.step": {"u": "data"},
+    "setbound.interval_observers.CoraIntervalObserver.run": {"u": "data"},
     # zonotopic
     "setbound.zonotopic.exact_hull": {"u": "data", "x0": "data", "use_first_measurement": "bool"},
     "setbound.zonotopic.design_pradius": {"approach": "choice", "order": "data", "beta_range": "pair"},
@@ -1033,6 +1039,8 @@ CALLS = {
         lambda c, **kw: ellipsoidal.ImprovedEstimator(c["d"], c["E"], **kw),
     "setbound.ellipsoidal.KalmanFilter.__init__":
         lambda c, **kw: ellipsoidal.KalmanFilter(c["S"], np.zeros(2), np.eye(2), **kw),
+    "setbound.ellipsoidal._BoundingEllipsoidEstimator.__init__":
+        lambda c, **kw: ellipsoidal.EllipsoidalStateBoundingEstimator(c["S"], c["E"], **kw),
     "setbound.zonotopic.exact_hull": lambda c, **kw: zonotopic.exact_hull(c["S"], np.zeros((2, 1)), x0=c["X0"], **kw),
     "setbound.zonotopic.design_pradius": lambda c, **kw: zonotopic.design_pradius(c["S"], **kw),
     "setbound.zonotopic._ZonotopicEstimator.__init__":

@@ -128,6 +128,11 @@ class Handles:
         self._make("sb_ellipsoidal", lib.sb_ellipsoidal_create, self.h["sb_ell_design"], lib.SB_ELL_ONLINE_SCALED,
                    0, 0, 0, ffi.NULL, _p(I2), _p(p0), 1.0)
         self._make("sb_kalman", lib.sb_kalman_create, sysh, _p(p0), _p(I2), ffi.NULL)
+        self._make("sb_bounding_ellipsoid", lib.sb_bounding_ellipsoid_create, sysh, ffi.NULL, ffi.NULL, _p(p0),
+                   _p(I2), 1.0, lib.SB_BE_X0_SHAPE, lib.SB_BE_LIU, lib.SB_CONVENTION_SETBOUND, 1e-4)
+        Lc = _arr([[0.3], [0.1]])
+        self._keep.append(Lc)
+        self._make("sb_cora_interval", lib.sb_cora_interval_create, sysh, _p(p0), 2, _p(I2), _p(Lc))
         # descriptor system (papers.md §4.2 EX-ME19)
         Ed = _arr(np.diag([1.0, 1.0, 0.0]))
         Ad = _arr([[0.5, 0, 0], [0.8, 0.95, 0], [-1, 0.5, 1]])

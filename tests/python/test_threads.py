@@ -299,6 +299,15 @@ CASES = {
     "DescriptorEstimator": _descriptor_case(),
     "KalmanFilter": Sharing(lambda: ellipsoidal.KalmanFilter(_system(), np.zeros(2), np.eye(2)),
                             lambda e, t, i: e.step(_y(t, i), U0), ["sb_kalman_step"], 30),
+    "OptimalBoundingEllipsoidEstimator": Sharing(
+        lambda: ellipsoidal.OptimalBoundingEllipsoidEstimator(_system(), X0E, step_cap=0.5),
+        lambda e, t, i: e.step(_y(t, i), U0), ["sb_bounding_ellipsoid_step"], 30),
+    "EllipsoidalStateBoundingEstimator": Sharing(
+        lambda: ellipsoidal.EllipsoidalStateBoundingEstimator(_system(), X0E),
+        lambda e, t, i: e.step(_y(t, i), U0), ["sb_bounding_ellipsoid_step"], 30),
+    "CoraIntervalObserver": Sharing(
+        lambda: iobs.CoraIntervalObserver(_system(), X0Z, [[0.3], [0.1]]),
+        lambda e, t, i: e.step(_y(t, i), U0), ["sb_cora_interval_step"], 30),
     "SegmentMinEstimator": Sharing(lambda: zonotopic.SegmentMinEstimator(_system(), X0Z, max_generators=6),
                                    lambda e, t, i: e.step(_y(t, i), U0), ["sb_zonotopic_step"], 30),
     "VolumeMinEstimator": Sharing(lambda: zonotopic.VolumeMinEstimator(_system(), X0Z, max_generators=6),
@@ -367,7 +376,8 @@ def test_every_class_holding_a_mutable_handle_is_threadsafe():
     mutable = _mutable_handle_types()
     # the two rows of the table in docs/c_api.md, "Threads: which handles may be shared"
     assert mutable == {"sb_ellipsoidal", "sb_kalman", "sb_zonotopic", "sb_czonotopic", "sb_hinf_observer", "sb_lmi_problem",
-                       "sb_interval_luenberger", "sb_interval_nonlinear", "sb_interval_invariant"}
+                       "sb_interval_luenberger", "sb_interval_nonlinear", "sb_interval_invariant",
+                       "sb_bounding_ellipsoid", "sb_cora_interval"}
     immutable = set(re.findall(r"typedef struct (sb_\w+) sb_\w+;", HEADER.read_text())) - mutable - {"sb_lmi_result"}
     assert immutable == {"sb_linear_system", "sb_descriptor_system", "sb_ell_design", "sb_hinf_design",
                          "sb_interval_invariant_design", "sb_polytope", "sb_mrpi"}

@@ -48,6 +48,9 @@ enum class StateKind : int {
   NonlinearIntervalObserver = 9,
   IntervalInvariantObserver = 10,
   ConstrainedZonotopicEstimator = 11,
+  // issue 22, the CORA catalogue's ellipsoidal / interval part (numbers from 21 on)
+  BoundingEllipsoid = 21,
+  IntervalHinfObserver = 22,
 };
 
 inline constexpr double kStateTagBase = 5342000.0;  // "SB" 0x53 0x42

@@ -21,6 +21,8 @@ SETBOUND_INLINE const char* state_kind_name(StateKind k) {
     case StateKind::NonlinearIntervalObserver: return "NonlinearIntervalObserver";
     case StateKind::IntervalInvariantObserver: return "IntervalInvariantObserver";
     case StateKind::ConstrainedZonotopicEstimator: return "ConstrainedZonotopicEstimator";
+    case StateKind::BoundingEllipsoid: return "BoundingEllipsoidEstimator";
+    case StateKind::IntervalHinfObserver: return "IntervalHinfObserver";
   }
   return "unknown estimator";
 }
