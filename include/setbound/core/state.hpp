@@ -47,6 +47,7 @@ enum class StateKind : int {
   IntervalLuenbergerObserver = 8,
   NonlinearIntervalObserver = 9,
   IntervalInvariantObserver = 10,
+  ZonotopicObserver = 21,  ///< estimators/zonotopic/observer.hpp (CORA's zonotopic catalogue)
 };
 
 inline constexpr double kStateTagBase = 5342000.0;  // "SB" 0x53 0x42
