@@ -841,12 +841,18 @@ int sb_zono_observer_save_state(const sb_zono_observer* observer, double* state,
 int sb_zono_observer_restore_state(sb_zono_observer* observer, const double* state, int n);
 /* Offline gains of the intersection-free rules (estimators/zonotopic/designs.hpp), on the
  * bundled LMI solver: SB_ZOBS_DESIGN_PRAD_E (CORA's PRad-E LMI, beta by bisection, maximal trace
- * P; needs E of full row rank) or SB_ZOBS_DESIGN_NOM_G (P >= I, the smallest decay bound mu on
- * (0, 1], minimal trace P). Outputs: gain L = P^-1 Y (nx x ny), P (nx x nx), Y (nx x ny),
- * *beta (PRad-E: beta; Nom-G: mu); row-major; P, Y, beta may be NULL. No feasible design:
+ * P; needs E of full row rank) or SB_ZOBS_DESIGN_NOM_G (CORA's condition (A - LC)'P(A - LC) <= P,
+ * the analytic centre of its slice P >= I, trace P <= 10 nx). Outputs: gain L = P^-1 Y (nx x ny),
+ * P (nx x nx), Y (nx x ny), *beta (PRad-E: beta; Nom-G: 1); row-major; P, Y, beta may be NULL. No
+ * feasible design:
  * SB_ERR_INFEASIBLE with the reason. */
 #define SB_ZOBS_DESIGN_PRAD_E 1
 #define SB_ZOBS_DESIGN_NOM_G 2
+/* ... and of the strip-based rules with fixed weights: SB_ZOBS_DESIGN_PRAD_B (CORA's PRad-B LMI,
+ * all strips: the weight for SB_ZOBS_FIXED_LAMBDA) and SB_ZOBS_DESIGN_PRAD_A (that design for
+ * each output alone: the columns for SB_ZOBS_FIXED_STRIPS); *beta, P, Y: of the last output. */
+#define SB_ZOBS_DESIGN_PRAD_B 3
+#define SB_ZOBS_DESIGN_PRAD_A 4
 int sb_zono_gain_design(const sb_linear_system* system, int method, double* gain, double* P, double* Y,
                         double* beta);
 /* ==== end CORA's zonotopic observers ==== */

@@ -877,25 +877,26 @@ del _cls
 
 
 #: Offline gain designs of :func:`design_zonotopic_gain` (CORA's names).
-GAIN_DESIGNS = {"PRad-E": lib.SB_ZOBS_DESIGN_PRAD_E, "Nom-G": lib.SB_ZOBS_DESIGN_NOM_G}
+GAIN_DESIGNS = {"PRad-A": lib.SB_ZOBS_DESIGN_PRAD_A, "PRad-B": lib.SB_ZOBS_DESIGN_PRAD_B,
+                "PRad-E": lib.SB_ZOBS_DESIGN_PRAD_E, "Nom-G": lib.SB_ZOBS_DESIGN_NOM_G}
 
 
 @dataclass(frozen=True)
 class ZonotopicGainDesign:
-    """An offline observer gain for :class:`PropagationObserver` and its LMI certificate.
+    """An offline weight (PRad-A, PRad-B: for :class:`StripGainEstimator`) or gain (PRad-E, Nom-G: for :class:`PropagationObserver`) and its LMI certificate.
 
     Parameters
     ----------
     method : str
-        ``"PRad-E"`` or ``"Nom-G"``.
+        ``"PRad-A"``, ``"PRad-B"``, ``"PRad-E"`` or ``"Nom-G"``.
     gain : ndarray, shape (n_x, n_y)
-        ``L = P⁻¹ Y``.
+        ``P⁻¹ Y`` (PRad-A: column ``i`` from output ``i``'s own design).
     P : ndarray, shape (n_x, n_x)
-        The Lyapunov-type matrix.
-    Y : ndarray, shape (n_x, n_y)
-        ``P L``.
+        The Lyapunov-type matrix (PRad-A: of the last output).
+    Y : ndarray, shape (n_x, n_y) or (n_x, 1)
+        ``P`` times the gain (PRad-A: of the last output).
     beta : float
-        PRad-E: the contraction ``β``; Nom-G: the decay bound ``μ``.
+        PRad-A/B/E: the contraction ``β``; Nom-G: 1 (CORA's ``μ``).
     """
 
     method: str
@@ -906,20 +907,25 @@ class ZonotopicGainDesign:
 
 
 def design_zonotopic_gain(system: LinearSystem, method: str = "PRad-E") -> ZonotopicGainDesign:
-    """Offline gain of an intersection-free zonotopic observer (CORA's PRad-E and Nom-G), on the bundled LMI solver.
+    """Offline weight or gain of CORA's P-radius and nominal zonotopic observers (PRad-A, PRad-B, PRad-E, Nom-G), on the bundled LMI solver.
+
+    ``"PRad-B"`` (Le, Stoica, Alamo, Camacho, Dumur, ISIC 2013, eq. 17): the weight ``Λ`` of all
+    strips at once maximising ``τ`` with ``(1 − β)P/ε ⪰ τI`` under the P-radius LMI,
+    ``ε = ‖rad W‖₂ + σᵀσ``, ``β`` by CORA's bisection (the last feasible solve kept). ``"PRad-A"``:
+    that design for each output alone (Le et al., Automatica 2013); column ``i`` is ``λ_i``.
 
     ``"PRad-E"`` (Wang, Zhou, Puig, Cembrano, Wang, CCC 2017): ``‖x⁺‖²_P ≤ β‖x‖²_P + ‖E_w w‖² + ‖F_v v‖²``
     for the error dynamics ``A − LC``, maximal ``trace P``, ``β`` by CORA's bisection on (0, 1) (the
     last feasible solve is kept); needs ``E`` of full row rank (else ``trace P`` is unbounded).
-    ``"Nom-G"`` (Wang, Puig, Cembrano, Automatica 2018): CORA solves a feasibility problem whose
-    answer is wherever its solver stops; here ``P ⪰ I``, the smallest decay bound ``μ`` on (0, 1]
-    with ``(A − LC)ᵀP(A − LC) ⪯ μP`` and minimal ``trace P``, so ``ρ(A − LC) ≤ √μ``.
+    ``"Nom-G"`` (Wang, Puig, Cembrano, Automatica 2018): CORA solves the feasibility problem
+    ``(A − LC)ᵀP(A − LC) ⪯ P`` whose answer is wherever its solver stops (a cone containing
+    ``P = 0``); here the analytic centre of its slice ``P ⪰ I``, ``trace P ≤ 10 n_x`` (``beta`` = 1).
 
     Parameters
     ----------
     system : LinearSystem
         The model (a known ``A``).
-    method : {"PRad-E", "Nom-G"}, optional
+    method : {"PRad-A", "PRad-B", "PRad-E", "Nom-G"}, optional
         The design.
 
     Returns
@@ -936,7 +942,7 @@ def design_zonotopic_gain(system: LinearSystem, method: str = "PRad-E") -> Zonot
     >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
     ...                             E=[[0.1, 0.0, 0.0], [0.0, 0.1, 0.0]], F=[[0.0, 0.0, 0.05]])
     >>> d = setbound.zonotopic.design_zonotopic_gain(sys, "Nom-G")
-    >>> bool(np.max(np.abs(np.linalg.eigvals(sys.A - d.gain @ sys.C))) <= np.sqrt(d.beta) + 1e-6)
+    >>> bool(np.max(np.abs(np.linalg.eigvals(sys.A - d.gain @ sys.C))) < 1)
     True
     """
     system = as_system(system)
@@ -999,11 +1005,13 @@ def _observer_runner(make, alg: str, intersection_free: bool, gain_required: boo
     return runner
 
 
-def _pradius_a(model, gain, **kw):
-    # Without a gain: setbound's P-radius design, approach 1 (each strip alone, [Le2013]).
-    if gain is None:
-        gain = design_pradius(model.system, approach=1).lambdas.T
-    return StripGainEstimator(model.system, model.x0, gain, all_strips=False, **kw)
+def _strip_gain(name: str, all_strips: bool):
+    def make(model, gain, **kw):
+        # Without a gain: CORA's LMI design on setbound's solver (design_zonotopic_gain).
+        if gain is None:
+            gain = design_zonotopic_gain(model.system, name).gain
+        return StripGainEstimator(model.system, model.x0, gain, all_strips=all_strips, **kw)
+    return make
 
 
 def _register_cora_names():
@@ -1021,10 +1029,13 @@ def _register_cora_names():
     register_algorithm("FRad-C", _observer_runner(lambda m, g, **kw: CombastelObserver(m.system, m.x0, **kw),
                                                   "FRad-C", True),
                        summary="adaptive gain, no intersection [Combastel 2015] = CombastelObserver")
-    register_algorithm("PRad-A", _observer_runner(_pradius_a, "PRad-A", False),
-                       summary="fixed P-radius weight per strip [Le 2013] = StripGainEstimator(all_strips=False)",
-                       accepts_gain=True)
-    for name, paper in (("PRad-B", "Le 2013 ISIC"), ("PRad-C", "Wang 2018 CDC"), ("PRad-D", "Wang 2019 TAC")):
+    register_algorithm("PRad-A", _observer_runner(_strip_gain("PRad-A", False), "PRad-A", False),
+                       summary="fixed P-radius weight per strip [Le 2013] = StripGainEstimator(all_strips=False) + "
+                               "design_zonotopic_gain", accepts_gain=True)
+    register_algorithm("PRad-B", _observer_runner(_strip_gain("PRad-B", True), "PRad-B", False),
+                       summary="fixed P-radius weight on all strips [Le 2013 ISIC] = StripGainEstimator + "
+                               "design_zonotopic_gain", accepts_gain=True)
+    for name, paper in (("PRad-C", "Wang 2018 CDC"), ("PRad-D", "Wang 2019 TAC")):
         register_algorithm(name, _observer_runner(
             lambda m, g, **kw: StripGainEstimator(m.system, m.x0, g, all_strips=True, **kw), name, False, True),
             summary=f"fixed P-radius weight on all strips [{paper}] = StripGainEstimator", accepts_gain=True)

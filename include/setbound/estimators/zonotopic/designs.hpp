@@ -18,8 +18,23 @@
 //   Nom-G (Wang, Puig, Cembrano, Automatica 93, 2018, nominal observer): CORA solves the
 //     feasibility problem [[μP, ·], [PA − YC, P]] ⪰ 0 with μ = 1 and no objective, whose feasible
 //     set is a cone containing P = 0: the returned point is wherever the solver stops (spec §2.11).
-//     setbound's design normalises P ⪰ I, minimises trace P and the decay bound μ by bisection
-//     on (0, 1] (resolution 1e-3): (A − LC)ᵀP(A − LC) ⪯ μP, so ρ(A − LC) ≤ √μ.
+//     setbound's design takes the analytic centre of the slice P ⪰ I, trace P ≤ 10 n of that cone
+//     (max log det N + log det(P − I) + log(10 n − trace P), N the LMI): a deterministic gain
+//     strictly inside, with (A − LC)ᵀP(A − LC) ⪯ P. (The largest decay margin, the other obvious
+//     choice, gives near dead-beat gains whose sets are up to 6× wider than CORA's on pedestrian4.)
+//
+// and the weights of the strip-based observers with fixed weights (PRad-B: all strips at once,
+// PRad-A: one strip at a time), Λ = P⁻¹Y:
+//
+//   PRad-B (Le, Stoica, Alamo, Camacho, Dumur, ISIC 2013, eq. 17; spec §2.7):
+//     M(β) = [ βP                 0        0        ·  ]
+//            [ 0                  E_wᵀE_w  0        ·  ]  ⪰ 0,  P ⪰ 0,  (1 − β) P / ε − τ I ⪰ 0,  τ ≥ 0,
+//            [ 0                  0        F_vᵀF_v  ·  ]  maximise τ,
+//            [ (P − YC)A  (P − YC)E_w  YF_v     P  ]
+//     ε = ‖rs|E|‖₂ + σᵀσ (the Euclidean norm of W's interval radius, not squared, as CORA), β by
+//     the same bisection as PRad-E (the last feasible solve kept);
+//   PRad-A (Le et al., Automatica 2013, single output): the PRad-B design for each output i alone
+//     (C ← C_i, F_v ← σ_i, ε with σ_i²); column i of the result is λ_i.
 #pragma once
 
 #include <Eigen/Core>
@@ -34,14 +49,14 @@ namespace setbound {
 struct ZonotopicGainDesign {
   Eigen::MatrixXd gain;  ///< n_x × n_y, L = P⁻¹Y
   Eigen::MatrixXd P, Y;  ///< the LMI variables at the solution
-  double beta = 0.0;     ///< PRad-E: the contraction β; Nom-G: the decay bound μ
-  double objective = 0;  ///< PRad-E: trace P; Nom-G: trace P
+  double beta = 0.0;     ///< PRad-B/E: the contraction β (PRad-A: of the last output); Nom-G: μ = 1
+  double objective = 0;  ///< PRad-E, Nom-G: trace P; PRad-A/B: τ (PRad-A: of the last output)
   Eigen::MatrixXd lmi;   ///< the design's main LMI matrix at the solution (⪰ 0 up to the solver's accuracy)
 };
 
-enum class ZonotopicGainMethod { PRadE = 1, NomG = 2 };
+enum class ZonotopicGainMethod { PRadE = 1, NomG = 2, PRadB = 3, PRadA = 4 };
 
-/// The PRad-E or Nom-G design (see designs.hpp). Throws InfeasibleError with the reason when no
+/// The PRad-A, PRad-B, PRad-E or Nom-G design (see designs.hpp). PRad-A returns the P and Y of its last output. Throws InfeasibleError with the reason when no
 /// gain exists (no β / μ feasible, unbounded trace P), DimensionError / InvalidArgumentError for
 /// an unsuitable system (an interval A).
 ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sys, ZonotopicGainMethod method);
