@@ -842,7 +842,7 @@ int sb_zono_observer_restore_state(sb_zono_observer* observer, const double* sta
 /* Offline gains of the intersection-free rules (estimators/zonotopic/designs.hpp), on the
  * bundled LMI solver: SB_ZOBS_DESIGN_PRAD_E (CORA's PRad-E LMI, beta by bisection, maximal trace
  * P; needs E of full row rank) or SB_ZOBS_DESIGN_NOM_G (CORA's condition (A - LC)'P(A - LC) <= P,
- * the analytic centre of its slice P >= I, trace P <= 10 nx). Outputs: gain L = P^-1 Y (nx x ny),
+ * the analytic centre of its slice P >= I, trace P <= 10 t*, t* its least trace). Outputs: gain L = P^-1 Y (nx x ny),
  * P (nx x nx), Y (nx x ny), *beta (PRad-E: beta; Nom-G: 1); row-major; P, Y, beta may be NULL. No
  * feasible design:
  * SB_ERR_INFEASIBLE with the reason. */

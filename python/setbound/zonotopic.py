@@ -919,7 +919,8 @@ def design_zonotopic_gain(system: LinearSystem, method: str = "PRad-E") -> Zonot
     last feasible solve is kept); needs ``E`` of full row rank (else ``trace P`` is unbounded).
     ``"Nom-G"`` (Wang, Puig, Cembrano, Automatica 2018): CORA solves the feasibility problem
     ``(A − LC)ᵀP(A − LC) ⪯ P`` whose answer is wherever its solver stops (a cone containing
-    ``P = 0``); here the analytic centre of its slice ``P ⪰ I``, ``trace P ≤ 10 n_x`` (``beta`` = 1).
+    ``P = 0``); here the analytic centre of its slice ``P ⪰ I``, ``trace P ≤ 10 t*`` with ``t*`` the
+    least trace in it (``beta`` = 1).
 
     Parameters
     ----------

@@ -18,8 +18,8 @@
 //   Nom-G (Wang, Puig, Cembrano, Automatica 93, 2018, nominal observer): CORA solves the
 //     feasibility problem [[μP, ·], [PA − YC, P]] ⪰ 0 with μ = 1 and no objective, whose feasible
 //     set is a cone containing P = 0: the returned point is wherever the solver stops (spec §2.11).
-//     setbound's design takes the analytic centre of the slice P ⪰ I, trace P ≤ 10 n of that cone
-//     (max log det N + log det(P − I) + log(10 n − trace P), N the LMI): a deterministic gain
+//     setbound's design takes the analytic centre of the slice P ⪰ I, trace P ≤ 10 t* of that cone
+//     (t* its least trace; max log det N + log det(P − I) + log(10 t* − trace P), N the LMI): a deterministic gain
 //     strictly inside, with (A − LC)ᵀP(A − LC) ⪯ P. (The largest decay margin, the other obvious
 //     choice, gives near dead-beat gains whose sets are up to 6× wider than CORA's on pedestrian4.)
 //

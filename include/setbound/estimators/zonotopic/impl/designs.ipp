@@ -206,9 +206,13 @@ SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sy
                             (unbounded ? " (trace P unbounded)" : ""));
   } else {
     // Nom-G: CORA's condition (μ = 1) defines a cone containing P = 0 (spec §2.11). setbound takes
-    // the analytic centre of its slice P ⪰ I, trace P ≤ 10 n: the maximiser of
-    // log det N + log det(P − I) + log(10 n − trace P), a deterministic point strictly inside.
-    const double cap = 10.0 * static_cast<double>(n);
+    // the analytic centre of its slice P ⪰ I, trace P ≤ 10 t* (t* the least trace P in the slice,
+    // found first): the maximiser of log det N + log det(P − I) + log(10 t* − trace P), a
+    // deterministic point strictly inside.
+    const std::optional<Found> least = feasible(1.0);  // build(): min trace P, P ⪰ I
+    if (!least)
+      throw InfeasibleError("design Nom-G: no gain L with (A − LC)ᵀP(A − LC) ⪯ P, P ⪰ I (is (C, A) detectable?)");
+    const double cap = 10.0 * model.value(P, least->x).trace();
     model.clear_constraints();
     const AffineExpr N = main_lmi(1.0);
     const AffineExpr PI = P - AffineExpr::identity(n);
@@ -221,8 +225,7 @@ SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sy
     lmi::LmiProblem centre = model.build();
     const lmi::SolveResult res = lmi::solve_maxdet(centre);
     if (res.status != lmi::SolveStatus::Optimal && res.status != lmi::SolveStatus::Inaccurate)
-      throw InfeasibleError("design Nom-G: no gain L with (A − LC)ᵀP(A − LC) ⪯ P, I ⪯ P, trace P <= 10 n "
-                            "(is (C, A) detectable?)");
+      throw NumericalError("design Nom-G: the analytic centre could not be computed");
     best = Found{1.0, res.x};
   }
   ZonotopicGainDesign d;
