@@ -27,10 +27,10 @@ BoundingRule bounding_rule_arg(int rule) {
   }
 }
 
-EstimatorConvention convention_arg(int convention) {
+Convention convention_arg(int convention) {
   switch (convention) {
-    case SB_CONVENTION_SETBOUND: return EstimatorConvention::Setbound;
-    case SB_CONVENTION_CORA: return EstimatorConvention::Cora;
+    case SB_CONVENTION_SETBOUND: return Convention::Setbound;
+    case SB_CONVENTION_CORA: return Convention::Cora;
     default: throw InvalidArgumentError("convention: unknown value " + std::to_string(convention));
   }
 }

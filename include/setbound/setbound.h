@@ -930,7 +930,8 @@ int sb_interval_invariant_restore_state(sb_interval_invariant* observer, const d
 /* ==== end saved states ==== */
 
 /* ==== CORA catalogue, ellipsoidal and interval part (issue 22; estimators/ellipsoidal/) ====
- * CORA's linearSysDT/observe names: ESO-A, ESO-B (bounding ellipsoids). convention:
+ * CORA's linearSysDT/observe names: ESO-A, ESO-B (bounding ellipsoids). convention (shared by
+ * every CORA-catalogue handle, the zonotopic observers below included):
  * SB_CONVENTION_SETBOUND = the papers' algorithm, guaranteed after rounding (default);
  * SB_CONVENTION_CORA = CORA's exact behaviour (its saved numbers; not guaranteed where CORA is not). */
 typedef struct sb_bounding_ellipsoid sb_bounding_ellipsoid;
@@ -997,3 +998,64 @@ int sb_cora_interval_state_size(const sb_cora_interval* observer, int* n);
 int sb_cora_interval_save_state(const sb_cora_interval* observer, double* state, int n);
 int sb_cora_interval_restore_state(sb_cora_interval* observer, const double* state, int n);
 /* ==== end CORA catalogue, ellipsoidal and interval part ==== */
+/* ==== CORA's zonotopic observers (estimators/zonotopic/observer.hpp) ====
+ * One zonotopic skeleton, the gain rule as the varying part (CORA's names in brackets):
+ * strip-based filters (step k uses y_k and returns the set for x_k, then predicts x_{k+1}):
+ *   SB_ZOBS_SEGMENT_MIN  [FRad-A]   segment minimisation per strip (Alamo 2005)
+ *   SB_ZOBS_BRAVO        [VolMin-B] Bravo's candidate parallelotopes per strip (Bravo 2006)
+ *   SB_ZOBS_FIXED_STRIPS [PRad-A]   lambda_i = column i of `gain` per strip
+ *   SB_ZOBS_WANG         [FRad-B]   Wang et al. 2018 Kalman-like weight, all strips at once
+ *   SB_ZOBS_FIXED_LAMBDA [PRad-B/C/D] a given weight `gain`, all strips at once
+ * intersection-free predictors (step k uses y_k and returns the set for x_{k+1}):
+ *   SB_ZOBS_COMBASTEL    [FRad-C]   Combastel 2015 adaptive gain L_k
+ *   SB_ZOBS_FIXED_GAIN   [PRad-E, Nom-G] a given gain L = `gain`
+ * Every rule is guaranteed (any weight gives an outer bound). `gain`: nx x ny row-major for
+ * the three fixed rules, NULL otherwise. convention: SB_CONVENTION_SETBOUND (the papers'
+ * algorithms) or SB_CONVENTION_CORA (CORA's behaviour where it differs: FRad-B's doubled
+ * A and W, VolMin-B's absolute threshold, no reduction of the first strip-based set).
+ * reduction: SB_ZONO_REDUCE_*; max_generators in nx .. SB_ZONO_MAX_GENERATORS. Known A only. */
+typedef struct sb_zono_observer sb_zono_observer;
+#define SB_ZOBS_SEGMENT_MIN 1
+#define SB_ZOBS_BRAVO 2
+#define SB_ZOBS_FIXED_STRIPS 3
+#define SB_ZOBS_WANG 4
+#define SB_ZOBS_FIXED_LAMBDA 5
+#define SB_ZOBS_COMBASTEL 6
+#define SB_ZOBS_FIXED_GAIN 7
+int sb_zono_observer_create(const sb_linear_system* system, int rule, const double* gain, int max_generators,
+                            int reduction, int convention, int m0, const double* p0, const double* H0,
+                            sb_zono_observer** out);
+int sb_zono_observer_free(sb_zono_observer* observer);
+/* One step: y (ny; NaN entries are missing outputs), u (nu; NULL when nu = 0). Writes the
+ * centre, the interval hull (lower, upper: nx each) and the generator count *m of the current
+ * set (filters: x_k; predictors: x_{k+1}). On error the observer is unchanged. */
+int sb_zono_observer_step(sb_zono_observer* observer, const double* y, const double* u, double* center,
+                          double* lower, double* upper, int* m);
+/* The current set: *m in: capacity in columns, out: the generator count; p (nx), H (nx x m,
+ * row-major). A predictor's current set before its first step is x0; a filter has none. */
+int sb_zono_observer_current_set(const sb_zono_observer* observer, int* m, double* p, double* H);
+/* The weight of the last step (nx x ny row-major; zero columns: missing or unused outputs). */
+int sb_zono_observer_last_gain(const sb_zono_observer* observer, double* gain);
+int sb_zono_observer_reset(sb_zono_observer* observer);
+int sb_zono_observer_steps(const sb_zono_observer* observer, int* steps);
+/* Saved state (see "saved states" above). */
+int sb_zono_observer_state_size(const sb_zono_observer* observer, int* n);
+int sb_zono_observer_save_state(const sb_zono_observer* observer, double* state, int n);
+int sb_zono_observer_restore_state(sb_zono_observer* observer, const double* state, int n);
+/* Offline gains of the intersection-free rules (estimators/zonotopic/designs.hpp), on the
+ * bundled LMI solver: SB_ZOBS_DESIGN_PRAD_E (CORA's PRad-E LMI, beta by bisection, maximal trace
+ * P; needs E of full row rank) or SB_ZOBS_DESIGN_NOM_G (CORA's condition (A - LC)'P(A - LC) <= P,
+ * the analytic centre of its slice P >= I, trace P <= 10 t*, t* its least trace). Outputs: gain L = P^-1 Y (nx x ny),
+ * P (nx x nx), Y (nx x ny), *beta (PRad-E: beta; Nom-G: 1); row-major; P, Y, beta may be NULL. No
+ * feasible design:
+ * SB_ERR_INFEASIBLE with the reason. */
+#define SB_ZOBS_DESIGN_PRAD_E 1
+#define SB_ZOBS_DESIGN_NOM_G 2
+/* ... and of the strip-based rules with fixed weights: SB_ZOBS_DESIGN_PRAD_B (CORA's PRad-B LMI,
+ * all strips: the weight for SB_ZOBS_FIXED_LAMBDA) and SB_ZOBS_DESIGN_PRAD_A (that design for
+ * each output alone: the columns for SB_ZOBS_FIXED_STRIPS); *beta, P, Y: of the last output. */
+#define SB_ZOBS_DESIGN_PRAD_B 3
+#define SB_ZOBS_DESIGN_PRAD_A 4
+int sb_zono_gain_design(const sb_linear_system* system, int method, double* gain, double* P, double* Y,
+                        double* beta);
+/* ==== end CORA's zonotopic observers ==== */

@@ -37,6 +37,7 @@ extern "C" {
 #include "setbound/estimators/pradius.hpp"
 #include "setbound/estimators/volume_min.hpp"
 #include "setbound/estimators/zonotopic.hpp"
+#include "setbound/estimators/zonotopic/observer.hpp"
 #include "setbound/thesis/interval_observer.hpp"
 #include "setbound/lmi/classes.hpp"
 #include "setbound/lmi/lp.hpp"

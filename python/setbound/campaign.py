@@ -504,6 +504,8 @@ def random_case(estimator: str, seed: int, max_nx: int = 8) -> Case:
         opts = {"A_rad": rad.reshape(s.nx, s.nx), "A_choice": str(rng.choice(["vertex", "uniform"]))}
     if estimator == "pradius":
         opts = {"approach": int(rng.choice([1, 2]))}
+    if estimator == "zono_strip_gain":
+        opts = {"all_strips": int(rng.integers(0, 2))}
     if estimator == "thesis_lpv":
         nv = int(rng.integers(2, 4))
         dA = [rng.standard_normal((s.nx, s.nx)) * 0.05 * np.abs(s.A).max() for _ in range(nv)]
@@ -742,6 +744,20 @@ def _run_bounding_ellipsoid(case: Case, res: CaseResult, rng):
     delta = _delta(np.abs(s.A), sim.x, system.E, sim.omega, s.A)
     traj = est.run(sim.y)
     _check_ellipsoids(traj.sets, sim.x, delta, res)
+def _kalman_gains(system, iterations: int = 300):
+    """Stationary Kalman predictor and filter gains of the model (E Eᵀ, F Fᵀ as covariances, the
+    Riccati recursion iterated from the identity): ``(L, Λ)`` with ``L = A Λ``."""
+    A, C = system.A, system.C
+    Q = system.E @ system.E.T
+    R = system.F @ system.F.T + 1e-9 * np.eye(system.ny)
+    P = np.eye(system.nx)
+    for _ in range(iterations):
+        S = C @ P @ C.T + R
+        K = P @ C.T @ np.linalg.inv(S)
+        P = A @ (P - K @ C @ P) @ A.T + Q
+        P = 0.5 * (P + P.T)
+    K = P @ C.T @ np.linalg.inv(C @ P @ C.T + R)
+    return A @ K, K
 
 
 def _run_zonotopic(case: Case, res: CaseResult, rng):
@@ -754,6 +770,20 @@ def _run_zonotopic(case: Case, res: CaseResult, rng):
     elif case.estimator == "zono_volume_min":
         # the volume-minimising gain has one L1 row per subset of n_x − 1 generators: keep few
         est = zonotopic.VolumeMinEstimator(system, x0, max_generators=s.nx + 2)
+    elif case.estimator == "zono_bravo":
+        est = zonotopic.BravoEstimator(system, x0)
+    elif case.estimator == "zono_wang":
+        est = zonotopic.WangEstimator(system, x0)
+    elif case.estimator == "zono_combastel":
+        est = zonotopic.CombastelObserver(system, x0)
+    elif case.estimator in ("zono_strip_gain", "zono_propagation"):
+        # A fixed gain from the stationary Kalman recursion of the model (any gain is guaranteed;
+        # this one keeps the sets bounded on detectable systems).
+        L_pred, L_filt = _kalman_gains(system)
+        if case.estimator == "zono_propagation":
+            est = zonotopic.PropagationObserver(system, x0, L_pred)
+        else:
+            est = zonotopic.StripGainEstimator(system, x0, L_filt, all_strips=bool(case.options["all_strips"]))
     else:
         design = zonotopic.design_pradius(system, approach=case.options["approach"])
         est = zonotopic.PRadiusEstimator(design, x0)
@@ -916,6 +946,13 @@ ESTIMATORS = {
     # generators kept: at most 120 rows at n_x = 8)
     "zono_volume_min": _Spec(7, _run_zonotopic, max_nw=8, horizon=600),
     "pradius": _Spec(8, _run_zonotopic, horizon=1000),
+    # CORA's zonotopic catalogue on the shared skeleton (estimators/zonotopic/observer.hpp);
+    # Bravo's candidates cost O(n² m²) per strip
+    "zono_bravo": _Spec(40, _run_zonotopic, horizon=600),
+    "zono_wang": _Spec(41, _run_zonotopic, horizon=1000),
+    "zono_combastel": _Spec(42, _run_zonotopic, horizon=1000),
+    "zono_strip_gain": _Spec(43, _run_zonotopic, horizon=1000),
+    "zono_propagation": _Spec(44, _run_zonotopic, horizon=1000),
     "thesis_sm_observer": _Spec(9, _run_thesis, horizon=4000),
     "thesis_lpv": _Spec(10, _run_thesis, horizon=300),
     "interval_luenberger": _Spec(11, _run_thesis, horizon=2000),

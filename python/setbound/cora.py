@@ -16,6 +16,7 @@ set for ``x_k`` after ``y_k`` (setbound's filter indexing); CORA's ``timeStep`` 
 """
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -223,8 +224,7 @@ def observe(model, alg: str, *, convention: str = "setbound", gain=None, steps: 
     if steps is not None:
         from ._validate import as_int
         k = as_int(steps, "steps", lo=1, hi=len(m.y))
-        m = CoraBenchmark(m.name, m.system, m.x0, m.y[:k], m.u[:k], None if m.truth is None else m.truth[:k],
-                          m.zonotope_order, m.reduction, m.golden, m.dt)
+        m = dataclasses.replace(m, y=m.y[:k], u=m.u[:k], truth=None if m.truth is None else m.truth[:k])
     t0 = time.perf_counter()
     run = a.runner(m, convention=convention, gain=gain, **options)
     t1 = time.perf_counter()

@@ -18,7 +18,7 @@
 using setbound::BoundingEllipsoidEstimator;
 using setbound::BoundingEllipsoidOptions;
 using setbound::BoundingRule;
-using setbound::EstimatorConvention;
+using setbound::Convention;
 using setbound::LinearSystem;
 using setbound::testing::expect_error_naming;
 
@@ -116,7 +116,7 @@ TEST(BoundingEllipsoid, CoraConventionFollowsItsRecursionByHandOnAScalarSystem) 
                    Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Zero(1, 1));
   BoundingEllipsoidOptions opt;
   opt.rule = BoundingRule::Liu;
-  opt.convention = EstimatorConvention::Cora;
+  opt.convention = Convention::Cora;
   BoundingEllipsoidEstimator est(sys, Eigen::MatrixXd::Constant(1, 1, 0.01), Eigen::MatrixXd::Constant(1, 1, 0.04),
                                  Eigen::VectorXd::Zero(1), Eigen::MatrixXd::Identity(1, 1), 1.0, opt);
   est.step(Eigen::VectorXd::Constant(1, 1.0), Eigen::VectorXd());

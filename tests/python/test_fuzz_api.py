@@ -778,6 +778,19 @@ OPTIONS: dict[str, dict[str, str]] = {
     "setbound.constrained_zonotopic.ConstrainedZonotopicEstimator.run": {"u": "data", "keep_sets": "bool"},
     "setbound.cora.observe": {"convention": "choice", "gain": "data", "steps": "int?"},
     "setbound.cora.register_algorithm": {"summary": "str", "accepts_gain": "bool"},
+    "setbound.zonotopic.BravoEstimator.__init__": {"max_generators": "int", "reduction": "choice",
+                                                   "convention": "choice"},
+    "setbound.zonotopic.WangEstimator.__init__": {"max_generators": "int", "reduction": "choice",
+                                                  "convention": "choice"},
+    "setbound.zonotopic.CombastelObserver.__init__": {"max_generators": "int", "reduction": "choice",
+                                                      "convention": "choice"},
+    "setbound.zonotopic.StripGainEstimator.__init__": {"all_strips": "bool", "max_generators": "int",
+                                                       "reduction": "choice", "convention": "choice"},
+    "setbound.zonotopic.PropagationObserver.__init__": {"max_generators": "int", "reduction": "choice",
+                                                        "convention": "choice"},
+    "setbound.zonotopic.design_zonotopic_gain": {"method": "choice"},
+    "setbound.zonotopic._ZonotopicObserver.step": {"u": "data"},
+    "setbound.zonotopic._ZonotopicObserver.run": {"u": "data"},
     # hinf
     "setbound.hinf.LpvPlant.__init__": {"B": "data", "Fd": "data", "Z": "data"},
     "setbound.hinf.hinf_observer_gain": {"Q": "data"},
@@ -1046,6 +1059,15 @@ CALLS = {
     "setbound.zonotopic._ZonotopicEstimator.__init__":
         lambda c, **kw: zonotopic.SegmentMinEstimator(c["S"], c["X0"], **kw),
     "setbound.zonotopic.PRadiusEstimator.__init__": lambda c, **kw: zonotopic.PRadiusEstimator(c["pr"], c["X0"], **kw),
+    "setbound.zonotopic.design_zonotopic_gain": lambda c, **kw: zonotopic.design_zonotopic_gain(c["S"], **kw),
+    "setbound.zonotopic.BravoEstimator.__init__": lambda c, **kw: zonotopic.BravoEstimator(c["S"], c["X0"], **kw),
+    "setbound.zonotopic.WangEstimator.__init__": lambda c, **kw: zonotopic.WangEstimator(c["S"], c["X0"], **kw),
+    "setbound.zonotopic.CombastelObserver.__init__":
+        lambda c, **kw: zonotopic.CombastelObserver(c["S"], c["X0"], **kw),
+    "setbound.zonotopic.StripGainEstimator.__init__":
+        lambda c, **kw: zonotopic.StripGainEstimator(c["S"], c["X0"], [[0.5], [0.1]], **kw),
+    "setbound.zonotopic.PropagationObserver.__init__":
+        lambda c, **kw: zonotopic.PropagationObserver(c["S"], c["X0"], [[0.5], [0.1]], **kw),
     "setbound.hinf.ellipsoidal_error_rpi":
         lambda c, **kw: hinf.ellipsoidal_error_rpi(c["hd"].P, c["hd"].Q_refined, wbar=[1.0, 1.0], **kw),
     "setbound.hinf.refine_dissipation_matrix":

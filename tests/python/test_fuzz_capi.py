@@ -122,6 +122,8 @@ class Handles:
                    ffi.NULL, 2, _p(p0), _p(H0))
         self._make("sb_czonotopic", lib.sb_czonotopic_create, sysh, lib.SB_CZN_EXACT_OUTPUT, lib.SB_CZN_REDUCE_LIMITS,
                    lib.SB_REDUCE_GIRARD, 20.0, -1, -1, 1, 2, 0, _p(p0), _p(H0), ffi.NULL, ffi.NULL, ffi.NULL)
+        self._make("sb_zono_observer", lib.sb_zono_observer_create, sysh, lib.SB_ZOBS_WANG, ffi.NULL, 6,
+                   lib.SB_ZONO_REDUCE_GIRARD, lib.SB_CONVENTION_SETBOUND, 2, _p(p0), _p(H0))
         self._make("sb_ell_design", lib.sb_ell_design_offline, sysh, lib.SB_ELL_NORM_LOGDET, 0.7)
         I2 = _arr(np.eye(2))
         self._keep.append(I2)
@@ -307,7 +309,7 @@ def check_case(name, status, message, finite, nan_out, huge=False):
 
 
 # Functions that solve LMIs (designs with a scalar search take ~1 s a call): fewer examples.
-SLOW = {"sb_ell_design_descriptor", "sb_ell_design_offline", "sb_pradius_design", "sb_hinf_design_create",
+SLOW = {"sb_zono_gain_design", "sb_ell_design_descriptor", "sb_ell_design_offline", "sb_pradius_design", "sb_hinf_design_create",
         "sb_interval_invariant_design_create", "sb_interval_luenberger_create", "sb_interval_nonlinear_create",
         "sb_mrpi_algorithm1", "sb_lmi_solve_gevp"}
 

@@ -317,6 +317,18 @@ CASES = {
     "ConstrainedZonotopicEstimator": Sharing(
         lambda: constrained_zonotopic.ConstrainedZonotopicEstimator(_system(), X0Z),
         lambda e, t, i: e.step(_y(t, i), U0), ["sb_czonotopic_step"], 12),
+    "BravoEstimator": Sharing(lambda: zonotopic.BravoEstimator(_system(), X0Z, max_generators=6),
+                              lambda e, t, i: e.step(_y(t, i), U0), ["sb_zono_observer_step"], 30),
+    "WangEstimator": Sharing(lambda: zonotopic.WangEstimator(_system(), X0Z, max_generators=6),
+                             lambda e, t, i: e.step(_y(t, i), U0), ["sb_zono_observer_step"], 30),
+    "CombastelObserver": Sharing(lambda: zonotopic.CombastelObserver(_system(), X0Z, max_generators=6),
+                                 lambda e, t, i: e.step(_y(t, i), U0), ["sb_zono_observer_step"], 30),
+    "StripGainEstimator": Sharing(
+        lambda: zonotopic.StripGainEstimator(_system(), X0Z, np.full((2, _system().ny), 0.3), max_generators=6),
+        lambda e, t, i: e.step(_y(t, i), U0), ["sb_zono_observer_step"], 30),
+    "PropagationObserver": Sharing(
+        lambda: zonotopic.PropagationObserver(_system(), X0Z, np.full((2, _system().ny), 0.3), max_generators=6),
+        lambda e, t, i: e.step(_y(t, i), U0), ["sb_zono_observer_step"], 30),
     "EllipsoidalSMObserver": Sharing(
         lambda: hinf.EllipsoidalSMObserver(_once("hinf", lambda: hinf.design_ellipsoidal_sm_observer(
             _thesis_plant(), [1.0, 1.0])), np.zeros(2), 2.0),
@@ -375,7 +387,7 @@ def test_every_class_holding_a_mutable_handle_is_threadsafe():
     from ThreadSafe; a function may create one only as a local it does not return."""
     mutable = _mutable_handle_types()
     # the two rows of the table in docs/c_api.md, "Threads: which handles may be shared"
-    assert mutable == {"sb_ellipsoidal", "sb_kalman", "sb_zonotopic", "sb_czonotopic", "sb_hinf_observer", "sb_lmi_problem",
+    assert mutable == {"sb_ellipsoidal", "sb_kalman", "sb_zonotopic", "sb_zono_observer", "sb_czonotopic", "sb_hinf_observer", "sb_lmi_problem",
                        "sb_interval_luenberger", "sb_interval_nonlinear", "sb_interval_invariant",
                        "sb_bounding_ellipsoid", "sb_cora_interval"}
     immutable = set(re.findall(r"typedef struct (sb_\w+) sb_\w+;", HEADER.read_text())) - mutable - {"sb_lmi_result"}

@@ -51,6 +51,7 @@ enum class StateKind : int {
   // issue 22, the CORA catalogue's ellipsoidal / interval part (numbers from 21 on)
   BoundingEllipsoid = 21,
   IntervalHinfObserver = 22,
+  ZonotopicObserver = 23,  ///< estimators/zonotopic/observer.hpp (CORA's zonotopic catalogue)
 };
 
 inline constexpr double kStateTagBase = 5342000.0;  // "SB" 0x53 0x42

@@ -49,6 +49,7 @@
 #include <string>
 #include <vector>
 
+#include "setbound/core/convention.hpp"
 #include "setbound/core/error.hpp"
 #include "setbound/core/linear_system.hpp"
 #include "setbound/core/state.hpp"
@@ -61,12 +62,9 @@ namespace setbound {
 /// Which correction: ESO-A (Gollamudi 1996, ball noise bound, capped step) or ESO-B (Liu 2016).
 enum class BoundingRule { Gollamudi = 0, Liu = 1 };
 
-/// setbound's guaranteed algorithm (default) or CORA's exact behaviour (issue 22).
-enum class EstimatorConvention { Setbound = 0, Cora = 1 };
-
 struct BoundingEllipsoidOptions {
   BoundingRule rule = BoundingRule::Gollamudi;
-  EstimatorConvention convention = EstimatorConvention::Setbound;
+  Convention convention = Convention::Setbound;
   /// Gollamudi's cap α on λ (ESO-A only; CORA uses 1e-4). In (0, 1).
   double step_cap = 1e-4;
 };

@@ -97,7 +97,7 @@ SETBOUND_INLINE BoundingEllipsoidEstimator::BoundingEllipsoidEstimator(LinearSys
     throw InvalidArgumentError("system: an interval A is not supported by the bounding-ellipsoid estimator");
   if (opt_.rule != BoundingRule::Gollamudi && opt_.rule != BoundingRule::Liu)
     throw InvalidArgumentError("rule: expected Gollamudi (ESO-A) or Liu (ESO-B)");
-  if (opt_.convention != EstimatorConvention::Setbound && opt_.convention != EstimatorConvention::Cora)
+  if (opt_.convention != Convention::Setbound && opt_.convention != Convention::Cora)
     throw InvalidArgumentError("convention: expected Setbound or Cora");
   if (!(opt_.step_cap > 0.0 && opt_.step_cap < 1.0))
     throw InvalidArgumentError("step_cap: expected a value in (0, 1), got " + std::to_string(opt_.step_cap));
@@ -143,7 +143,7 @@ SETBOUND_INLINE void BoundingEllipsoidEstimator::init_noise() {
   }
   wbar_ = std::sqrt(std::max(QW_.trace(), 0.0));
   if (opt_.rule == BoundingRule::Gollamudi) {
-    if (opt_.convention == EstimatorConvention::Cora) {
+    if (opt_.convention == Convention::Cora) {
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(QV_, Eigen::EigenvaluesOnly);
       phi2_ = p > 0 ? std::max(es.eigenvalues().maxCoeff(), 0.0) : 0.0;  // φ = √λ_max = CORA's norm(V)
     } else {
@@ -154,7 +154,7 @@ SETBOUND_INLINE void BoundingEllipsoidEstimator::init_noise() {
     Eigen::LLT<Eigen::MatrixXd> llt(QV_);
     if (p > 0 && llt.info() != Eigen::Success)
       throw NotPositiveDefiniteError("QV: ESO-B (Liu 2016) needs a positive definite output noise shape");
-    if (opt_.convention == EstimatorConvention::Cora) {
+    if (opt_.convention == Convention::Cora) {
       R_ = QV_.inverse();
       r0_ = 1.0;
     } else {
@@ -176,7 +176,7 @@ SETBOUND_INLINE void BoundingEllipsoidEstimator::reset() {
   last_inconsistent_ = false;
   out_inverse_ = false;
   W_out_.resize(0, 0);
-  if (opt_.convention == EstimatorConvention::Cora) {
+  if (opt_.convention == Convention::Cora) {
     S_ = rho0_ == 1.0 ? Q0_ : Eigen::MatrixXd(rho0_ * Q0_);
     s_ = 0.3;  // CORA's initial σ² (spec §2.13)
     Q_out_ = S_;
@@ -225,7 +225,7 @@ SETBOUND_INLINE void BoundingEllipsoidEstimator::step(const Eigen::Ref<const Eig
   require_finite(uu, "u");
   // Work on a copy so that an error leaves the estimator unchanged.
   BoundingEllipsoidEstimator next = *this;
-  if (opt_.convention == EstimatorConvention::Cora)
+  if (opt_.convention == Convention::Cora)
     next.step_cora(y, uu);
   else
     next.step_setbound(y, uu);
@@ -496,14 +496,14 @@ SETBOUND_INLINE Ellipsoid BoundingEllipsoidEstimator::ellipsoid() const {
   // Shape form (the initial set, or CORA's convention): W ⪯ (1 + r) Q⁻¹.
   Eigen::MatrixXd W;
   const double r = detail::be_certified_inverse(Q_out_, W, "shape");
-  const double level = opt_.convention == EstimatorConvention::Cora
+  const double level = opt_.convention == Convention::Cora
                            ? s_out_
                            : ell_rounding::round_up(s_out_ * ell_rounding::round_up(1.0 + r));
   return Ellipsoid(W, q_out_, level);
 }
 
 SETBOUND_INLINE BoundingBox BoundingEllipsoidEstimator::bounding_box() const {
-  if (opt_.convention == EstimatorConvention::Cora) {
+  if (opt_.convention == Convention::Cora) {
     // CORA's interval(E): q ± √diag Q (spec §1.5).
     const Eigen::VectorXd r = (Q_out_.diagonal() * s_out_).cwiseMax(0.0).cwiseSqrt();
     return {q_out_ - r, q_out_ + r};
