@@ -16,3 +16,4 @@
 #include "setbound/sets/impl/box_lp.ipp"
 #include "setbound/sets/impl/constrained_zonotope.ipp"
 #include "setbound/sets/impl/polytope.ipp"
+#include "setbound/sets/impl/polygon_projection.ipp"

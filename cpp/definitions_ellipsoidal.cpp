@@ -7,3 +7,4 @@
 #include "setbound/estimators/impl/improved_correction.ipp"
 #include "setbound/estimators/impl/improved_estimator.ipp"
 #include "setbound/estimators/impl/kalman.ipp"
+#include "setbound/estimators/ellipsoidal/impl/bounding_ellipsoid.ipp"

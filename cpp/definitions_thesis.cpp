@@ -8,3 +8,4 @@
 #include "setbound/thesis/impl/interval_observer.ipp"
 #include "setbound/thesis/impl/invariant.ipp"
 #include "setbound/thesis/impl/lpv.ipp"
+#include "setbound/estimators/interval/impl/cora_interval_observer.ipp"

@@ -7,3 +7,5 @@
 #include "setbound/estimators/impl/volume_min.ipp"
 #include "setbound/estimators/impl/exact_hull.ipp"
 #include "setbound/estimators/impl/constrained_zonotopic.ipp"
+#include "setbound/estimators/zonotopic/impl/observer.ipp"
+#include "setbound/estimators/zonotopic/impl/designs.ipp"

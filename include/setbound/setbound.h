@@ -372,6 +372,142 @@ int sb_zonotopic_save_state(const sb_zonotopic* estimator, double* state, int n)
 int sb_zonotopic_restore_state(sb_zonotopic* estimator, const double* state, int n);
 /* ==== end zonotopic estimators ==== */
 
+/* ==== constrained zonotopes (sets/constrained_zonotope.hpp, sets/polygon_projection.hpp) ====
+ * Scott et al., Automatica 69 (2016). A constrained zonotope crosses the ABI as arrays
+ * (n, ng, nc, c [n], G [n x ng], A [nc x ng], b [nc], r [n]), all row-major:
+ *   Z = { c + G xi + diag(r) eta : A xi = b, ||xi||_inf <= 1, ||eta||_inf <= 1 }.
+ * r >= 0 is the rounding box that keeps every operation an outer bound after floating-point
+ * rounding (a few ulps of the set's size); it may be NULL on input (zero) and is always written
+ * on output. ng and nc may be 0 (their arrays may then be NULL). n >= 1.
+ * Functions that return a set take `int* ng_out, int* nc_out`: in, the capacity of G_out /
+ * A_out in columns and of A_out / b_out in rows; out, the result's sizes (a buffer too small
+ * gives SB_ERR_BUFFER_TOO_SMALL with the needed sizes written). G_out is written n x ng_out and
+ * A_out nc_out x ng_out, contiguous. Queries are certified: the hull contains the exact hull,
+ * "empty" and "not a member" are reported only with a verified certificate. */
+int sb_czono_validate(int n, int ng, int nc, const double* c, const double* G, const double* A,
+                      const double* b, const double* r);
+/* Interval hull (2n LPs on one warm-started basis): lo, hi (n). *empty = 1 when Z is certified
+ * empty (lo = +inf, hi = -inf then). */
+int sb_czono_interval_hull(int n, int ng, int nc, const double* c, const double* G, const double* A,
+                           const double* b, const double* r, double* lo, double* hi, int* empty);
+/* values[k] >= max_{x in Z} d_k^T x (certified; -inf when Z is certified empty); directions: ndir x n. */
+int sb_czono_support(int n, int ng, int nc, const double* c, const double* G, const double* A,
+                     const double* b, const double* r, int ndir, const double* directions, double* values);
+/* inside[k] = 0 only when x_k is certified outside Z (points: npoints x n). */
+int sb_czono_contains(int n, int ng, int nc, const double* c, const double* G, const double* A,
+                      const double* b, const double* r, int npoints, const double* points, int* inside);
+/* Emptiness: *empty = 1 only with a verified certificate y (nc; may be NULL) with
+ * y^T b - ||A^T y||_1 >= *margin > 0; *conclusive = 0 when the LP could decide neither way
+ * (treated as not empty). */
+int sb_czono_emptiness(int n, int ng, int nc, const double* c, const double* G, const double* A,
+                       const double* b, const double* r, int* empty, int* conclusive, double* certificate,
+                       double* margin);
+/* K Z (K: k x n): c_out (k), G_out (k x ng), r_out (k); the constraints are unchanged. */
+int sb_czono_linear_map(int n, int ng, int nc, const double* c, const double* G, const double* A,
+                        const double* b, const double* r, int k, const double* K, double* c_out,
+                        double* G_out, double* r_out);
+/* Z1 + Z2 (both in R^n): ng1 + ng2 generators, nc1 + nc2 constraints. A zonotope is a
+ * constrained zonotope with nc = 0. */
+int sb_czono_minkowski_sum(int n, int ng1, int nc1, const double* c1, const double* G1, const double* A1,
+                           const double* b1, const double* r1, int ng2, int nc2, const double* c2,
+                           const double* G2, const double* A2, const double* b2, const double* r2,
+                           int* ng_out, int* nc_out, double* c_out, double* G_out, double* A_out,
+                           double* b_out, double* r_out);
+/* Generalized intersection Z1 cap_R Z2 = { x in Z1 : R x in Z2 } (Scott 2016 eq. 13), Z2 in R^k,
+ * R: k x n (NULL: the identity, k = n). ng1 + ng2 generators, nc1 + nc2 + k constraints. Exact
+ * intersection with the output set: Z2 = y - V, R = C. */
+int sb_czono_intersect(int n, int ng1, int nc1, const double* c1, const double* G1, const double* A1,
+                       const double* b1, const double* r1, int k, int ng2, int nc2, const double* c2,
+                       const double* G2, const double* A2, const double* b2, const double* r2,
+                       const double* R, int* ng_out, int* nc_out, double* c_out, double* G_out,
+                       double* A_out, double* b_out, double* r_out);
+/* Z cap { x : |h^T x - y| <= sigma } (sigma >= 0): one generator and one constraint more. */
+int sb_czono_intersect_strip(int n, int ng, int nc, const double* c, const double* G, const double* A,
+                             const double* b, const double* r, const double* h, double y, double sigma,
+                             int* ng_out, int* nc_out, double* c_out, double* G_out, double* A_out,
+                             double* b_out, double* r_out);
+/* Z cap { x : h^T x <= d }: one generator and one constraint more. */
+int sb_czono_intersect_halfspace(int n, int ng, int nc, const double* c, const double* G, const double* A,
+                                 const double* b, const double* r, const double* h, double d, int* ng_out,
+                                 int* nc_out, double* c_out, double* G_out, double* A_out, double* b_out,
+                                 double* r_out);
+/* Reductions (each result contains Z):
+ *   SB_CZONO_REDUCE_CORA         CORA's conZonotope/reduce: the lift [c; -b] + [G; A] B reduced with
+ *                                `technique` (SB_REDUCE_GIRARD or SB_REDUCE_PCA) to order n + nc
+ *                                generators (order >= 1);
+ *   SB_CZONO_REDUCE_LIMITS       Scott's constraint elimination to max_constraints rows, then the
+ *                                lift reduction to max_generators (>= n + max_constraints) columns;
+ *   SB_CZONO_REMOVE_ZERO         zero constraint rows removed (exact);
+ *   SB_CZONO_ELIMINATE           Scott's rescaling and elimination to max_constraints rows;
+ *   SB_CZONO_RESCALE             Scott's rescaling (interval bounds of xi) without elimination.
+ * Unused numeric arguments are ignored. The result is never larger than Z (ng_out <= ng,
+ * nc_out <= nc). */
+#define SB_CZONO_REDUCE_CORA 1
+#define SB_CZONO_REDUCE_LIMITS 2
+#define SB_CZONO_REMOVE_ZERO 3
+#define SB_CZONO_ELIMINATE 4
+#define SB_CZONO_RESCALE 5
+int sb_czono_reduce(int n, int ng, int nc, const double* c, const double* G, const double* A, const double* b,
+                    const double* r, int method, int technique, double order, int max_generators,
+                    int max_constraints, int* ng_out, int* nc_out, double* c_out, double* G_out, double* A_out,
+                    double* b_out, double* r_out);
+/* The projection of Z onto coordinates (i, j) as a convex polygon (for plots): its vertices in
+ * counter-clockwise order, vertices (nv x 2, row-major); *nv in: capacity in vertices, out: the
+ * count (0 when Z is certified empty; 1 or 2 for a point or a segment). Found by support points
+ * until every edge is a facet (relative tolerance 1e-9 of the set's size): exact up to the LP's
+ * rounding, not certified (use the hull or the support function for guarantees). */
+int sb_czono_projection_polygon(int n, int ng, int nc, const double* c, const double* G, const double* A,
+                                const double* b, const double* r, int i, int j, int* nv, double* vertices);
+
+/* The constrained-zonotope estimators CZN-A and CZN-B (estimators/constrained_zonotopic.hpp):
+ * prediction X+ = A X + B u + E B^nw (exact); correction by the exact intersection with the output
+ * set y - D u - F B^nw (SB_CZN_EXACT_OUTPUT, CORA's CZN-A) or by the output strips in the Wang
+ * gain's representation (SB_CZN_WANG_STRIPS, CZN-B: the same set, another representation);
+ * reduction: none (the exact consistent set; memory grows every step), CORA's (SB_CZN_REDUCE_CORA
+ * at `order`, CORA's zonotopeOrder) or setbound's bounded mode (SB_CZN_REDUCE_LIMITS, the default
+ * of the Python layer: at most max_constraints rows and max_generators generators; -1 for 4 nx
+ * and 20 nx + max_constraints). technique: SB_REDUCE_GIRARD or SB_REDUCE_PCA. Time indexing as
+ * sb_zonotopic (a filter). The system must have a known A. */
+typedef struct sb_czonotopic sb_czonotopic;
+#define SB_CZN_EXACT_OUTPUT 0
+#define SB_CZN_WANG_STRIPS 1
+#define SB_CZN_REDUCE_NONE 0
+#define SB_CZN_REDUCE_CORA 1
+#define SB_CZN_REDUCE_LIMITS 2
+/* The largest max_constraints / max_generators accepted (LPs of that size are allocated per step). */
+#define SB_CZN_MAX_SIZE 100000
+int sb_czonotopic_create(const sb_linear_system* system, int correction, int reduction, int technique,
+                         double order, int max_constraints, int max_generators, int use_first_measurement,
+                         int ng0, int nc0, const double* c0, const double* G0, const double* A0,
+                         const double* b0, const double* r0, sb_czonotopic** out);
+int sb_czonotopic_free(sb_czonotopic* estimator);
+/* The effective limits (after the -1 defaults) and options. Any output may be NULL. */
+int sb_czonotopic_options(const sb_czonotopic* estimator, int* correction, int* reduction, int* technique,
+                          double* order, int* max_constraints, int* max_generators);
+/* One step: y (ny; NaN = missing), u (nu; NULL when nu = 0). Writes the certified interval hull
+ * (lower, upper: nx) and the sizes of the set for x_k (ng, nc; may be NULL), read with
+ * sb_czonotopic_last_set. Screening and policies as sb_zonotopic; readings that are each
+ * possible but jointly impossible flag every used output (margin NaN). On error the estimator
+ * is unchanged. */
+int sb_czonotopic_step(sb_czonotopic* estimator, const double* y, const double* u, double* lower,
+                       double* upper, int* ng, int* nc);
+/* The set of the last step; *ng_out, *nc_out in: capacities, out: sizes (see above). */
+int sb_czonotopic_last_set(const sb_czonotopic* estimator, int* ng_out, int* nc_out, double* c,
+                           double* G, double* A, double* b, double* r);
+/* As sb_zonotopic_set_inconsistency_policy; the reset set is a constrained zonotope (c NULL:
+ * the initial set). */
+int sb_czonotopic_set_inconsistency_policy(sb_czonotopic* estimator, int policy, int ng, int nc,
+                                           const double* c, const double* G, const double* A,
+                                           const double* b, const double* r);
+int sb_czonotopic_last_check(const sb_czonotopic* estimator, int* status, double* margin, int* reset);
+int sb_czonotopic_reset(sb_czonotopic* estimator);
+int sb_czonotopic_steps(const sb_czonotopic* estimator, int* steps);
+/* Saved state (see "saved states" at the end of this header). */
+int sb_czonotopic_state_size(const sb_czonotopic* estimator, int* n);
+int sb_czonotopic_save_state(const sb_czonotopic* estimator, double* state, int n);
+int sb_czonotopic_restore_state(sb_czonotopic* estimator, const double* state, int n);
+/* ==== end constrained zonotopes ==== */
+
 /* ==== ellipsoidal estimators (estimators/ellipsoidal.hpp, improved_correction.hpp,
  *      descriptor.hpp, kalman.hpp) ==== */
 /* Sets are E(P, c, rho) = {x : (x - c)^T P (x - c) <= rho} (papers.md §0.1). */
@@ -778,7 +914,7 @@ int sb_interval_invariant_restore_state(sb_interval_invariant* observer, const d
 /* ==== end thesis Ch. 4 ==== */
 
 /* ==== saved states (core/state.hpp) ====
- * Every estimator handle (sb_ellipsoidal, sb_kalman, sb_zonotopic, sb_hinf_observer,
+ * Every estimator handle (sb_ellipsoidal, sb_kalman, sb_zonotopic, sb_czonotopic, sb_hinf_observer,
  * sb_interval_luenberger, sb_interval_nonlinear, sb_interval_invariant) has
  *   sb_xxx_state_size(handle, int* n)             the number of doubles of its state now,
  *   sb_xxx_save_state(handle, double* state, int n)   writes it (n = capacity; too small:
@@ -792,3 +928,134 @@ int sb_interval_invariant_restore_state(sb_interval_invariant* observer, const d
  * message starting with "state", and the handle is unchanged. The size may change between
  * steps (zonotopic: the generator count). */
 /* ==== end saved states ==== */
+
+/* ==== CORA catalogue, ellipsoidal and interval part (issue 22; estimators/ellipsoidal/) ====
+ * CORA's linearSysDT/observe names: ESO-A, ESO-B (bounding ellipsoids). convention (shared by
+ * every CORA-catalogue handle, the zonotopic observers below included):
+ * SB_CONVENTION_SETBOUND = the papers' algorithm, guaranteed after rounding (default);
+ * SB_CONVENTION_CORA = CORA's exact behaviour (its saved numbers; not guaranteed where CORA is not). */
+typedef struct sb_bounding_ellipsoid sb_bounding_ellipsoid;
+#define SB_CONVENTION_SETBOUND 0
+#define SB_CONVENTION_CORA 1
+#define SB_BE_GOLLAMUDI 0
+#define SB_BE_LIU 1
+/* How x0 is given: SB_BE_X0_SHAPE {x : (x - q0)^T Q0^-1 (x - q0) <= rho0} (CORA's ellipsoid(Q, q));
+ * SB_BE_X0_INVERSE {x : (x - q0)^T Q0 (x - q0) <= rho0} (setbound's E(P, c, rho)). */
+#define SB_BE_X0_SHAPE 0
+#define SB_BE_X0_INVERSE 1
+/* Shape of an ellipsoid enclosing the zonotope {G b : |b|_inf <= 1} (G n x m row-major): m' G G^T
+ * with m' the number of non-zero columns, rounded so that it stays an outer bound. Q: n x n. */
+int sb_enclosing_ellipsoid_shape(int n, int m, const double* G, double* Q);
+/* x+ = A x + B u + w, w in E(0, QW); y = C x + D u + v, v in E(0, QV); E(q, Q) = {q + Q^(1/2) b :
+ * |b|_2 <= 1}. QW (nx x nx) symmetric PSD, QV (ny x ny) symmetric PSD (PD for SB_BE_LIU); NULL:
+ * the enclosing ellipsoids of E w and F w, w in [-1, 1]^nw, of `system`. x0: q0 (nx), Q0 (nx x nx,
+ * positive definite) and rho0 > 0 read as x0_form says. rule: SB_BE_GOLLAMUDI (ESO-A) or
+ * SB_BE_LIU (ESO-B); step_cap: Gollamudi's cap alpha on the step, in (0, 1) (CORA: 1e-4). */
+int sb_bounding_ellipsoid_create(const sb_linear_system* system, const double* QW, const double* QV,
+                                 const double* q0, const double* Q0, double rho0, int x0_form, int rule,
+                                 int convention, double step_cap, sb_bounding_ellipsoid** out);
+int sb_bounding_ellipsoid_free(sb_bounding_ellipsoid* estimator);
+/* One step: corrects the prediction for x_k with y_k (ny, finite; the first step corrects x0),
+ * writes that set, then predicts x_{k+1} with u_k (nu; NULL when nu = 0). The set as
+ * E(P, c, rho) = {x : (x - c)^T P (x - c) <= rho} (P nx x nx) and its interval hull lower/upper
+ * (guaranteed and rounded outward in the setbound convention; CORA's q +- sqrt(diag Q) in the cora
+ * convention). NULL outputs are skipped. On error the estimator is unchanged. */
+int sb_bounding_ellipsoid_step(sb_bounding_ellipsoid* estimator, const double* y, const double* u, double* P,
+                               double* c, double* rho, double* lower, double* upper);
+/* The set of the last step (x0 before the first step), as for sb_bounding_ellipsoid_step. */
+int sb_bounding_ellipsoid_current(const sb_bounding_ellipsoid* estimator, double* P, double* c, double* rho,
+                                  double* lower, double* upper);
+/* The same set in shape form {x : (x - c)^T Q^-1 (x - c) <= 1}, Q nx x nx. */
+int sb_bounding_ellipsoid_shape(const sb_bounding_ellipsoid* estimator, double* Q);
+/* lambda of the last correction (0: the set was not changed by y), *inconsistent = 1 when the last
+ * reading contradicted the prediction (the prediction was kept), the number of steps taken. */
+int sb_bounding_ellipsoid_info(const sb_bounding_ellipsoid* estimator, double* lambda, int* inconsistent,
+                               int* steps);
+/* The noise shapes in use: QW (nx x nx), QV (ny x ny). */
+int sb_bounding_ellipsoid_noise(const sb_bounding_ellipsoid* estimator, double* QW, double* QV);
+/* Back to x0, no step taken. */
+int sb_bounding_ellipsoid_reset(sb_bounding_ellipsoid* estimator);
+int sb_bounding_ellipsoid_state_size(const sb_bounding_ellipsoid* estimator, int* n);
+int sb_bounding_ellipsoid_save_state(const sb_bounding_ellipsoid* estimator, double* state, int n);
+int sb_bounding_ellipsoid_restore_state(sb_bounding_ellipsoid* estimator, const double* state, int n);
+/* CORA's interval observer as CORA runs it (Hinf-G with a given gain; estimators/interval/
+ * cora_interval_observer.hpp): x+ = A x + B u + E w, y = C x + F w (D must be zero), R0 the zonotope
+ * (c0, G0) with G0 nx x m, L nx x ny. Row k of CORA's result per step: row 0 is the hull of R0, row
+ * k >= 1 lags one step (it is computed before the update with y_{k-1}). Not guaranteed (no
+ * rounding control, CORA's quirks); setbound's guaranteed version is sb_interval_luenberger. */
+typedef struct sb_cora_interval sb_cora_interval;
+int sb_cora_interval_create(const sb_linear_system* system, const double* c0, int m, const double* G0,
+                            const double* L, sb_cora_interval** out);
+int sb_cora_interval_free(sb_cora_interval* observer);
+/* One step with y (ny) and u (nu; NULL when nu = 0); writes the row's interval lower/upper (nx;
+ * NULL skipped). On error the observer is unchanged. */
+int sb_cora_interval_step(sb_cora_interval* observer, const double* y, const double* u, double* lower,
+                          double* upper);
+/* The last row's interval (R0's hull before the first step) and the number of steps. */
+int sb_cora_interval_current(const sb_cora_interval* observer, double* lower, double* upper, int* steps);
+int sb_cora_interval_reset(sb_cora_interval* observer);
+int sb_cora_interval_state_size(const sb_cora_interval* observer, int* n);
+int sb_cora_interval_save_state(const sb_cora_interval* observer, double* state, int n);
+int sb_cora_interval_restore_state(sb_cora_interval* observer, const double* state, int n);
+/* ==== end CORA catalogue, ellipsoidal and interval part ==== */
+/* ==== CORA's zonotopic observers (estimators/zonotopic/observer.hpp) ====
+ * One zonotopic skeleton, the gain rule as the varying part (CORA's names in brackets):
+ * strip-based filters (step k uses y_k and returns the set for x_k, then predicts x_{k+1}):
+ *   SB_ZOBS_SEGMENT_MIN  [FRad-A]   segment minimisation per strip (Alamo 2005)
+ *   SB_ZOBS_BRAVO        [VolMin-B] Bravo's candidate parallelotopes per strip (Bravo 2006)
+ *   SB_ZOBS_FIXED_STRIPS [PRad-A]   lambda_i = column i of `gain` per strip
+ *   SB_ZOBS_WANG         [FRad-B]   Wang et al. 2018 Kalman-like weight, all strips at once
+ *   SB_ZOBS_FIXED_LAMBDA [PRad-B/C/D] a given weight `gain`, all strips at once
+ * intersection-free predictors (step k uses y_k and returns the set for x_{k+1}):
+ *   SB_ZOBS_COMBASTEL    [FRad-C]   Combastel 2015 adaptive gain L_k
+ *   SB_ZOBS_FIXED_GAIN   [PRad-E, Nom-G] a given gain L = `gain`
+ * Every rule is guaranteed (any weight gives an outer bound). `gain`: nx x ny row-major for
+ * the three fixed rules, NULL otherwise. convention: SB_CONVENTION_SETBOUND (the papers'
+ * algorithms) or SB_CONVENTION_CORA (CORA's behaviour where it differs: FRad-B's doubled
+ * A and W, VolMin-B's absolute threshold, no reduction of the first strip-based set).
+ * reduction: SB_ZONO_REDUCE_*; max_generators in nx .. SB_ZONO_MAX_GENERATORS. Known A only. */
+typedef struct sb_zono_observer sb_zono_observer;
+#define SB_ZOBS_SEGMENT_MIN 1
+#define SB_ZOBS_BRAVO 2
+#define SB_ZOBS_FIXED_STRIPS 3
+#define SB_ZOBS_WANG 4
+#define SB_ZOBS_FIXED_LAMBDA 5
+#define SB_ZOBS_COMBASTEL 6
+#define SB_ZOBS_FIXED_GAIN 7
+int sb_zono_observer_create(const sb_linear_system* system, int rule, const double* gain, int max_generators,
+                            int reduction, int convention, int m0, const double* p0, const double* H0,
+                            sb_zono_observer** out);
+int sb_zono_observer_free(sb_zono_observer* observer);
+/* One step: y (ny; NaN entries are missing outputs), u (nu; NULL when nu = 0). Writes the
+ * centre, the interval hull (lower, upper: nx each) and the generator count *m of the current
+ * set (filters: x_k; predictors: x_{k+1}). On error the observer is unchanged. */
+int sb_zono_observer_step(sb_zono_observer* observer, const double* y, const double* u, double* center,
+                          double* lower, double* upper, int* m);
+/* The current set: *m in: capacity in columns, out: the generator count; p (nx), H (nx x m,
+ * row-major). A predictor's current set before its first step is x0; a filter has none. */
+int sb_zono_observer_current_set(const sb_zono_observer* observer, int* m, double* p, double* H);
+/* The weight of the last step (nx x ny row-major; zero columns: missing or unused outputs). */
+int sb_zono_observer_last_gain(const sb_zono_observer* observer, double* gain);
+int sb_zono_observer_reset(sb_zono_observer* observer);
+int sb_zono_observer_steps(const sb_zono_observer* observer, int* steps);
+/* Saved state (see "saved states" above). */
+int sb_zono_observer_state_size(const sb_zono_observer* observer, int* n);
+int sb_zono_observer_save_state(const sb_zono_observer* observer, double* state, int n);
+int sb_zono_observer_restore_state(sb_zono_observer* observer, const double* state, int n);
+/* Offline gains of the intersection-free rules (estimators/zonotopic/designs.hpp), on the
+ * bundled LMI solver: SB_ZOBS_DESIGN_PRAD_E (CORA's PRad-E LMI, beta by bisection, maximal trace
+ * P; needs E of full row rank) or SB_ZOBS_DESIGN_NOM_G (CORA's condition (A - LC)'P(A - LC) <= P,
+ * the analytic centre of its slice P >= I, trace P <= 10 t*, t* its least trace). Outputs: gain L = P^-1 Y (nx x ny),
+ * P (nx x nx), Y (nx x ny), *beta (PRad-E: beta; Nom-G: 1); row-major; P, Y, beta may be NULL. No
+ * feasible design:
+ * SB_ERR_INFEASIBLE with the reason. */
+#define SB_ZOBS_DESIGN_PRAD_E 1
+#define SB_ZOBS_DESIGN_NOM_G 2
+/* ... and of the strip-based rules with fixed weights: SB_ZOBS_DESIGN_PRAD_B (CORA's PRad-B LMI,
+ * all strips: the weight for SB_ZOBS_FIXED_LAMBDA) and SB_ZOBS_DESIGN_PRAD_A (that design for
+ * each output alone: the columns for SB_ZOBS_FIXED_STRIPS); *beta, P, Y: of the last output. */
+#define SB_ZOBS_DESIGN_PRAD_B 3
+#define SB_ZOBS_DESIGN_PRAD_A 4
+int sb_zono_gain_design(const sb_linear_system* system, int method, double* gain, double* P, double* Y,
+                        double* beta);
+/* ==== end CORA's zonotopic observers ==== */

@@ -48,6 +48,11 @@ class CoraBenchmark:
         CORA's saved results per observer: ``(lower, upper)`` arrays.
     dt : float, optional
         Sampling time.
+    c : ndarray, shape (n_x,), optional
+        CORA's constant term ``c`` of the dynamics (in ``B``'s last column with ``W``'s centre);
+        None when unknown.
+    v_center : ndarray, shape (n_y,), optional
+        The centre of ``V`` (``D``'s last column); None when unknown.
     """
     name: str
     system: LinearSystem
@@ -59,6 +64,8 @@ class CoraBenchmark:
     reduction: str
     golden: dict[str, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
     dt: float = 1.0
+    c: np.ndarray | None = None
+    v_center: np.ndarray | None = None
 
     @property
     def max_generators(self) -> int:
@@ -124,4 +131,4 @@ def load_cora(path: str | Path) -> CoraBenchmark:
     return CoraBenchmark(
         name=path.stem, system=system, x0=x0, y=y, u=np.hstack([u, np.ones((u.shape[0], 1))]), truth=truth,
         zonotope_order=float(d.get("zonotopeOrder", 20)), reduction=str(d.get("reductionTechnique", "girard")),
-        golden=_golden(d), dt=float(d.get("dt", d.get("timeStep", 1.0))))
+        golden=_golden(d), dt=float(d.get("dt", d.get("timeStep", 1.0))), c=c, v_center=Vc)

@@ -16,6 +16,7 @@ set for ``x_k`` after ``y_k`` (setbound's filter indexing); CORA's ``timeStep`` 
 """
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -114,6 +115,12 @@ def register_algorithm(name: str, runner: Runner, *, summary: str, accepts_gain:
     accepts_gain : bool, optional
         Whether the method takes a given gain (``gain=L``, ``n_x × n_y``) instead of its design.
     """
+    from ._validate import as_bool, as_str
+
+    name, summary = as_str(name, "name"), as_str(summary, "summary")
+    accepts_gain = as_bool(accepts_gain, "accepts_gain")
+    if not callable(runner):
+        raise InvalidArgumentError(f"runner: expected a callable, got {type(runner).__name__}")
     if name in _ALGORITHMS:
         raise InvalidArgumentError(f"register_algorithm: {name!r} is registered already")
     _ALGORITHMS[name] = _Algorithm(runner, summary, accepts_gain)
@@ -140,7 +147,7 @@ def algorithms() -> dict[str, str]:
 def _load_families() -> None:
     # The families register their names on import; importing them here keeps `setbound.cora`
     # importable on its own and the registry complete.
-    from . import zonotopic  # noqa: F401
+    from . import constrained_zonotopic, ellipsoidal, hinf, interval_observers, zonotopic  # noqa: F401
 
 
 def as_model(model) -> CoraBenchmark:
@@ -217,8 +224,7 @@ def observe(model, alg: str, *, convention: str = "setbound", gain=None, steps: 
     if steps is not None:
         from ._validate import as_int
         k = as_int(steps, "steps", lo=1, hi=len(m.y))
-        m = CoraBenchmark(m.name, m.system, m.x0, m.y[:k], m.u[:k], None if m.truth is None else m.truth[:k],
-                          m.zonotope_order, m.reduction, m.golden, m.dt)
+        m = dataclasses.replace(m, y=m.y[:k], u=m.u[:k], truth=None if m.truth is None else m.truth[:k])
     t0 = time.perf_counter()
     run = a.runner(m, convention=convention, gain=gain, **options)
     t1 = time.perf_counter()

@@ -1014,3 +1014,48 @@ class LPVEllipsoidalSMObserver(_Observer):
             with each reading.
         """
         return self._run(y, u, rho)
+
+
+# ---- CORA's names (setbound.cora.observe; issue 22) ---------------------------------------------
+
+def _eso_c_runner(model, *, convention, gain, **options):
+    """ESO-C = Loukkas, Martinez, Meslem, IFAC 2017 (Alg. 1): the thesis's Chapter 2 observer
+    (design_ellipsoidal_sm_observer + EllipsoidalSMObserver). CORA's own ESO-C cannot run (its gain
+    design reads an undefined variable; the unit tests comment it out as badly conditioned), so
+    there is no CORA convention to reproduce. Options: those of design_ellipsoidal_sm_observer
+    (lambda_route, passes)."""
+    from .ellipsoidal import _cora_noise_generators
+    from .interval import Box
+
+    if convention == "cora":
+        raise InvalidArgumentError("convention: CORA's ESO-C cannot run (priv_observe_gain_ESO_C reads an undefined "
+                                   "variable; its unit tests are commented out), so there is nothing to reproduce; "
+                                   'use convention="setbound" (Loukkas\' observer, guaranteed)')
+    s = model.system
+    unknown = set(options) - {"lambda_route", "passes"}
+    if unknown:
+        raise InvalidArgumentError(f"{sorted(unknown)[0]}: not an option of ESO-C")
+    if np.any(s.D != 0.0):
+        raise InvalidArgumentError("model: an output offset (D u) is not supported by ESO-C")
+    Gw, Gv = _cora_noise_generators(s)
+    plant = Plant(s.A, s.C, B=s.B, Fd=Gw if Gw.shape[1] else np.zeros((s.nx, 1)),
+                  Z=Gv if Gv.shape[1] else np.zeros((s.ny, 1)))
+    design = design_ellipsoidal_sm_observer(plant, **options)
+    c = np.asarray(model.x0.center)
+    r = np.abs(np.asarray(model.x0.generators)).sum(axis=1)
+    obs = EllipsoidalSMObserver(design, Box(c - r, c + r))
+
+    def run():
+        t = obs.run(model.y, model.u)
+        return t.lower, t.upper, []
+    return run
+
+
+def _register_cora_names():
+    from .cora import register_algorithm
+    register_algorithm("ESO-C", _eso_c_runner,
+                       summary="invariant-ellipsoid set-membership observer [Loukkas 2017] = the thesis's "
+                               "EllipsoidalSMObserver (CORA's own ESO-C cannot run)")
+
+
+_register_cora_names()

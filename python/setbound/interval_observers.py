@@ -48,6 +48,7 @@ __all__ = [
     "InvariantObserverDesign",
     "offline_error_sequence",
     "IntervalInvariantObserver",
+    "CoraIntervalObserver",
 ]
 
 _VARIANTS = {"tight": 0, "wrapped": 1, "naive": 2}
@@ -736,3 +737,176 @@ class IntervalInvariantObserver(_OnlineObserver):
         xh, lo, hi = self._io()
         check(lib.sb_interval_invariant_step(self._handle, dptr(y), up, dptr(xh), dptr(lo), dptr(hi)))
         return Box(lo, hi)
+
+
+# ---- CORA's Hinf-G (setbound.cora.observe; issue 22) --------------------------------------------
+
+@reconstructible
+class CoraIntervalObserver(StateMixin):
+    """CORA's interval observer as CORA runs it (its Hinf-G with a given gain) — **not guaranteed**.
+
+    Tang, Wang, Wang, Raïssi and Shen, *Interval estimation methods for discrete-time linear
+    time-invariant systems*, IEEE Trans. Autom. Control 64(11), 2019: a Luenberger estimate
+    ``x̂⁺ = A x̂ + B u + L (y − C x̂)`` plus the interval hulls of the propagated initial set and
+    noise. CORA's recursion is kept with its quirks: row ``k ≥ 1`` is computed before the update with
+    ``y_{k−1}`` (a one-step lag) and row 1 counts the initial centre twice. For guaranteed sets with
+    the same error recursion use :class:`IntervalLuenbergerObserver` (``variant="tight"``), which
+    ``setbound.cora.observe(model, "Hinf-G")`` runs in the default convention.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        ``x⁺ = A x + B u + E ω``, ``y = C x + F ω`` (``D`` must be zero), ``ω`` in the unit box.
+    x0 : Zonotope or Box
+        The initial set ``R0``.
+    L : array_like, shape (n_x, n_y)
+        The observer gain.
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem([[0.5, 0.1], [0.0, 0.6]], [[1.0, 0.0]], E=[[0.1, 0], [0, 0.1]], F=[[0, 0]])
+    >>> obs = setbound.interval_observers.CoraIntervalObserver(sys, setbound.Box([-1, -1], [1, 1]), [[0.3], [0.1]])
+    >>> traj = obs.run(np.zeros((3, 1)))
+    >>> traj.guaranteed, traj.lower.shape
+    (False, (3, 2))
+    """
+
+    _state_prefix = "sb_cora_interval"
+    #: row k of a trajectory is CORA's R{k+1} (lagged; see the class description)
+    is_filter = True
+
+    def __init__(self, system, x0, L):
+        from .sets import Zonotope
+        from .system import LinearSystem, as_system
+
+        system = as_system(system)
+        if not isinstance(system, LinearSystem):
+            raise InvalidArgumentError(f"system: expected a setbound.LinearSystem, got {type(system).__name__}")
+        n, p = system.nx, system.ny
+        if isinstance(x0, Box):
+            x0 = Zonotope(0.5 * (x0.lo + x0.hi), np.diag(0.5 * (x0.hi - x0.lo)))
+        if not isinstance(x0, Zonotope):
+            raise InvalidArgumentError(f"x0: expected a Zonotope or a Box, got {type(x0).__name__}")
+        if x0.n != n:
+            raise DimensionError(f"x0: expected dimension {n}, got {x0.n}")
+        self.L = as_f64(L, "L", shape=(n, p))
+        c0, G0 = np.ascontiguousarray(x0.center), np.ascontiguousarray(x0.generators)
+        handle = ffi.new("sb_cora_interval**")
+        check(lib.sb_cora_interval_create(system._handle, dptr(c0), G0.shape[1], dptr(G0), dptr(self.L), handle))
+        self._handle = ffi.gc(handle[0], lib.sb_cora_interval_free)
+        self.system = system
+        self._lo, self._hi = np.empty(n), np.empty(n)
+
+    @property
+    def steps(self) -> int:
+        """Number of steps taken."""
+        s = ffi.new("int*")
+        check(lib.sb_cora_interval_current(self._handle, ffi.NULL, ffi.NULL, s))
+        return int(s[0])
+
+    def reset(self) -> None:
+        """Back to the initial set, no step taken."""
+        check(lib.sb_cora_interval_reset(self._handle))
+
+    def step(self, y, u=None) -> Box:
+        """One row of CORA's result: see the class description for its time.
+
+        Parameters
+        ----------
+        y : array_like, shape (n_y,)
+            The measurement ``y_k``.
+        u : array_like, shape (n_u,), optional
+            The input ``u_k``.
+
+        Returns
+        -------
+        Box
+        """
+        from .system import step_inputs
+
+        s = self.system
+        y = as_f64(y, "y", shape=(s.ny,))
+        _, up = step_inputs(s, y, u)
+        check(lib.sb_cora_interval_step(self._handle, dptr(y), up, dptr(self._lo), dptr(self._hi)))
+        return Box(self._lo.copy(), self._hi.copy())
+
+    @run_from_initial_set
+    def run(self, y, u=None) -> Trajectory:
+        """CORA's rows for a record, from the initial set.
+
+        Parameters
+        ----------
+        y : array_like, shape (N, n_y)
+            Measurements.
+        u : array_like, shape (N, n_u), optional
+            Known inputs.
+        reset : bool, optional
+            Start from the initial set (default).
+        t : array_like, shape (N,), optional
+            Time of the rows.
+
+        Returns
+        -------
+        Trajectory
+            ``guaranteed`` is False.
+        """
+        from .system import run_inputs
+
+        s = self.system
+        y, u = run_inputs(s, y, u)
+        N = y.shape[0]
+        lo, hi = np.empty((N, s.nx)), np.empty((N, s.nx))
+        for k in range(N):
+            b = self.step(y[k], u[k] if s.nu > 0 else None)
+            lo[k], hi[k] = b.lo, b.hi
+        return Trajectory(0.5 * (lo + hi), lo, hi, [], guaranteed=False)
+
+
+def _hinf_g_runner(model, *, convention, gain, **options):
+    """Hinf-G. ``convention="cora"``: CORA's lagged recursion with the given gain (CORA's own design
+    is a feasibility SDP whose result is whatever its solver stopped at, spec §2.12: pass its gain).
+    Default: the guaranteed interval observer (IntervalLuenbergerObserver, tight error recursion) with
+    the given gain, or the H∞ gain of its LMI design when none is given."""
+    from .ellipsoidal import _cora_noise_generators
+
+    s = model.system
+    if convention == "cora":
+        if options:
+            raise InvalidArgumentError(f"{next(iter(options))}: not an option of Hinf-G")
+        if gain is None:
+            raise InvalidArgumentError("gain: convention cora needs CORA's gain (gain=L): its design is a "
+                                       "feasibility SDP whose result depends on the solver (spec §2.12)")
+        if np.any(s.B[:, -1] != 0.0) or np.any(s.D != 0.0):
+            raise InvalidArgumentError("model: convention cora: CORA's interval observer omits the constant "
+                                       "term c (and the offsets of W and V); this model has one, so CORA's "
+                                       "sets would be wrong")
+        from .system import LinearSystem
+        sysc = LinearSystem(s.A, s.C, B=s.B[:, :-1] if s.nu > 1 else None, E=s.E, F=s.F)
+        obs = CoraIntervalObserver(sysc, model.x0, gain)
+        u = model.u[:, :-1] if s.nu > 1 else None
+
+        def run():
+            t = obs.run(model.y, u)
+            return t.lower, t.upper, []
+        return run
+    Gw, Gv = _cora_noise_generators(s)
+    if np.any(s.D != 0.0):
+        raise InvalidArgumentError("model: an output offset (D u) is not supported by the interval observer")
+    plant = Plant(s.A, s.C, B=s.B, Fd=Gw if Gw.shape[1] else np.zeros((s.nx, 1)),
+                  Z=Gv if Gv.shape[1] else np.zeros((s.ny, 1)))
+    obs = IntervalLuenbergerObserver(plant, model.x0, L=gain, **options)
+
+    def run():
+        t = obs.run(model.y, model.u)
+        return t.lower, t.upper, t.sets
+    return run
+
+
+def _register_cora_names():
+    from .cora import register_algorithm
+    register_algorithm("Hinf-G", _hinf_g_runner, accepts_gain=True,
+                       summary="interval observer with an H∞ gain [Tang 2019]; default = IntervalLuenbergerObserver, "
+                               "cora = CoraIntervalObserver (CORA's one-step lag)")
+
+
+_register_cora_names()

@@ -12,8 +12,8 @@ notebooks). :func:`save_png` writes one to a PNG of exactly ``figsize × dpi`` p
   and [Le2013] plot them);
 * :func:`plot_volume` — the volume of the sets over time (log scale);
 * :func:`plot_projections` — 2-D projections of the sets at chosen steps (ellipses of
-  :class:`~setbound.Ellipsoid`, the exact polygons of projected :class:`~setbound.Zonotope`,
-  boxes for box-only results such as the Kalman filter's ``mean ± 3σ``), with the true state
+  :class:`~setbound.Ellipsoid`, the exact polygons of projected :class:`~setbound.Zonotope` and
+  :class:`~setbound.sets.ConstrainedZonotope`, boxes for box-only results such as the Kalman filter's ``mean ± 3σ``), with the true state
   and the measurement strips of that step.
 
 Time axis: ``t`` (one value per row; by default the first trajectory's own ``t``) or the step
@@ -39,7 +39,7 @@ from ._validate import as_bool, as_float, as_int, as_str, check_memory
 from .errors import InvalidArgumentError
 from .interval import Box
 from .measurement import USED
-from .sets import Ellipsoid, Zonotope
+from .sets import ConstrainedZonotope, Ellipsoid, Zonotope
 
 #: Largest figure side in inches and largest ``dpi`` (a figure is drawn as a w·dpi × h·dpi raster).
 MAX_FIGSIZE = 200.0
@@ -461,13 +461,30 @@ def ellipse_points(P, center, rho, dims=(0, 1), n: int = 200) -> np.ndarray:
     rho = as_float(rho, "rho", lo=0.0)
     n = as_int(n, "n", lo=2, hi=MAX_POINTS)
     dims = list(_index_pair(dims))
-    P = np.asarray(P, dtype=float)
-    Q = rho * np.linalg.inv(P)[np.ix_(dims, dims)]
+    try:
+        P = np.asarray(P, dtype=float)
+        center = np.asarray(center, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise InvalidArgumentError("P and center: expected arrays of numbers") from None
+    if P.ndim != 2 or P.shape[0] != P.shape[1] or P.shape[0] < 2:
+        raise InvalidArgumentError(f"P: expected a square matrix of size >= 2, got shape {P.shape}")
+    dim = P.shape[0]
+    if center.shape != (dim,):
+        raise InvalidArgumentError(f"center: expected {dim} components (the size of P), got {center.shape[0]}")
+    if not (np.all(np.isfinite(P)) and np.all(np.isfinite(center))):
+        raise InvalidArgumentError("P and center: expected finite numbers (NaN or infinity found)")
+    if dims[0] == dims[1] or max(dims) >= dim:
+        raise InvalidArgumentError(f"dims: expected two distinct state indices below {dim}, got {tuple(dims)}")
+    try:
+        Pinv = np.linalg.inv(0.5 * (P + P.T))
+    except np.linalg.LinAlgError:
+        raise InvalidArgumentError("P: singular (an ellipsoid's shape must be positive definite)") from None
+    Q = rho * Pinv[np.ix_(dims, dims)]
     Q = 0.5 * (Q + Q.T)
     w, V = np.linalg.eigh(Q)
     L = V @ np.diag(np.sqrt(np.maximum(w, 0.0)))
     th = np.linspace(0.0, 2.0 * np.pi, n)
-    return np.asarray(center, dtype=float)[dims] + (L @ np.vstack([np.cos(th), np.sin(th)])).T
+    return center[dims] + (L @ np.vstack([np.cos(th), np.sin(th)])).T
 
 
 def _set_outline(s, dims, lo=None, hi=None) -> np.ndarray | None:
@@ -476,6 +493,9 @@ def _set_outline(s, dims, lo=None, hi=None) -> np.ndarray | None:
         return ellipse_points(s.P, s.center, s.rho, dims)
     if isinstance(s, Zonotope):
         return zonotope_polygon(np.asarray(s.center)[dims], np.asarray(s.generators)[dims, :])
+    if isinstance(s, ConstrainedZonotope):  # the exact polygon of the projection (LP support points)
+        V = s.projection(*dims)
+        return V if len(V) >= 3 else None
     if isinstance(s, Box):
         lo, hi = np.asarray(s.lo, float), np.asarray(s.hi, float)
     if lo is None:

@@ -513,6 +513,450 @@ class PRadiusEstimator(_ZonotopicEstimator):
                          reduction=reduction, on_inconsistency=on_inconsistency, reset_set=reset_set)
 
 
+# ---- CORA's zonotopic catalogue on one skeleton (estimators/zonotopic/observer.hpp) ----------------
+
+#: ``convention`` keyword of the observers below: the papers' algorithms or CORA's behaviour.
+CONVENTIONS = {"setbound": lib.SB_CONVENTION_SETBOUND, "cora": lib.SB_CONVENTION_CORA}
+
+
+class _ZonotopicObserver(StateMixin):
+    """The shared zonotopic skeleton of CORA's catalogue with one gain rule (the varying part).
+
+    Strip-based rules are filters (row ``k`` of a run is the set for ``x_k`` after ``y_k``);
+    intersection-free rules are predictors (row ``k`` uses ``y_0 … y_{k−1}``; row 0 is ``x0``).
+    Every rule is guaranteed: the correction is an outer bound for any weight, and rounding is
+    carried in a pending box that the reduction absorbs. ``convention="cora"`` reproduces CORA's
+    behaviour where it differs from the papers (see each class). NaN entries of ``y`` are missing
+    outputs (their strips or gain columns are not used)."""
+
+    _rule: int
+    _takes_gain = False
+    _state_prefix = "sb_zono_observer"
+    is_filter = True
+
+    def __init__(self, system: LinearSystem, x0: Zonotope, *, gain=None, max_generators: int = 20,
+                 reduction: str = "combastel", convention: str = "setbound"):
+        system = as_system(system)
+        x0 = _check_system_and_x0(system, x0)
+        max_generators = as_int(max_generators, "max_generators", lo=1, hi=MAX_GENERATORS)
+        check_memory("max_generators", max_generators,
+                     4 * 8.0 * system.nx * (max_generators + system.nx + system.ny + system.nw))
+        reduction = as_choice(reduction, "reduction", REDUCTIONS)
+        convention = as_choice(convention, "convention", CONVENTIONS)
+        if system.A_rad is not None and np.any(np.asarray(system.A_rad) != 0):
+            raise InvalidArgumentError(f"system: {type(self).__name__} needs a known A (an interval A is not supported)")
+        gptr = ffi.NULL
+        if self._takes_gain:
+            self._gain_matrix = as_f64(gain, "gain", shape=(system.nx, system.ny))
+            gptr = dptr(self._gain_matrix)
+        self.system = system
+        self.x0 = x0
+        self.max_generators = max_generators
+        self.reduction = reduction
+        self.convention = convention
+        handle = ffi.new("sb_zono_observer**")
+        check(lib.sb_zono_observer_create(system._handle, self._rule, gptr, max_generators, REDUCTIONS[reduction],
+                                          CONVENTIONS[convention], x0.m, dptr(x0.center), dptr(x0.generators), handle))
+        self._handle = ffi.gc(handle[0], lib.sb_zono_observer_free)
+        self._m = ffi.new("int*")
+
+    @property
+    def steps(self) -> int:
+        """Number of steps taken."""
+        s = ffi.new("int*")
+        check(lib.sb_zono_observer_steps(self._handle, s))
+        return int(s[0])
+
+    @property
+    def last_gain(self) -> np.ndarray:
+        """The weight of the last step, shape ``(n_x, n_y)`` (``Λ``, the strips' ``λ_i`` as columns, or
+        ``L``); zero columns for missing or unused outputs."""
+        g = np.empty((self.system.nx, self.system.ny))
+        check(lib.sb_zono_observer_last_gain(self._handle, dptr(g)))
+        return g
+
+    def reset(self) -> None:
+        """Back to the initial set, no step taken (the options are kept)."""
+        check(lib.sb_zono_observer_reset(self._handle))
+
+    def current_set(self) -> Zonotope:
+        """The current set (the rounding box as axis-aligned generators): ``x_k`` after the step with
+        ``y_k`` for a filter, ``x_{k+1}`` for a predictor (``x0`` before its first step).
+
+        Returns
+        -------
+        Zonotope
+        """
+        m = ffi.new("int*", 0)
+        p = np.empty(self.system.nx)
+        code = lib.sb_zono_observer_current_set(self._handle, m, dptr(p), ffi.NULL)
+        if code != lib.SB_ERR_BUFFER_TOO_SMALL:
+            check(code)
+        H = np.empty((self.system.nx, m[0]))
+        check(lib.sb_zono_observer_current_set(self._handle, m, dptr(p), dptr(H)))
+        return Zonotope(p, H)
+
+    def _step(self, y, u):
+        s = self.system
+        y, up = step_inputs(s, measurement_or_missing(y, s.ny), u)
+        c, lo, hi = np.empty(s.nx), np.empty(s.nx), np.empty(s.nx)
+        check(lib.sb_zono_observer_step(self._handle, dptr(y), up, dptr(c), dptr(lo), dptr(hi), self._m))
+        return c, lo, hi
+
+    def step(self, y, u=None) -> Zonotope:
+        """Use ``y_k`` (and ``u_k``): a filter returns the set for ``x_k``, a predictor the set for ``x_{k+1}``.
+
+        Parameters
+        ----------
+        y : array_like, shape (n_y,), or None
+            The measurement ``y_k`` (None or NaN entries: missing outputs).
+        u : array_like, shape (n_u,), optional
+            The input ``u_k``.
+
+        Returns
+        -------
+        Zonotope
+        """
+        self._step(y, u)
+        return self.current_set()
+
+    @run_from_initial_set
+    def run(self, y, u=None) -> Trajectory:
+        """Process a record from the initial set; row ``k`` is about ``x_k``.
+
+        Parameters
+        ----------
+        y : array_like, shape (N, n_y), or control.TimeResponseData
+            Measurements (NaN entries: missing outputs).
+        u : array_like, shape (N, n_u), optional
+            Known inputs.
+        reset : bool, optional
+            Start from the initial set (default); ``False`` continues. A failed run leaves the
+            estimator as it was.
+        t : array_like, shape (N,), optional
+            Time of the rows.
+
+        Returns
+        -------
+        Trajectory
+            Filters: row ``k`` used ``y_0 … y_k``; predictors: ``y_0 … y_{k−1}`` (row 0 is ``x0``).
+        """
+        s = self.system
+        y, u = run_inputs(s, y, u)
+        N = y.shape[0]
+        centers, lows, highs, sets = np.empty((N, s.nx)), np.empty((N, s.nx)), np.empty((N, s.nx)), []
+        for k in range(N):
+            if not self.is_filter:
+                z = self.current_set()
+                centers[k], lows[k], highs[k] = z.center, *self._hull()
+                sets.append(z)
+            c, lo, hi = self._step(y[k], u[k] if s.nu > 0 else None)
+            if self.is_filter:
+                centers[k], lows[k], highs[k] = c, lo, hi
+                sets.append(self.current_set())
+        return Trajectory(centers, lows, highs, sets)
+
+    def _hull(self):
+        # The C library's hull of the current set (outward rounded); before a predictor's first
+        # step it is the hull of x0 computed the same way.
+        z = self.current_set()
+        e = np.abs(z.generators).sum(axis=1) + np.finfo(float).eps * np.abs(z.center)
+        e *= 1.0 + (z.m + self.system.nx + 4) * np.finfo(float).eps
+        return z.center - e, z.center + e
+
+
+_OBSERVER_PARAMETERS = """    max_generators : int, optional
+        Generators kept after each step (order reduction; the rounding box is not counted).
+    reduction : {"combastel", "girard", "pca"}, optional
+        Order-reduction method (:meth:`~setbound.sets.Zonotope.reduce`; CORA's models use
+        ``"girard"`` or ``"pca"``).
+    convention : {"setbound", "cora"}, optional
+        The papers' algorithm (default) or CORA's behaviour where it differs."""
+
+
+@reconstructible
+class BravoEstimator(_ZonotopicObserver):
+    """Zonotopic filter with Bravo's candidate parallelotopes per strip (CORA's VolMin-B).
+
+    Bravo, Alamo, Camacho, *Bounded error identification of systems with time-varying parameters*,
+    IEEE TAC 51(7), 2006, Property 1: for each strip, the candidates are the set itself and, for
+    every generator ``g_j`` with ``a = cᵀg_j ≠ 0``, the set with ``g_j`` replaced by the strip
+    direction (``g_i − (cᵀg_i/a) g_j``, ``(σ/a) g_j``); the one with the smallest ``det(T Tᵀ)`` is
+    kept (the first on ties). No generator is added. ``convention="cora"`` tests ``|a|`` against
+    CORA's absolute threshold ``10¹⁰·eps`` instead of one relative to ``|c|ᵀ|g_j|`` and does not
+    reduce the first set. Cost ``O(n² m²)`` per strip.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model (a known ``A``).
+    x0 : Zonotope, Box or Ellipsoid
+        Initial set.
+{params}
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+    ...                             E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+    >>> est = setbound.zonotopic.BravoEstimator(sys, setbound.Box([-1, -1], [1, 1]))
+    >>> bool(est.run(np.zeros((5, 1))).contains(np.zeros((5, 2))).all())
+    True
+    """
+
+    _rule = lib.SB_ZOBS_BRAVO
+
+    def __init__(self, system: LinearSystem, x0: Zonotope, *, max_generators: int = 20, reduction: str = "combastel",
+                 convention: str = "setbound"):
+        super().__init__(system, x0, max_generators=max_generators, reduction=reduction, convention=convention)
+
+
+@reconstructible
+class WangEstimator(_ZonotopicObserver):
+    """Zonotopic filter with Wang et al.'s Kalman-like weight on all strips at once (CORA's FRad-B).
+
+    Wang, Puig, Cembrano, *Set-membership approach and Kalman observer based on zonotopes for
+    discrete-time descriptor systems*, Automatica 93, 2018, Thm. 2: ``Λ = R̄ Cᵀ (C R̄ Cᵀ + F Fᵀ)⁻¹``
+    with ``R̄ = G Gᵀ`` of the predicted set, then ``p' = p + Λ(y − Cp)``,
+    ``G' = [(I − ΛC) G, Λ diag(σ)]``. ``convention="cora"`` forms ``R̄ = A G Gᵀ Aᵀ + E Eᵀ`` from
+    the predicted set as CORA does (the dynamics and the disturbance applied twice) and does not
+    reduce the first set.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model (a known ``A``).
+    x0 : Zonotope, Box or Ellipsoid
+        Initial set.
+{params}
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+    ...                             E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+    >>> est = setbound.zonotopic.WangEstimator(sys, setbound.Box([-1, -1], [1, 1]))
+    >>> bool(est.run(np.zeros((5, 1))).contains(np.zeros((5, 2))).all())
+    True
+    """
+
+    _rule = lib.SB_ZOBS_WANG
+
+    def __init__(self, system: LinearSystem, x0: Zonotope, *, max_generators: int = 20, reduction: str = "combastel",
+                 convention: str = "setbound"):
+        super().__init__(system, x0, max_generators=max_generators, reduction=reduction, convention=convention)
+
+
+@reconstructible
+class CombastelObserver(_ZonotopicObserver):
+    """Intersection-free zonotopic predictor with Combastel's adaptive gain (CORA's FRad-C).
+
+    Combastel, *Zonotopes and Kalman observers: Gain optimality under distinct uncertainty
+    paradigms and robust convergence*, Automatica 55, 2015: ``L_k = A P Cᵀ (C P Cᵀ + F Fᵀ)⁻¹`` with
+    ``P = G Gᵀ`` of the current set and
+    ``X_{k+1} = (A − L_k C) X_k ⊕ (B u_k + L_k (y_k − D u_k)) ⊕ (E − L_k F) B``. A predictor: row
+    ``k`` uses ``y_0 … y_{k−1}``. CORA omits the model's constant term here; setbound always keeps it
+    (it is in ``B u``), and :func:`setbound.cora.observe` refuses a model with ``c ≠ 0`` under
+    ``convention="cora"``.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model (a known ``A``).
+    x0 : Zonotope, Box or Ellipsoid
+        Initial set.
+{params}
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+    ...                             E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+    >>> est = setbound.zonotopic.CombastelObserver(sys, setbound.Box([-1, -1], [1, 1]))
+    >>> t = est.run(np.zeros((5, 1)))
+    >>> bool(t.contains(np.zeros((5, 2))).all()), t.filter
+    (True, False)
+    """
+
+    _rule = lib.SB_ZOBS_COMBASTEL
+    is_filter = False
+
+    def __init__(self, system: LinearSystem, x0: Zonotope, *, max_generators: int = 20, reduction: str = "combastel",
+                 convention: str = "setbound"):
+        super().__init__(system, x0, max_generators=max_generators, reduction=reduction, convention=convention)
+
+
+@reconstructible
+class StripGainEstimator(_ZonotopicObserver):
+    """Zonotopic filter with a given strip weight (CORA's PRad-A with ``all_strips=False``; PRad-B, PRad-C, PRad-D).
+
+    ``all_strips=True``: all strips at once with the ``n_x × n_y`` weight ``Λ``
+    (``p' = p + Λ(y − Cp)``, ``G' = [(I − ΛC) G, Λ diag(σ)]``, Le et al., ISIC 2013);
+    ``all_strips=False``: strip ``i`` alone with ``λ_i`` = column ``i`` of ``gain``, one after another
+    (Le et al., Automatica 2013). Guaranteed for any weight; the weight decides the size (e.g. a
+    P-radius design, or CORA's saved gains).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model (a known ``A``).
+    x0 : Zonotope, Box or Ellipsoid
+        Initial set.
+    gain : array_like, shape (n_x, n_y)
+        The weight.
+    all_strips : bool, optional
+        One weight for all strips (default) or one column per strip.
+{params}
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+    ...                             E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+    >>> est = setbound.zonotopic.StripGainEstimator(sys, setbound.Box([-1, -1], [1, 1]), [[0.5], [0.1]])
+    >>> bool(est.run(np.zeros((5, 1))).contains(np.zeros((5, 2))).all())
+    True
+    """
+
+    _takes_gain = True
+
+    def __init__(self, system: LinearSystem, x0: Zonotope, gain, *, all_strips: bool = True, max_generators: int = 20,
+                 reduction: str = "combastel", convention: str = "setbound"):
+        self.all_strips = as_bool(all_strips, "all_strips")
+        self._rule = lib.SB_ZOBS_FIXED_LAMBDA if self.all_strips else lib.SB_ZOBS_FIXED_STRIPS
+        super().__init__(system, x0, gain=gain, max_generators=max_generators, reduction=reduction,
+                         convention=convention)
+
+    @property
+    def gain(self) -> np.ndarray:
+        """The given weight, shape ``(n_x, n_y)``."""
+        return self._gain_matrix.copy()
+
+
+@reconstructible
+class PropagationObserver(_ZonotopicObserver):
+    """Intersection-free zonotopic predictor with a fixed gain ``L`` (CORA's PRad-E and Nom-G).
+
+    ``X_{k+1} = (A − L C) X_k ⊕ (B u_k + L (y_k − D u_k)) ⊕ (E − L F) B`` (Wang et al., Automatica
+    2018; Combastel 2015 with a constant gain). Guaranteed for any ``L``; bounded when
+    ``A − L C`` is stable. A predictor: row ``k`` uses ``y_0 … y_{k−1}``.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model (a known ``A``).
+    x0 : Zonotope, Box or Ellipsoid
+        Initial set.
+    gain : array_like, shape (n_x, n_y)
+        The observer gain ``L``.
+{params}
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+    ...                             E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+    >>> est = setbound.zonotopic.PropagationObserver(sys, setbound.Box([-1, -1], [1, 1]), [[0.5], [0.1]])
+    >>> bool(est.run(np.zeros((5, 1))).contains(np.zeros((5, 2))).all())
+    True
+    """
+
+    _rule = lib.SB_ZOBS_FIXED_GAIN
+    _takes_gain = True
+    is_filter = False
+
+    def __init__(self, system: LinearSystem, x0: Zonotope, gain, *, max_generators: int = 20,
+                 reduction: str = "combastel", convention: str = "setbound"):
+        super().__init__(system, x0, gain=gain, max_generators=max_generators, reduction=reduction,
+                         convention=convention)
+
+    @property
+    def gain(self) -> np.ndarray:
+        """The given gain ``L``, shape ``(n_x, n_y)``."""
+        return self._gain_matrix.copy()
+
+
+for _cls in (BravoEstimator, WangEstimator, CombastelObserver, StripGainEstimator, PropagationObserver):
+    _cls.__doc__ = _cls.__doc__.replace("{params}", _OBSERVER_PARAMETERS)
+del _cls
+
+
+#: Offline gain designs of :func:`design_zonotopic_gain` (CORA's names).
+GAIN_DESIGNS = {"PRad-A": lib.SB_ZOBS_DESIGN_PRAD_A, "PRad-B": lib.SB_ZOBS_DESIGN_PRAD_B,
+                "PRad-E": lib.SB_ZOBS_DESIGN_PRAD_E, "Nom-G": lib.SB_ZOBS_DESIGN_NOM_G}
+
+
+@dataclass(frozen=True)
+class ZonotopicGainDesign:
+    """An offline weight (PRad-A, PRad-B: for :class:`StripGainEstimator`) or gain (PRad-E, Nom-G: for :class:`PropagationObserver`) and its LMI certificate.
+
+    Parameters
+    ----------
+    method : str
+        ``"PRad-A"``, ``"PRad-B"``, ``"PRad-E"`` or ``"Nom-G"``.
+    gain : ndarray, shape (n_x, n_y)
+        ``P⁻¹ Y`` (PRad-A: column ``i`` from output ``i``'s own design).
+    P : ndarray, shape (n_x, n_x)
+        The Lyapunov-type matrix (PRad-A: of the last output).
+    Y : ndarray, shape (n_x, n_y) or (n_x, 1)
+        ``P`` times the gain (PRad-A: of the last output).
+    beta : float
+        PRad-A/B/E: the contraction ``β``; Nom-G: 1 (CORA's ``μ``).
+    """
+
+    method: str
+    gain: np.ndarray
+    P: np.ndarray
+    Y: np.ndarray
+    beta: float
+
+
+def design_zonotopic_gain(system: LinearSystem, method: str = "PRad-E") -> ZonotopicGainDesign:
+    """Offline weight or gain of CORA's P-radius and nominal zonotopic observers (PRad-A, PRad-B, PRad-E, Nom-G), on the bundled LMI solver.
+
+    ``"PRad-B"`` (Le, Stoica, Alamo, Camacho, Dumur, ISIC 2013, eq. 17): the weight ``Λ`` of all
+    strips at once maximising ``τ`` with ``(1 − β)P/ε ⪰ τI`` under the P-radius LMI,
+    ``ε = ‖rad W‖₂ + σᵀσ``, ``β`` by CORA's bisection (the last feasible solve kept). ``"PRad-A"``:
+    that design for each output alone (Le et al., Automatica 2013); column ``i`` is ``λ_i``.
+
+    ``"PRad-E"`` (Wang, Zhou, Puig, Cembrano, Wang, CCC 2017): ``‖x⁺‖²_P ≤ β‖x‖²_P + ‖E_w w‖² + ‖F_v v‖²``
+    for the error dynamics ``A − LC``, maximal ``trace P``, ``β`` by CORA's bisection on (0, 1) (the
+    last feasible solve is kept); needs ``E`` of full row rank (else ``trace P`` is unbounded).
+    ``"Nom-G"`` (Wang, Puig, Cembrano, Automatica 2018): CORA solves the feasibility problem
+    ``(A − LC)ᵀP(A − LC) ⪯ P`` whose answer is wherever its solver stops (a cone containing
+    ``P = 0``); here the analytic centre of its slice ``P ⪰ I``, ``trace P ≤ 10 t*`` with ``t*`` the
+    least trace in it (``beta`` = 1).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model (a known ``A``).
+    method : {"PRad-A", "PRad-B", "PRad-E", "Nom-G"}, optional
+        The design.
+
+    Returns
+    -------
+    ZonotopicGainDesign
+
+    Raises
+    ------
+    InfeasibleError
+        When no gain satisfies the design's LMI.
+
+    Examples
+    --------
+    >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+    ...                             E=[[0.1, 0.0, 0.0], [0.0, 0.1, 0.0]], F=[[0.0, 0.0, 0.05]])
+    >>> d = setbound.zonotopic.design_zonotopic_gain(sys, "Nom-G")
+    >>> bool(np.max(np.abs(np.linalg.eigvals(sys.A - d.gain @ sys.C))) < 1)
+    True
+    """
+    system = as_system(system)
+    if not isinstance(system, LinearSystem):
+        raise InvalidArgumentError(f"system: expected a setbound.LinearSystem, got {type(system).__name__}")
+    method = as_choice(method, "method", GAIN_DESIGNS)
+    nx, ny = system.nx, system.ny
+    L, P, Y = np.empty((nx, ny)), np.empty((nx, nx)), np.empty((nx, ny))
+    beta = ffi.new("double*")
+    check(lib.sb_zono_gain_design(system._handle, GAIN_DESIGNS[method], dptr(L), dptr(P), dptr(Y), beta))
+    return ZonotopicGainDesign(method, L, P, Y, float(beta[0]))
+
+
 # ---- CORA's names (setbound.cora.observe) -------------------------------------------------------
 
 def _cora_runner(cls):
@@ -528,12 +972,83 @@ def _cora_runner(cls):
     return runner
 
 
+def _refuse_cora_quirk(model, alg: str, convention: str, intersection_free: bool) -> None:
+    """CORA quirks that ``convention="cora"`` does not copy: the intersection-free skeleton omits
+    the constant term ``c`` (spec §1.3; not an outer bound when ``c ≠ 0``), and the strips do not
+    subtract the centre of ``V`` from ``y`` (spec §1.2; setbound's model subtracts it)."""
+    if convention != "cora":
+        return
+    if intersection_free and model.c is not None and np.any(np.asarray(model.c) != 0):
+        raise InvalidArgumentError(
+            f"convention: CORA's {alg} omits the constant term c of the dynamics, which is not zero in this model, "
+            "so its sets would not contain the state; use convention='setbound'")
+    if not intersection_free and model.v_center is not None and np.any(np.asarray(model.v_center) != 0):
+        raise InvalidArgumentError(
+            f"convention: CORA's {alg} does not subtract the centre of V from y (non-zero in this model); setbound "
+            "does not reproduce that; use convention='setbound'")
+
+
+def _observer_runner(make, alg: str, intersection_free: bool, gain_required: bool = False):
+    """A runner of the shared skeleton: ``make(model, gain, **kw)`` builds the observer with
+    CORA's zonotope order and reduction technique (overridable) and the convention."""
+    def runner(model, *, convention, gain, **options):
+        _refuse_cora_quirk(model, alg, convention, intersection_free)
+        if gain_required and gain is None:
+            raise InvalidArgumentError(
+                f"gain: {alg} runs with a given gain here (gain=L, n_x x n_y); its offline design is "
+                "documented in docs/methods.md")
+        est = make(model, gain, **{**model.estimator_options(), "convention": convention, **options})
+
+        def run():
+            t = est.run(model.y, model.u)
+            return t.lower, t.upper, t.sets
+        return run
+    return runner
+
+
+def _strip_gain(name: str, all_strips: bool):
+    def make(model, gain, **kw):
+        # Without a gain: CORA's LMI design on setbound's solver (design_zonotopic_gain).
+        if gain is None:
+            gain = design_zonotopic_gain(model.system, name).gain
+        return StripGainEstimator(model.system, model.x0, gain, all_strips=all_strips, **kw)
+    return make
+
+
 def _register_cora_names():
     from .cora import register_algorithm
     register_algorithm("FRad-A", _cora_runner(SegmentMinEstimator),
                        summary="segment (F-radius) minimisation per strip [Alamo 2005] = SegmentMinEstimator")
     register_algorithm("VolMin-A", _cora_runner(VolumeMinEstimator),
                        summary="exact volume minimisation per strip (LP) [Alamo 2005] = VolumeMinEstimator")
+    register_algorithm("VolMin-B", _observer_runner(lambda m, g, **kw: BravoEstimator(m.system, m.x0, **kw),
+                                                    "VolMin-B", False),
+                       summary="Bravo's candidate parallelotopes per strip [Bravo 2006] = BravoEstimator")
+    register_algorithm("FRad-B", _observer_runner(lambda m, g, **kw: WangEstimator(m.system, m.x0, **kw),
+                                                  "FRad-B", False),
+                       summary="Kalman-like weight on all strips [Wang 2018] = WangEstimator")
+    register_algorithm("FRad-C", _observer_runner(lambda m, g, **kw: CombastelObserver(m.system, m.x0, **kw),
+                                                  "FRad-C", True),
+                       summary="adaptive gain, no intersection [Combastel 2015] = CombastelObserver")
+    register_algorithm("PRad-A", _observer_runner(_strip_gain("PRad-A", False), "PRad-A", False),
+                       summary="fixed P-radius weight per strip [Le 2013] = StripGainEstimator(all_strips=False) + "
+                               "design_zonotopic_gain", accepts_gain=True)
+    register_algorithm("PRad-B", _observer_runner(_strip_gain("PRad-B", True), "PRad-B", False),
+                       summary="fixed P-radius weight on all strips [Le 2013 ISIC] = StripGainEstimator + "
+                               "design_zonotopic_gain", accepts_gain=True)
+    for name, paper in (("PRad-C", "Wang 2018 CDC"), ("PRad-D", "Wang 2019 TAC")):
+        register_algorithm(name, _observer_runner(
+            lambda m, g, **kw: StripGainEstimator(m.system, m.x0, g, all_strips=True, **kw), name, False, True),
+            summary=f"fixed P-radius weight on all strips [{paper}] = StripGainEstimator", accepts_gain=True)
+    for name, paper in (("PRad-E", "Wang 2017 CCC"), ("Nom-G", "Wang 2018")):
+        def make(m, g, _name=name, **kw):
+            # Without a gain: setbound's design (design_zonotopic_gain), timed as CORA's offline part.
+            if g is None:
+                g = design_zonotopic_gain(m.system, _name).gain
+            return PropagationObserver(m.system, m.x0, g, **kw)
+        register_algorithm(name, _observer_runner(make, name, True),
+                           summary=f"fixed gain, no intersection [{paper}] = PropagationObserver + "
+                                   "design_zonotopic_gain", accepts_gain=True)
 
 
 _register_cora_names()

@@ -15,7 +15,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 INCLUDE = ROOT / "include"
-IPPS = sorted((INCLUDE / "setbound").glob("*/impl/*.ipp"))
+IPPS = sorted((INCLUDE / "setbound").glob("**/impl/*.ipp"))  # families may have sub-folders (issue 22)
 
 if not (ROOT / "cpp").is_dir():  # pragma: no cover - an installed package without the sources
     pytest.skip("needs the source tree", allow_module_level=True)

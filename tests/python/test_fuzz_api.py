@@ -735,6 +735,7 @@ import time
 
 from setbound import interval as sbinterval, invariant, plotting, simulation, system as sbsystem, trajectory
 from setbound import fault as sbfault, sets as sbsets
+from setbound import constrained_zonotopic as czn, cora as sbcora
 from setbound import studies
 
 OPTIONS: dict[str, dict[str, str]] = {
@@ -751,6 +752,12 @@ OPTIONS: dict[str, dict[str, str]] = {
     "setbound.ellipsoidal.KalmanFilter.run": {"u": "data"},
     "setbound.ellipsoidal._EllipsoidalEstimator.step": {"u": "data"},
     "setbound.ellipsoidal._EllipsoidalEstimator.run": {"u": "data"},
+    "setbound.ellipsoidal._BoundingEllipsoidEstimator.__init__": {"QW": "data", "QV": "data", "convention": "choice",
+                                                                  "step_cap": "float"},
+    "setbound.ellipsoidal._BoundingEllipsoidEstimator.step": {"u": "data"},
+    "setbound.ellipsoidal._BoundingEllipsoidEstimator.run": {"u": "data"},
+    "setbound.interval_observers.CoraIntervalObserver.step": {"u": "data"},
+    "setbound.interval_observers.CoraIntervalObserver.run": {"u": "data"},
     # zonotopic
     "setbound.zonotopic.exact_hull": {"u": "data", "x0": "data", "use_first_measurement": "bool"},
     "setbound.zonotopic.design_pradius": {"approach": "choice", "order": "data", "beta_range": "pair"},
@@ -762,6 +769,28 @@ OPTIONS: dict[str, dict[str, str]] = {
                                                      "reset_set": "data"},
     "setbound.zonotopic._ZonotopicEstimator.step": {"u": "data"},
     "setbound.zonotopic._ZonotopicEstimator.run": {"u": "data"},
+    # constrained zonotopes
+    "setbound.constrained_zonotopic.ConstrainedZonotopicEstimator.__init__": {
+        "correction": "choice", "reduction": "choice", "technique": "choice", "order": "float",
+        "max_constraints": "int?", "max_generators": "int?", "use_first_measurement": "bool",
+        "on_inconsistency": "choice", "reset_set": "data"},
+    "setbound.constrained_zonotopic.ConstrainedZonotopicEstimator.step": {"u": "data"},
+    "setbound.constrained_zonotopic.ConstrainedZonotopicEstimator.run": {"u": "data", "keep_sets": "bool"},
+    "setbound.cora.observe": {"convention": "choice", "gain": "data", "steps": "int?"},
+    "setbound.cora.register_algorithm": {"summary": "str", "accepts_gain": "bool"},
+    "setbound.zonotopic.BravoEstimator.__init__": {"max_generators": "int", "reduction": "choice",
+                                                   "convention": "choice"},
+    "setbound.zonotopic.WangEstimator.__init__": {"max_generators": "int", "reduction": "choice",
+                                                  "convention": "choice"},
+    "setbound.zonotopic.CombastelObserver.__init__": {"max_generators": "int", "reduction": "choice",
+                                                      "convention": "choice"},
+    "setbound.zonotopic.StripGainEstimator.__init__": {"all_strips": "bool", "max_generators": "int",
+                                                       "reduction": "choice", "convention": "choice"},
+    "setbound.zonotopic.PropagationObserver.__init__": {"max_generators": "int", "reduction": "choice",
+                                                        "convention": "choice"},
+    "setbound.zonotopic.design_zonotopic_gain": {"method": "choice"},
+    "setbound.zonotopic._ZonotopicObserver.step": {"u": "data"},
+    "setbound.zonotopic._ZonotopicObserver.run": {"u": "data"},
     # hinf
     "setbound.hinf.LpvPlant.__init__": {"B": "data", "Fd": "data", "Z": "data"},
     "setbound.hinf.hinf_observer_gain": {"Q": "data"},
@@ -841,6 +870,13 @@ OPTIONS: dict[str, dict[str, str]] = {
     "setbound.system.from_statespace": {"E": "data", "F": "data", "disturbance_inputs": "list",
                                         "output_noise": "floats?"},
     "setbound.plant.Plant.__init__": {"B": "data", "Fd": "data", "Z": "data", "dt": "float?"},
+    "setbound.sets.ConstrainedZonotope.__init__": {"generators": "data", "A": "data", "b": "data", "rounding": "data"},
+    "setbound.sets.ConstrainedZonotope.reduce": {"method": "choice", "technique": "choice", "order": "float~",
+                                                 "max_generators": "int?", "max_constraints": "int?"},
+    "setbound.sets.ConstrainedZonotope.projection": {"i": "int", "j": "int", "max_vertices": "int"},
+    "setbound.sets.ConstrainedZonotope.intersect": {"R": "data"},
+    "setbound.sets.ConstrainedZonotope.intersect_halfspace": {"d": "float~"},
+    "setbound.sets.as_constrained_zonotope": {"name": "str"},
     "setbound.sets.as_box": {"name": "str"},
     "setbound.sets.as_zonotope": {"name": "str"},
     "setbound.sets.as_ellipsoid": {"name": "str"},
@@ -894,7 +930,7 @@ OPTIONS: dict[str, dict[str, str]] = {
 
 #: The modules whose public functions the table must cover (the API modules; the job-file modules
 #: config, campaign, cli, demo and thesis_jobs validate their own values).
-API_MODULES = ("ellipsoidal", "zonotopic", "hinf", "interval", "interval_observers", "invariant", "inclusion", "lmi",
+API_MODULES = ("ellipsoidal", "zonotopic", "constrained_zonotopic", "cora", "hinf", "interval", "interval_observers", "invariant", "inclusion", "lmi",
                "sets", "system", "simulation", "plant", "trajectory", "plotting", "benchmarks", "fault",
                "studies", "studies.engine", "studies.executor", "studies.store", "studies.study", "studies.summary",
                "studies.tasks")
@@ -978,6 +1014,13 @@ def _ctx():
                 X0=X0, traj=traj, ell_traj=ell_traj)
 
 
+def _cora_model(c):
+    from setbound.benchmarks import CoraBenchmark
+
+    return CoraBenchmark("fuzz", c["S"], c["X0"], y=np.zeros((3, 1)), u=np.zeros((3, 0)), truth=None,
+                         zonotope_order=20, reduction="girard")
+
+
 class _FakeSS:  # a discrete-time state-space model (python-control's attributes)
     A, B, C, D, dt = np.array([[0.5]]), np.array([[1.0, 0.5]]), np.array([[1.0]]), np.array([[0.0, 0.0]]), 0.1
 
@@ -1009,11 +1052,22 @@ CALLS = {
         lambda c, **kw: ellipsoidal.ImprovedEstimator(c["d"], c["E"], **kw),
     "setbound.ellipsoidal.KalmanFilter.__init__":
         lambda c, **kw: ellipsoidal.KalmanFilter(c["S"], np.zeros(2), np.eye(2), **kw),
+    "setbound.ellipsoidal._BoundingEllipsoidEstimator.__init__":
+        lambda c, **kw: ellipsoidal.EllipsoidalStateBoundingEstimator(c["S"], c["E"], **kw),
     "setbound.zonotopic.exact_hull": lambda c, **kw: zonotopic.exact_hull(c["S"], np.zeros((2, 1)), x0=c["X0"], **kw),
     "setbound.zonotopic.design_pradius": lambda c, **kw: zonotopic.design_pradius(c["S"], **kw),
     "setbound.zonotopic._ZonotopicEstimator.__init__":
         lambda c, **kw: zonotopic.SegmentMinEstimator(c["S"], c["X0"], **kw),
     "setbound.zonotopic.PRadiusEstimator.__init__": lambda c, **kw: zonotopic.PRadiusEstimator(c["pr"], c["X0"], **kw),
+    "setbound.zonotopic.design_zonotopic_gain": lambda c, **kw: zonotopic.design_zonotopic_gain(c["S"], **kw),
+    "setbound.zonotopic.BravoEstimator.__init__": lambda c, **kw: zonotopic.BravoEstimator(c["S"], c["X0"], **kw),
+    "setbound.zonotopic.WangEstimator.__init__": lambda c, **kw: zonotopic.WangEstimator(c["S"], c["X0"], **kw),
+    "setbound.zonotopic.CombastelObserver.__init__":
+        lambda c, **kw: zonotopic.CombastelObserver(c["S"], c["X0"], **kw),
+    "setbound.zonotopic.StripGainEstimator.__init__":
+        lambda c, **kw: zonotopic.StripGainEstimator(c["S"], c["X0"], [[0.5], [0.1]], **kw),
+    "setbound.zonotopic.PropagationObserver.__init__":
+        lambda c, **kw: zonotopic.PropagationObserver(c["S"], c["X0"], [[0.5], [0.1]], **kw),
     "setbound.hinf.ellipsoidal_error_rpi":
         lambda c, **kw: hinf.ellipsoidal_error_rpi(c["hd"].P, c["hd"].Q_refined, wbar=[1.0, 1.0], **kw),
     "setbound.hinf.refine_dissipation_matrix":
@@ -1086,6 +1140,20 @@ CALLS = {
     "setbound.trajectory.Trajectory.contains": lambda c, **kw: c["traj"].contains(np.zeros((3, 2)), **kw),
     "setbound.trajectory.Trajectory.in_bounds": lambda c, **kw: c["traj"].in_bounds(np.zeros((3, 2)), **kw),
     "setbound.trajectory.Trajectory.plot": lambda c, **kw: c["traj"].plot(**kw),
+    "setbound.sets.ConstrainedZonotope.reduce":
+        lambda c, **kw: sbsets.ConstrainedZonotope([0.0, 0.0], np.eye(2), [[1.0, 0.5]], [0.2]).reduce(**kw),
+    "setbound.sets.ConstrainedZonotope.projection":
+        lambda c, **kw: sbsets.ConstrainedZonotope([0.0, 0.0], np.eye(2), [[1.0, 0.5]], [0.2]).projection(**kw),
+    "setbound.sets.ConstrainedZonotope.intersect_halfspace":
+        lambda c, **kw: sbsets.ConstrainedZonotope([0.0, 0.0], np.eye(2)).intersect_halfspace([1.0, 0.0], **kw),
+    "setbound.sets.as_constrained_zonotope": lambda c, **kw: sbsets.as_constrained_zonotope(c["Z"], **kw),
+    "setbound.constrained_zonotopic.ConstrainedZonotopicEstimator.__init__":
+        lambda c, **kw: czn.ConstrainedZonotopicEstimator(c["S"], c["X0"], **kw),
+    "setbound.constrained_zonotopic.ConstrainedZonotopicEstimator.run":
+        lambda c, **kw: czn.ConstrainedZonotopicEstimator(c["S"], c["X0"]).run(np.zeros((2, 1)), **kw),
+    "setbound.cora.observe": lambda c, **kw: sbcora.observe(_cora_model(c), "FRad-A", **kw),
+    "setbound.cora.register_algorithm":
+        lambda c, **kw: sbcora.register_algorithm("FRad-A", lambda m, **o: None, **{"summary": "x", **kw}),
     "setbound.sets.as_box": lambda c, **kw: sbsets.as_box(c["E"], **kw),
     "setbound.sets.as_zonotope": lambda c, **kw: sbsets.as_zonotope(c["E"], **kw),
     "setbound.sets.as_ellipsoid": lambda c, **kw: sbsets.as_ellipsoid(c["Z"], **kw),

@@ -52,7 +52,7 @@ FINITE_FILLS = ("normal", "zeros", "ones", "eye1", "eye2", "eye3", "huge", "tiny
 # design scalars that are NaN when not computed, margins of outputs that were not tested.
 NAN_OUTPUT_OK = re.compile(
     r"^sb_(lmi_solve|lmi_solve_class|lmi_solve_gevp|lmi_dual|lmi_dual_eq|hinf_design_pass|hinf_design_get"
-    r"|zonotopic_last_check|ellipsoidal_last_check|hinf_observer_last_check|interval_luenberger_last_check"
+    r"|zonotopic_last_check|czonotopic_last_check|ellipsoidal_last_check|hinf_observer_last_check|interval_luenberger_last_check"
     r"|interval_nonlinear_last_check|interval_invariant_last_check"
     r"|interval_luenberger_info|interval_nonlinear_info|interval_luenberger_gain|interval_nonlinear_gain)$")
 
@@ -120,12 +120,21 @@ class Handles:
         self._keep += [p0, H0]
         self._make("sb_zonotopic", lib.sb_zonotopic_create, sysh, lib.SB_ZONO_GAIN_SEGMENT_MIN, ffi.NULL, 6, 1,
                    ffi.NULL, 2, _p(p0), _p(H0))
+        self._make("sb_czonotopic", lib.sb_czonotopic_create, sysh, lib.SB_CZN_EXACT_OUTPUT, lib.SB_CZN_REDUCE_LIMITS,
+                   lib.SB_REDUCE_GIRARD, 20.0, -1, -1, 1, 2, 0, _p(p0), _p(H0), ffi.NULL, ffi.NULL, ffi.NULL)
+        self._make("sb_zono_observer", lib.sb_zono_observer_create, sysh, lib.SB_ZOBS_WANG, ffi.NULL, 6,
+                   lib.SB_ZONO_REDUCE_GIRARD, lib.SB_CONVENTION_SETBOUND, 2, _p(p0), _p(H0))
         self._make("sb_ell_design", lib.sb_ell_design_offline, sysh, lib.SB_ELL_NORM_LOGDET, 0.7)
         I2 = _arr(np.eye(2))
         self._keep.append(I2)
         self._make("sb_ellipsoidal", lib.sb_ellipsoidal_create, self.h["sb_ell_design"], lib.SB_ELL_ONLINE_SCALED,
                    0, 0, 0, ffi.NULL, _p(I2), _p(p0), 1.0)
         self._make("sb_kalman", lib.sb_kalman_create, sysh, _p(p0), _p(I2), ffi.NULL)
+        self._make("sb_bounding_ellipsoid", lib.sb_bounding_ellipsoid_create, sysh, ffi.NULL, ffi.NULL, _p(p0),
+                   _p(I2), 1.0, lib.SB_BE_X0_SHAPE, lib.SB_BE_LIU, lib.SB_CONVENTION_SETBOUND, 1e-4)
+        Lc = _arr([[0.3], [0.1]])
+        self._keep.append(Lc)
+        self._make("sb_cora_interval", lib.sb_cora_interval_create, sysh, _p(p0), 2, _p(I2), _p(Lc))
         # descriptor system (papers.md §4.2 EX-ME19)
         Ed = _arr(np.diag([1.0, 1.0, 0.0]))
         Ad = _arr([[0.5, 0, 0], [0.8, 0.95, 0], [-1, 0.5, 1]])
@@ -300,7 +309,7 @@ def check_case(name, status, message, finite, nan_out, huge=False):
 
 
 # Functions that solve LMIs (designs with a scalar search take ~1 s a call): fewer examples.
-SLOW = {"sb_ell_design_descriptor", "sb_ell_design_offline", "sb_pradius_design", "sb_hinf_design_create",
+SLOW = {"sb_zono_gain_design", "sb_ell_design_descriptor", "sb_ell_design_offline", "sb_pradius_design", "sb_hinf_design_create",
         "sb_interval_invariant_design_create", "sb_interval_luenberger_create", "sb_interval_nonlinear_create",
         "sb_mrpi_algorithm1", "sb_lmi_solve_gevp"}
 

@@ -157,7 +157,7 @@ def test_ellipsoidal_options_are_refused_by_name():
         OnlineEstimator(d, E0, on_inconsistency="ignore")
     with pytest.raises(setbound.InvalidArgumentError, match="^reset_set"):
         ImprovedEstimator(d, E0, reset_set=E0)
-    with pytest.raises(setbound.InvalidArgumentError, match="^reset_set: expected a setbound.Box, Zonotope or Ellipsoid"):
+    with pytest.raises(setbound.InvalidArgumentError, match="^reset_set: expected a setbound.Box, Zonotope, ConstrainedZonotope or Ellipsoid"):
         OfflineEstimator(d, E0, on_inconsistency="reset", reset_set=[0.0, 0.0])
     with pytest.raises(setbound.DimensionError, match="^reset_set"):
         OfflineEstimator(d, E0, on_inconsistency="reset", reset_set=Ellipsoid(np.eye(3), [0, 0, 0], 1.0))

@@ -94,7 +94,7 @@ def test_conversions_are_guaranteed_enclosures():
     assert ZE.contains(boundary * (1 - 1e-12) + El.center * 1e-12).all()
     assert all(BE.contains(p) for p in boundary * (1 - 1e-12) + El.center * 1e-12)
     assert as_zonotope(Z) is Z and as_ellipsoid(El) is El
-    with pytest.raises(setbound.InvalidArgumentError, match="x0: expected a setbound.Box, Zonotope or Ellipsoid"):
+    with pytest.raises(setbound.InvalidArgumentError, match="x0: expected a setbound.Box, Zonotope, ConstrainedZonotope or Ellipsoid"):
         as_zonotope([0, 1])
 
 

@@ -156,6 +156,21 @@ def test_ellipse_points_are_the_projection(rng):
         assert exact - 1e-3 * np.sqrt(np.trace(Q2)) <= got <= exact + 1e-12  # polygon inside, close
 
 
+def test_ellipse_points_rejects_bad_input_by_name():
+    # found by the option fuzzer (CI, 2026-11-27): dims=[0, 2] on a 2-state P raised a bare IndexError
+    from setbound.errors import InvalidArgumentError
+
+    cases = [((np.eye(2), [0, 0], 1.0, (0, 2)), "dims"),
+             ((np.eye(3), [0, 0, 0], 1.0, (1, 1)), "dims"),
+             ((np.eye(2), [0, 0, 0], 1.0), "center"),
+             ((np.ones(3), [0, 0, 0], 1.0), "P"),
+             ((np.zeros((2, 2)), [0, 0], 1.0), "P"),
+             (([[np.nan, 0], [0, 1]], [0, 0], 1.0), "finite")]
+    for args, word in cases:
+        with pytest.raises(InvalidArgumentError, match=word):
+            plotting.ellipse_points(*args)
+
+
 def test_measurement_strips_contain_the_true_state(runs):
     system, sim, _ = runs
     for k in range(len(sim.y)):

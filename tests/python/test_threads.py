@@ -10,7 +10,7 @@ import numpy as np
 
 import setbound as sb
 from setbound import Box, Ellipsoid, LinearSystem, Plant, Zonotope
-from setbound import ellipsoidal, hinf, interval_observers as iobs, zonotopic
+from setbound import constrained_zonotopic, ellipsoidal, hinf, interval_observers as iobs, zonotopic
 from setbound._native import ffi, last_error, lib
 
 A = np.array([[0.5, 0.1], [0.0, 0.4]])
@@ -203,6 +203,8 @@ def _bits(value) -> bytes:
         parts = [value.center, value.generators]
     elif isinstance(value, Box):
         parts = [value.lo, value.hi]
+    elif isinstance(value, constrained_zonotopic.ConstrainedZonotope):
+        parts = [value.center, value.generators, value.A, value.b, value.rounding]
     elif isinstance(value, lmi.LmiResult):
         parts = [value.x, [value.objective, value.dual_objective, value.margin, value.iterations,
                            list(lmi.STATUS_NAMES.values()).index(value.status)]]
@@ -297,12 +299,36 @@ CASES = {
     "DescriptorEstimator": _descriptor_case(),
     "KalmanFilter": Sharing(lambda: ellipsoidal.KalmanFilter(_system(), np.zeros(2), np.eye(2)),
                             lambda e, t, i: e.step(_y(t, i), U0), ["sb_kalman_step"], 30),
+    "OptimalBoundingEllipsoidEstimator": Sharing(
+        lambda: ellipsoidal.OptimalBoundingEllipsoidEstimator(_system(), X0E, step_cap=0.5),
+        lambda e, t, i: e.step(_y(t, i), U0), ["sb_bounding_ellipsoid_step"], 30),
+    "EllipsoidalStateBoundingEstimator": Sharing(
+        lambda: ellipsoidal.EllipsoidalStateBoundingEstimator(_system(), X0E),
+        lambda e, t, i: e.step(_y(t, i), U0), ["sb_bounding_ellipsoid_step"], 30),
+    "CoraIntervalObserver": Sharing(
+        lambda: iobs.CoraIntervalObserver(_system(), X0Z, [[0.3], [0.1]]),
+        lambda e, t, i: e.step(_y(t, i), U0), ["sb_cora_interval_step"], 30),
     "SegmentMinEstimator": Sharing(lambda: zonotopic.SegmentMinEstimator(_system(), X0Z, max_generators=6),
                                    lambda e, t, i: e.step(_y(t, i), U0), ["sb_zonotopic_step"], 30),
     "VolumeMinEstimator": Sharing(lambda: zonotopic.VolumeMinEstimator(_system(), X0Z, max_generators=6),
                                   lambda e, t, i: e.step(_y(t, i), U0), ["sb_zonotopic_step"], 12),
     "PRadiusEstimator": Sharing(lambda: zonotopic.PRadiusEstimator(_once("prad", lambda: zonotopic.design_pradius(
         _system())), X0Z, max_generators=6), lambda e, t, i: e.step(_y(t, i), U0), ["sb_zonotopic_step"], 30),
+    "ConstrainedZonotopicEstimator": Sharing(
+        lambda: constrained_zonotopic.ConstrainedZonotopicEstimator(_system(), X0Z),
+        lambda e, t, i: e.step(_y(t, i), U0), ["sb_czonotopic_step"], 12),
+    "BravoEstimator": Sharing(lambda: zonotopic.BravoEstimator(_system(), X0Z, max_generators=6),
+                              lambda e, t, i: e.step(_y(t, i), U0), ["sb_zono_observer_step"], 30),
+    "WangEstimator": Sharing(lambda: zonotopic.WangEstimator(_system(), X0Z, max_generators=6),
+                             lambda e, t, i: e.step(_y(t, i), U0), ["sb_zono_observer_step"], 30),
+    "CombastelObserver": Sharing(lambda: zonotopic.CombastelObserver(_system(), X0Z, max_generators=6),
+                                 lambda e, t, i: e.step(_y(t, i), U0), ["sb_zono_observer_step"], 30),
+    "StripGainEstimator": Sharing(
+        lambda: zonotopic.StripGainEstimator(_system(), X0Z, np.full((2, _system().ny), 0.3), max_generators=6),
+        lambda e, t, i: e.step(_y(t, i), U0), ["sb_zono_observer_step"], 30),
+    "PropagationObserver": Sharing(
+        lambda: zonotopic.PropagationObserver(_system(), X0Z, np.full((2, _system().ny), 0.3), max_generators=6),
+        lambda e, t, i: e.step(_y(t, i), U0), ["sb_zono_observer_step"], 30),
     "EllipsoidalSMObserver": Sharing(
         lambda: hinf.EllipsoidalSMObserver(_once("hinf", lambda: hinf.design_ellipsoidal_sm_observer(
             _thesis_plant(), [1.0, 1.0])), np.zeros(2), 2.0),
@@ -361,8 +387,9 @@ def test_every_class_holding_a_mutable_handle_is_threadsafe():
     from ThreadSafe; a function may create one only as a local it does not return."""
     mutable = _mutable_handle_types()
     # the two rows of the table in docs/c_api.md, "Threads: which handles may be shared"
-    assert mutable == {"sb_ellipsoidal", "sb_kalman", "sb_zonotopic", "sb_hinf_observer", "sb_lmi_problem",
-                       "sb_interval_luenberger", "sb_interval_nonlinear", "sb_interval_invariant"}
+    assert mutable == {"sb_ellipsoidal", "sb_kalman", "sb_zonotopic", "sb_zono_observer", "sb_czonotopic", "sb_hinf_observer", "sb_lmi_problem",
+                       "sb_interval_luenberger", "sb_interval_nonlinear", "sb_interval_invariant",
+                       "sb_bounding_ellipsoid", "sb_cora_interval"}
     immutable = set(re.findall(r"typedef struct (sb_\w+) sb_\w+;", HEADER.read_text())) - mutable - {"sb_lmi_result"}
     assert immutable == {"sb_linear_system", "sb_descriptor_system", "sb_ell_design", "sb_hinf_design",
                          "sb_interval_invariant_design", "sb_polytope", "sb_mrpi"}

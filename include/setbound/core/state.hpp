@@ -47,6 +47,11 @@ enum class StateKind : int {
   IntervalLuenbergerObserver = 8,
   NonlinearIntervalObserver = 9,
   IntervalInvariantObserver = 10,
+  ConstrainedZonotopicEstimator = 11,
+  // issue 22, the CORA catalogue's ellipsoidal / interval part (numbers from 21 on)
+  BoundingEllipsoid = 21,
+  IntervalHinfObserver = 22,
+  ZonotopicObserver = 23,  ///< estimators/zonotopic/observer.hpp (CORA's zonotopic catalogue)
 };
 
 inline constexpr double kStateTagBase = 5342000.0;  // "SB" 0x53 0x42

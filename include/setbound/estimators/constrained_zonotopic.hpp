@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "setbound/core/linear_system.hpp"
+#include "setbound/core/state.hpp"
 #include "setbound/estimators/measurement_check.hpp"
 #include "setbound/sets/constrained_zonotope.hpp"
 #include "setbound/sets/zonotope.hpp"
@@ -109,6 +110,15 @@ class ConstrainedZonotopicEstimator {
   /// Runs over the rows of Y (N × n_y) and U (N × n_u, or empty when n_u = 0) from the initial
   /// set (reset() first: the same data give the same result).
   CZTrajectory run(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& U = Eigen::MatrixXd());
+
+  /// Full mutable state (core/state.hpp): the step counter, the prior for x_{k+1}, the current set
+  /// and its hull, the last screening. Restored into an estimator made with the same system and
+  /// options (the initial set may differ) it continues bit-for-bit; refused otherwise
+  /// (InvalidArgumentError "state: ..."), the estimator unchanged.
+  std::vector<double> save_state() const;
+  void restore_state(const std::vector<double>& state);
+  /// Hash of what a state depends on: the system matrices and the options that shape the sets.
+  StateFingerprint fingerprint() const;
 
   /// One correction of X with (y, u) by the estimator's method, for the outputs in `used`
   /// (indices into y). No screening, no reduction.

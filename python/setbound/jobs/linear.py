@@ -1,10 +1,12 @@
 """The job-file kinds of the papers: system kinds ``linear`` and ``descriptor``; estimators
 ``offline``, ``online``, ``scaled``, ``improved``, ``descriptor`` (ellipsoidal), ``segment_min``,
-``volume_min``, ``pradius`` (zonotopic) and ``kalman`` (registered on import)."""
+``volume_min``, ``pradius`` (zonotopic), ``czn_a``, ``czn_b`` (constrained zonotopes; also under CORA's
+names ``CZN-A``, ``CZN-B``) and ``kalman`` (registered on import)."""
 from __future__ import annotations
 
 import numpy as np
 
+from .._validate import as_int
 from ..errors import InvalidArgumentError, SetboundError
 from ..system import DescriptorSystem, LinearSystem
 from ..zonotopic import MAX_GENERATORS as _API_MAX_GENERATORS
@@ -164,6 +166,22 @@ def _build_zonotopic(method):
     return build
 
 
+def _build_czn(correction):
+    def build(job, o: dict):
+        from ..constrained_zonotopic import ConstrainedZonotopicEstimator
+
+        return ConstrainedZonotopicEstimator(
+            job.system, job.initial, correction=correction, reduction=str(o["reduction"]),
+            technique=str(o["technique"]), order=float(o["order"]), max_constraints=o["max_constraints"],
+            max_generators=o["max_generators"], use_first_measurement=bool(o["use_first_measurement"]),
+            on_inconsistency=str(o["on_inconsistency"])), None
+    return build
+
+
+def _optional_limit(v, key):
+    return None if v is None else as_int(v, key, lo=0, hi=_CZN_MAX_SIZE)
+
+
 def _rho_inf_volume(design, trajectory) -> float:
     return float(design.volume_inf)
 
@@ -181,6 +199,13 @@ _ZONO = {"max_generators": 20, "use_first_measurement": True, "reduction": "comb
 _ELL_CHECKS = {"normalization": one_of("logdet", "ball", "paper_trace"), "beta": _beta}
 _ZONO_CHECKS = {"max_generators": positive_int(MAX_GENERATORS), "use_first_measurement": boolean,
                 "reduction": one_of("combastel", "girard", "pca"), "on_inconsistency": one_of("flag", "raise", "reset")}
+
+_CZN_MAX_SIZE = 100000  # SB_CZN_MAX_SIZE of setbound.h
+_CZN = {"reduction": "limits", "technique": "girard", "order": 20.0, "max_constraints": None, "max_generators": None,
+        "use_first_measurement": True, "on_inconsistency": "flag"}
+_CZN_CHECKS = {"reduction": one_of("limits", "cora", "none"), "technique": one_of("girard", "pca"),
+               "order": number(lo=1), "max_constraints": _optional_limit, "max_generators": _optional_limit,
+               "use_first_measurement": boolean, "on_inconsistency": one_of("flag", "raise", "reset")}
 
 register_system("linear", {"A", "A_radius", "B", "C", "D", "E", "F", "omega"}, _linear_system, LinearSystem,
                 description="x+ = A x + B u + E w, y = C x + D u + F w (A may be an interval matrix; "
@@ -218,3 +243,9 @@ register_estimator("volume_min", "zonotopic", _ZONO, _build_zonotopic("volume_mi
 register_estimator("pradius", "zonotopic", {**_ZONO, "approach": 1}, _build_zonotopic("pradius"),
                    checks={**_ZONO_CHECKS, "approach": one_of(1, 2)},
                    description="[Le2013] offline P-radius gains (Methods › Zonotopic estimation › P-radius designs)")
+for _name, _corr, _what in (("czn_a", "exact_output", "exact intersection with the output set"),
+                            ("czn_b", "wang_strips", "output strips in Wang et al.'s gain representation")):
+    for _alias in (_name, _name.upper().replace("_", "-")):
+        register_estimator(_alias, "constrained_zonotopic", _CZN, _build_czn(_corr), checks=_CZN_CHECKS,
+                           description=f"[Scott2016] constrained zonotopes, {_what} (CORA's "
+                                       f"{_name.upper().replace('_', '-')}; Methods › Constrained zonotopes)")

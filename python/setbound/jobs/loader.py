@@ -69,6 +69,16 @@ def _per_step_set_bytes(family: str, n: int, options: dict) -> int:
         return 8 * n * (min(m, 10**6) + n + 1) + _SET_OVERHEAD
     if family == "interval":
         return 16 * n + _SET_OVERHEAD
+    if family == "constrained_zonotopic":
+        # the set of the step: n × n_g generators and n_c × n_g constraints (bounded mode's limits;
+        # CORA's reduction keeps order·n + n_c generators; without reduction the sizes grow and the
+        # per-step figure is the limit's, so the estimate errs on the small side there)
+        mc = options.get("max_constraints")
+        mc = mc if isinstance(mc, int) and mc >= 0 else 4 * n
+        mg = options.get("max_generators")
+        mg = mg if isinstance(mg, int) and mg >= 0 else 20 * n + mc
+        mg, mc = min(mg, 10**6), min(mc, 10**6)
+        return 8 * (n * mg + mc * mg + mc + 2 * n) + 4 * _SET_OVERHEAD
     return 8 * (n * n + n) + _SET_OVERHEAD  # ellipsoids and the rest
 
 

@@ -20,6 +20,10 @@ SETBOUND_INLINE const char* state_kind_name(StateKind k) {
     case StateKind::IntervalLuenbergerObserver: return "IntervalLuenbergerObserver";
     case StateKind::NonlinearIntervalObserver: return "NonlinearIntervalObserver";
     case StateKind::IntervalInvariantObserver: return "IntervalInvariantObserver";
+    case StateKind::ConstrainedZonotopicEstimator: return "ConstrainedZonotopicEstimator";
+    case StateKind::BoundingEllipsoid: return "BoundingEllipsoidEstimator";
+    case StateKind::IntervalHinfObserver: return "IntervalHinfObserver";
+    case StateKind::ZonotopicObserver: return "ZonotopicObserver";
   }
   return "unknown estimator";
 }
@@ -63,7 +67,7 @@ SETBOUND_INLINE StateReader::StateReader(const std::vector<double>& b, StateKind
   if (b[0] != tag) {
     const double k = b[0] - kStateTagBase;
     std::string what = "not a saved state of setbound";
-    if (k >= 1 && k <= 10 && k == std::floor(k))
+    if (((k >= 1 && k <= 10) || k == 21) && k == std::floor(k))
       what = std::string("a saved ") + state_kind_name(static_cast<StateKind>(static_cast<int>(k)));
     fail("tag " + num(b[0]) + " is " + what + ", expected a saved " + who);
   }

@@ -93,7 +93,11 @@ SETBOUND_INLINE const ConstrainedZonotope& ConstrainedZonotopicEstimator::curren
 
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotopicEstimator::predict(const ConstrainedZonotope& X,
                                                                           const Eigen::Ref<const Eigen::VectorXd>& u) const {
-  ConstrainedZonotope P = X.linear_map(sys_.A());
+  // Long runs (bounded mode, no reduction) keep the rounding box from wrapping through A by turning
+  // it into columns once it is no longer negligible (absorb_rounding). CORA's mode keeps CORA's
+  // generator count instead: its reduction folds the box in (reduce_cora), and its runs are short
+  // (its constraints are never removed).
+  ConstrainedZonotope P = (opt_.reduction == CZReduction::Cora ? X : X.absorb_rounding()).linear_map(sys_.A());
   if (sys_.nu() > 0) P = P.translate(sys_.B() * u);  // B u's own rounding: P.translate adds γ|c'|
   if (sys_.nw() > 0) {
     Eigen::MatrixXd E = sys_.E();
@@ -301,6 +305,98 @@ SETBOUND_INLINE CZTrajectory ConstrainedZonotopicEstimator::run(const Eigen::Mat
     t.checks.push_back(check_);
   }
   return t;
+}
+
+SETBOUND_INLINE StateFingerprint ConstrainedZonotopicEstimator::fingerprint() const {
+  StateFingerprint f;
+  f.add(sys_.A()).add(sys_.B()).add(sys_.C()).add(sys_.D()).add(sys_.E()).add(sys_.F());
+  f.add_int(static_cast<int>(opt_.correction)).add_int(static_cast<int>(opt_.reduction));
+  f.add_int(static_cast<int>(opt_.technique)).add(opt_.order);
+  f.add_int(opt_.max_constraints).add_int(opt_.max_generators).add_int(opt_.use_first_measurement ? 1 : 0);
+  return f;
+}
+
+namespace czn_detail {
+
+SETBOUND_INLINE void write_set(StateWriter& w, const ConstrainedZonotope& Z) {
+  w.vec(Z.center()).mat(Z.generators()).mat(Z.constraint_matrix()).vec(Z.constraint_vector()).vec(Z.rounding_radius());
+}
+
+/// A saved set of dimension n: the counts are read from the blob (the reader checks that the
+/// blob carries that many entries), the parts validated by ConstrainedZonotope::from_parts.
+SETBOUND_INLINE ConstrainedZonotope read_set(StateReader& r, Eigen::Index n, const std::string& name) {
+  Eigen::VectorXd c = r.vec(n, (name + " centre").c_str());
+  Eigen::MatrixXd G = r.mat(n, -1, (name + " generators").c_str());
+  Eigen::MatrixXd A = r.mat(-1, G.cols(), (name + " constraints").c_str());
+  Eigen::VectorXd b = r.vec(A.rows(), (name + " constraint vector").c_str());
+  Eigen::VectorXd rr = r.vec(n, (name + " rounding radius").c_str());
+  try {
+    return ConstrainedZonotope::from_parts(std::move(c), std::move(G), std::move(A), std::move(b), std::move(rr));
+  } catch (const Error& e) {
+    r.fail(name + ": " + e.what());
+  }
+}
+
+}  // namespace czn_detail
+
+SETBOUND_INLINE std::vector<double> ConstrainedZonotopicEstimator::save_state() const {
+  StateWriter w(StateKind::ConstrainedZonotopicEstimator, fingerprint());
+  w.count(k_).flag(has_current_);
+  czn_detail::write_set(w, prior_);
+  czn_detail::write_set(w, current_);
+  w.vec(lo_).vec(hi_);
+  // The last screening: statuses, then margins with a presence flag each (a margin may be NaN,
+  // and saved entries must be finite).
+  const Eigen::Index ny = static_cast<Eigen::Index>(check_.status.size());
+  w.count(ny);
+  for (Eigen::Index i = 0; i < ny; ++i) {
+    const double m = check_.margin(i);
+    w.count(static_cast<int>(check_.status[static_cast<std::size_t>(i)])).flag(!std::isnan(m)).scalar(std::isnan(m) ? 0.0 : m);
+  }
+  w.flag(check_.reset);
+  return w.finish();
+}
+
+SETBOUND_INLINE void ConstrainedZonotopicEstimator::restore_state(const std::vector<double>& state) {
+  struct Parsed {
+    long long k = 0;
+    bool has_cur = false;
+    ConstrainedZonotope prior, current;
+    Eigen::VectorXd lo, hi;
+    MeasurementCheck check;
+  };
+  const Eigen::Index n = sys_.nx(), ny = sys_.ny();
+  Parsed q = guard_state_memory(StateKind::ConstrainedZonotopicEstimator, [&] {
+    StateReader r(state, StateKind::ConstrainedZonotopicEstimator, fingerprint());
+    Parsed t{0, false, x0_, x0_, {}, {}, {}};
+    t.k = r.count("steps");
+    t.has_cur = r.flag("has_current");
+    t.prior = czn_detail::read_set(r, n, "prior");
+    t.current = czn_detail::read_set(r, n, "current set");
+    const Eigen::Index nh = t.has_cur ? n : 0;
+    t.lo = r.vec(nh, "lower bounds");
+    t.hi = r.vec(nh, "upper bounds");
+    const long long nys = r.count("outputs", ny, ny);
+    t.check.clear(ny);
+    for (long long i = 0; i < nys; ++i) {
+      t.check.status[static_cast<std::size_t>(i)] = static_cast<OutputStatus>(r.count("output status", 0, 3));
+      const bool has_margin = r.flag("margin present");
+      const double m = r.scalar("margin");
+      t.check.margin(static_cast<Eigen::Index>(i)) = has_margin ? m : std::numeric_limits<double>::quiet_NaN();
+    }
+    t.check.reset = r.flag("reset");
+    r.finish();
+    if (t.has_cur != (t.k > 0)) r.fail("has_current must be set exactly when a step was taken");
+    return t;
+  });
+  // Commit (moves and swaps only).
+  k_ = static_cast<Eigen::Index>(q.k);
+  has_current_ = q.has_cur;
+  prior_ = std::move(q.prior);
+  current_ = std::move(q.current);
+  lo_.swap(q.lo);
+  hi_.swap(q.hi);
+  check_ = std::move(q.check);
 }
 
 }  // namespace setbound

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
+#include <vector>
 #include <utility>
 
 #include "setbound/core/config.hpp"
@@ -103,6 +105,22 @@ SETBOUND_INLINE ConstrainedZonotope::ConstrainedZonotope(Eigen::VectorXd c, Eige
 SETBOUND_INLINE ConstrainedZonotope::ConstrainedZonotope(const Zonotope& z)
     : ConstrainedZonotope(z.center(), z.generators(), Eigen::MatrixXd(0, z.num_generators()), Eigen::VectorXd(0)) {}
 
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::from_parts(Eigen::VectorXd c, Eigen::MatrixXd G,
+                                                                   Eigen::MatrixXd A, Eigen::VectorXd b,
+                                                                   Eigen::VectorXd r) {
+  ConstrainedZonotope Z(std::move(c), std::move(G), std::move(A), std::move(b));
+  if (r.size() != Z.dimension())
+    throw DimensionError("r: expected length " + std::to_string(Z.dimension()) + " (the length of c), got " +
+                         std::to_string(r.size()));
+  require_finite(r, "r");
+  for (Eigen::Index i = 0; i < r.size(); ++i)
+    if (r(i) < 0.0)
+      throw InvalidArgumentError("r: the rounding radii must be >= 0, entry " + std::to_string(i) + " is " +
+                                 std::to_string(r(i)));
+  Z.r_ = std::move(r);
+  return Z;
+}
+
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::from_bounds(const Eigen::Ref<const Eigen::VectorXd>& lo,
                                                                     const Eigen::Ref<const Eigen::VectorXd>& hi) {
   if (lo.size() == 0) throw DimensionError("lo: the box must have at least one dimension");
@@ -127,8 +145,10 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::linear_map(const Eigen:
   require_finite(K, "K");
   using czono_detail::inflate;
   const Eigen::Index n = dimension();
+  const Eigen::VectorXd mag = czono_detail::magnitude(c_, G_);
   // K(c + Gξ + diag(r)η) = fl(Kc) + fl(KG)ξ + e, |e| <= γ_n |K|(|c| + |G|1) + |K| r.
-  Eigen::VectorXd per_row = r_ + rounding_bounds::gamma(n) * czono_detail::magnitude(c_, G_);
+  // (|K| r boxes K·box(r): see absorb_rounding for why a long run must turn r into columns.)
+  Eigen::VectorXd per_row = r_ + rounding_bounds::gamma(n) * mag;
   per_row = inflate(per_row, 2);
   const Eigen::VectorXd r = inflate(K.cwiseAbs() * per_row, n);
   return ConstrainedZonotope(K * c_, K * G_, A_, b_, r, true);
@@ -507,6 +527,23 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_cora(ZonotopeRed
   return Z.reduce_lift(technique, static_cast<Eigen::Index>(std::min(limit, 1e15)));
 }
 
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::absorb_rounding(double relative) const {
+  const Eigen::Index n = dimension();
+  const double rmax = r_.maxCoeff();
+  if (!(rmax > 0.0) || rmax <= relative * czono_detail::magnitude(c_, G_).maxCoeff()) return *this;
+  std::vector<Eigen::Index> nz;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (r_(i) > 0.0) nz.push_back(i);
+  const Eigen::Index m = num_generators(), e = static_cast<Eigen::Index>(nz.size());
+  Eigen::MatrixXd G(n, m + e);
+  G << G_, Eigen::MatrixXd::Zero(n, e);
+  for (Eigen::Index j = 0; j < e; ++j) G(nz[static_cast<size_t>(j)], m + j) = r_(nz[static_cast<size_t>(j)]);
+  Eigen::MatrixXd A(num_constraints(), m + e);
+  A << A_, Eigen::MatrixXd::Zero(num_constraints(), e);
+  // box(r) = diag(r) B exactly: no rounding, the new rounding box is zero.
+  return ConstrainedZonotope(c_, std::move(G), std::move(A), b_, Eigen::VectorXd::Zero(n), true);
+}
+
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_lift(ZonotopeReduction technique, Eigen::Index limit) const {
   const Eigen::Index n = dimension(), q = num_constraints(), m = num_generators();
   Eigen::Index nonzero = 0;
@@ -515,8 +552,17 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_lift(ZonotopeRed
   if (nonzero <= limit) return *this;
   Eigen::VectorXd centre(n + q);
   centre << c_, -b_;
-  Eigen::MatrixXd gens(n + q, m);
-  gens << G_, A_;
+  // The rounding box enters the lift as columns [diag(r); 0] (exact), so the reduction boxes it
+  // with the other small generators and the result starts again with r = 0 (it is counted in the
+  // reduction's input, not in the trigger above: CORA's rule stays CORA's).
+  std::vector<Eigen::Index> nz;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (r_(i) > 0.0) nz.push_back(i);
+  const Eigen::Index e = static_cast<Eigen::Index>(nz.size());
+  Eigen::MatrixXd gens = Eigen::MatrixXd::Zero(n + q, m + e);
+  gens.topLeftCorner(n, m) = G_;
+  gens.bottomLeftCorner(q, m) = A_;
+  for (Eigen::Index j = 0; j < e; ++j) gens(nz[static_cast<size_t>(j)], m + j) = r_(nz[static_cast<size_t>(j)]);
   const Zonotope lift(centre, gens);
   const Eigen::Index target = std::max(limit, n + q);
   const Zonotope reduced = technique == ZonotopeReduction::Pca      ? lift.reduce_pca(target)
@@ -524,7 +570,7 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_lift(ZonotopeRed
                                                                     : lift.reduce_combastel(target);
   const Eigen::MatrixXd& H = reduced.generators();
   // The centre is unchanged by these reductions; the split keeps c and b exactly.
-  return ConstrainedZonotope(c_, H.topRows(n), H.bottomRows(q), b_, r_, true);
+  return ConstrainedZonotope(c_, H.topRows(n), H.bottomRows(q), b_, Eigen::VectorXd::Zero(n), true);
 }
 
 SETBOUND_INLINE void ConstrainedZonotope::require_lp(const BoxLP& lp) const {

@@ -1,0 +1,69 @@
+// setbound — offline gain designs of the intersection-free zonotopic observers of CORA's
+// catalogue (spec cora_observers.md §2.10 PRad-E, §2.11 Nom-G), on setbound's LMI solver.
+//
+// Both return L = P⁻¹Y for the propagation X_{k+1} = (A − LC) X_k ⊕ … (observer.hpp); any L is
+// guaranteed there, the design only decides the size. With W = E_w B (E_w: E compressed to full
+// column rank) and V = F_v B (F_v: F compressed likewise):
+//
+//   PRad-E (Wang, Zhou, Puig, Cembrano, Wang, CCC 2017, eq. 17; H₋-type P-radius):
+//     N(β) = [ βP          0        0        (PA − YC)ᵀ ]
+//            [ 0           E_wᵀE_w  0        (PE_w)ᵀ    ]  ⪰ 0,   P ⪰ 0,   maximise trace P,
+//            [ 0           0        F_vᵀF_v  (YF_v)ᵀ    ]
+//            [ PA − YC     PE_w     YF_v     P          ]
+//     i.e. ‖x⁺‖²_P ≤ β‖x‖²_P + ‖E_w w‖² + ‖F_v v‖²; β by CORA's bisection on (0, 1) to a width of
+//     0.01 (infeasible → smaller β). CORA takes P, Y of the *last* solve whatever its status;
+//     setbound takes the last feasible one (the largest feasible β of the bisection). trace P is
+//     bounded only when E_w has full row rank (the E_w block forces E_wᵀ P E_w ⪯ E_wᵀE_w);
+//     otherwise the design is refused.
+//   Nom-G (Wang, Puig, Cembrano, Automatica 93, 2018, nominal observer): CORA solves the
+//     feasibility problem [[μP, ·], [PA − YC, P]] ⪰ 0 with μ = 1 and no objective, whose feasible
+//     set is a cone containing P = 0: the returned point is wherever the solver stops (spec §2.11).
+//     setbound's design takes the analytic centre of the slice P ⪰ I, trace P ≤ 10 t* of that cone
+//     (t* its least trace; max log det N + log det(P − I) + log(10 t* − trace P), N the LMI): a deterministic gain
+//     strictly inside, with (A − LC)ᵀP(A − LC) ⪯ P. (The largest decay margin, the other obvious
+//     choice, gives near dead-beat gains whose sets are up to 6× wider than CORA's on pedestrian4.)
+//
+// and the weights of the strip-based observers with fixed weights (PRad-B: all strips at once,
+// PRad-A: one strip at a time), Λ = P⁻¹Y:
+//
+//   PRad-B (Le, Stoica, Alamo, Camacho, Dumur, ISIC 2013, eq. 17; spec §2.7):
+//     M(β) = [ βP                 0        0        ·  ]
+//            [ 0                  E_wᵀE_w  0        ·  ]  ⪰ 0,  P ⪰ 0,  (1 − β) P / ε − τ I ⪰ 0,  τ ≥ 0,
+//            [ 0                  0        F_vᵀF_v  ·  ]  maximise τ,
+//            [ (P − YC)A  (P − YC)E_w  YF_v     P  ]
+//     ε = ‖rs|E|‖₂ + σᵀσ (the Euclidean norm of W's interval radius, not squared, as CORA), β by
+//     the same bisection as PRad-E (the last feasible solve kept);
+//   PRad-A (Le et al., Automatica 2013, single output): the PRad-B design for each output i alone
+//     (C ← C_i, F_v ← σ_i, ε with σ_i²); column i of the result is λ_i.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+
+#include "setbound/core/error.hpp"
+#include "setbound/core/linear_system.hpp"
+
+namespace setbound {
+
+/// An offline observer gain and its certificate.
+struct ZonotopicGainDesign {
+  Eigen::MatrixXd gain;  ///< n_x × n_y, L = P⁻¹Y
+  Eigen::MatrixXd P, Y;  ///< the LMI variables at the solution
+  double beta = 0.0;     ///< PRad-B/E: the contraction β (PRad-A: of the last output); Nom-G: μ = 1
+  double objective = 0;  ///< PRad-E, Nom-G: trace P; PRad-A/B: τ (PRad-A: of the last output)
+  Eigen::MatrixXd lmi;   ///< the design's main LMI matrix at the solution (⪰ 0 up to the solver's accuracy)
+};
+
+enum class ZonotopicGainMethod { PRadE = 1, NomG = 2, PRadB = 3, PRadA = 4 };
+
+/// The PRad-A, PRad-B, PRad-E or Nom-G design (see designs.hpp). PRad-A returns the P and Y of its last output. Throws InfeasibleError with the reason when no
+/// gain exists (no β / μ feasible, unbounded trace P), DimensionError / InvalidArgumentError for
+/// an unsuitable system (an interval A).
+ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sys, ZonotopicGainMethod method);
+
+}  // namespace setbound
+
+// The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
+#if !defined(SETBOUND_SEPARATE_COMPILATION)
+#include "setbound/estimators/zonotopic/impl/designs.ipp"
+#endif

@@ -1,0 +1,246 @@
+// setbound — definitions of the functions declared in setbound/estimators/zonotopic/designs.hpp.
+// Included by that header (header-only use) or compiled once into libsetbound
+// (SETBOUND_SEPARATE_COMPILATION); see setbound/core/config.hpp.
+#pragma once
+
+#include "setbound/estimators/zonotopic/designs.hpp"
+#include "setbound/core/config.hpp"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <optional>
+
+#include "setbound/estimators/pradius.hpp"
+#include "setbound/lmi/classes.hpp"
+#include "setbound/lmi/model.hpp"
+#include "setbound/lmi/solver.hpp"
+
+namespace setbound {
+
+namespace detail {
+
+/// CORA's PRad-B LMI (designs.hpp) for the outputs rows Cs (q × n), output noise Fv (q × r) and
+/// ε; β by bisection on (0, 1) to 0.01, the last feasible solve kept.
+SETBOUND_INLINE ZonotopicGainDesign prad_b_design(const LinearSystem& sys, const Eigen::MatrixXd& Cs,
+                                                  const Eigen::MatrixXd& Fv, double eps, const std::string& who) {
+  using lmi::AffineExpr;
+  const Eigen::Index n = sys.nx(), q = Cs.rows();
+  const Eigen::MatrixXd& A = sys.A();
+  const Eigen::MatrixXd Ew = compress_disturbance(sys.E());
+  if (!(eps > 0))
+    throw InvalidArgumentError("system: " + who + " needs a non-zero disturbance or noise bound (epsilon = 0)");
+  lmi::Model model;
+  const lmi::Var P = model.symmetric(static_cast<int>(n));
+  const lmi::Var Y = model.full(static_cast<int>(n), static_cast<int>(q));
+  const lmi::Var tau = model.scalar();
+  const AffineExpr K = P - Y * Cs;  // P(I − ΛC)
+  auto main_lmi = [&](double beta) -> AffineExpr {
+    std::vector<std::vector<AffineExpr>> rows;
+    rows.push_back({beta * P});
+    std::vector<AffineExpr> last{K * A};
+    if (Ew.cols() > 0) {
+      rows.push_back({AffineExpr::zero(Ew.cols(), n), AffineExpr(Eigen::MatrixXd(Ew.transpose() * Ew))});
+      last.push_back(K * Ew);
+    }
+    if (Fv.cols() > 0) {
+      std::vector<AffineExpr> r{AffineExpr::zero(Fv.cols(), n)};
+      if (Ew.cols() > 0) r.push_back(AffineExpr::zero(Fv.cols(), Ew.cols()));
+      r.push_back(AffineExpr(Eigen::MatrixXd(Fv.transpose() * Fv)));
+      rows.push_back(r);
+      last.push_back(Y * Fv);
+    }
+    last.push_back(P);
+    rows.push_back(last);
+    return lmi::sym_block(rows);
+  };
+  auto build = [&](double beta) {
+    model.clear_constraints();
+    model.add_lmi(main_lmi(beta));
+    model.add_lmi(P);
+    model.add_lmi(((1.0 - beta) / eps) * P - tau * Eigen::MatrixXd::Identity(n, n));
+    model.add_lmi(tau);
+    model.maximize(tau);
+  };
+  build(0.5);
+  lmi::LmiProblem problem = model.build();
+  lmi::InteriorPointSolver solver(problem);
+  double lo = 0.0, up = 1.0, best_beta = -1.0;
+  Eigen::VectorXd best_x;
+  while (up - lo > 0.01) {
+    const double beta = 0.5 * (lo + up);
+    build(beta);
+    model.update(problem);
+    const lmi::SolveResult& res = solver.solve();
+    if (res.status == lmi::SolveStatus::Optimal || res.status == lmi::SolveStatus::Inaccurate) {
+      best_beta = beta;
+      best_x = res.x;
+      lo = beta;
+    } else {
+      up = beta;
+    }
+  }
+  if (best_beta < 0) throw InfeasibleError("design " + who + ": the LMI is infeasible for every beta in (0, 1)");
+  ZonotopicGainDesign d;
+  d.beta = best_beta;
+  d.P = model.value(P, best_x);
+  d.P = 0.5 * (d.P + d.P.transpose());
+  d.Y = model.value(Y, best_x);
+  d.objective = model.scalar_value(tau, best_x);
+  Eigen::LLT<Eigen::MatrixXd> llt(d.P);
+  if (llt.info() != Eigen::Success || !d.P.allFinite())
+    throw NumericalError("design " + who + ": P is not positive definite at the solution");
+  d.gain = llt.solve(d.Y);
+  if (!d.gain.allFinite()) throw NumericalError("design " + who + ": the gain is not finite");
+  d.lmi = main_lmi(best_beta).evaluate(best_x);
+  return d;
+}
+
+}  // namespace detail
+
+SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sys, ZonotopicGainMethod method) {
+  using lmi::AffineExpr;
+  const int m = static_cast<int>(method);
+  if (m < 1 || m > 4) throw InvalidArgumentError("method: unknown zonotopic gain design " + std::to_string(m));
+  if (sys.uncertain_A()) throw InvalidArgumentError("system: the gain designs need a known A");
+  if (method == ZonotopicGainMethod::PRadB || method == ZonotopicGainMethod::PRadA) {
+    // ε = ‖rs|E|‖₂ + σᵀσ with σ_i = Σ_j |F_ij| (spec §2.7: W's interval radius, not squared).
+    const Eigen::VectorXd radW = sys.nw() > 0 ? Eigen::VectorXd(sys.E().cwiseAbs().rowwise().sum())
+                                              : Eigen::VectorXd(Eigen::VectorXd::Zero(sys.nx()));
+    const Eigen::VectorXd sigma = sys.nw() > 0 ? Eigen::VectorXd(sys.F().cwiseAbs().rowwise().sum())
+                                               : Eigen::VectorXd(Eigen::VectorXd::Zero(sys.ny()));
+    if (method == ZonotopicGainMethod::PRadB)
+      return detail::prad_b_design(sys, sys.C(), detail::compress_disturbance(sys.F()),
+                                   radW.norm() + sigma.squaredNorm(), "PRad-B");
+    ZonotopicGainDesign all;
+    all.gain = Eigen::MatrixXd::Zero(sys.nx(), sys.ny());
+    for (Eigen::Index i = 0; i < sys.ny(); ++i) {
+      // Output i alone, its noise the 1-D box of half-width σ_i (spec §2.6).
+      const Eigen::MatrixXd Fi = Eigen::MatrixXd::Constant(1, sigma(i) > 0 ? 1 : 0, sigma(i));
+      ZonotopicGainDesign d = detail::prad_b_design(sys, sys.C().row(i), Fi, radW.norm() + sigma(i) * sigma(i),
+                                                    "PRad-A (output " + std::to_string(i) + ")");
+      all.gain.col(i) = d.gain;
+      all.P = d.P;
+      all.Y = d.Y;
+      all.beta = d.beta;
+      all.objective = d.objective;
+      all.lmi = d.lmi;
+    }
+    return all;
+  }
+  const Eigen::Index n = sys.nx(), ny = sys.ny();
+  const Eigen::MatrixXd& A = sys.A();
+  const Eigen::MatrixXd& C = sys.C();
+  const bool prad_e = method == ZonotopicGainMethod::PRadE;
+  const char* who = prad_e ? "PRad-E" : "Nom-G";
+
+  lmi::Model model;
+  const lmi::Var P = model.symmetric(static_cast<int>(n));
+  const lmi::Var Y = model.full(static_cast<int>(n), static_cast<int>(ny));
+  const AffineExpr PAYC = P * A - Y * C;
+  const Eigen::MatrixXd Ew = detail::compress_disturbance(sys.E());
+  const Eigen::MatrixXd Fv = detail::compress_disturbance(sys.F());
+  if (prad_e && Ew.cols() < n)
+    throw InfeasibleError("design PRad-E: trace P is unbounded unless the state disturbance spans the state space "
+                          "(E has rank " + std::to_string(Ew.cols()) + " < n_x = " + std::to_string(n) + ")");
+
+  auto main_lmi = [&](double s) -> AffineExpr {
+    if (!prad_e) return lmi::sym_block({{s * P}, {PAYC, P}});
+    std::vector<std::vector<AffineExpr>> rows;
+    rows.push_back({s * P});
+    rows.push_back({AffineExpr::zero(Ew.cols(), n), AffineExpr(Eigen::MatrixXd(Ew.transpose() * Ew))});
+    std::vector<AffineExpr> last{PAYC, P * Ew};
+    if (Fv.cols() > 0) {
+      rows.push_back({AffineExpr::zero(Fv.cols(), n), AffineExpr::zero(Fv.cols(), Ew.cols()),
+                      AffineExpr(Eigen::MatrixXd(Fv.transpose() * Fv))});
+      last.push_back(Y * Fv);
+    }
+    last.push_back(P);
+    rows.push_back(last);
+    return lmi::sym_block(rows);
+  };
+  AffineExpr traceP = P.block(0, 0, 1, 1);
+  for (Eigen::Index i = 1; i < n; ++i) traceP += P.block(i, i, 1, 1);
+  auto build = [&](double s) {
+    model.clear_constraints();
+    model.add_lmi(main_lmi(s));
+    if (prad_e) {
+      model.add_lmi(P);
+      model.maximize(traceP);
+    } else {
+      model.add_lmi(P - AffineExpr::identity(n));
+      model.minimize(traceP);
+    }
+  };
+  build(0.5);
+  lmi::LmiProblem problem = model.build();
+  lmi::InteriorPointSolver solver(problem);
+  struct Found {
+    double s;
+    Eigen::VectorXd x;
+  };
+  bool unbounded = false;
+  auto feasible = [&](double s) -> std::optional<Found> {
+    build(s);
+    model.update(problem);
+    const lmi::SolveResult& res = solver.solve();
+    if (res.status == lmi::SolveStatus::Unbounded) unbounded = true;
+    if (res.status != lmi::SolveStatus::Optimal && res.status != lmi::SolveStatus::Inaccurate) return std::nullopt;
+    return Found{s, res.x};
+  };
+  std::optional<Found> best;
+  if (prad_e) {
+    // CORA's bisection (spec §2.10): lo = 0, up = 1, halve while up − lo > 0.01; a larger β
+    // relaxes the LMI. setbound keeps the last feasible solve.
+    double lo = 0.0, up = 1.0;
+    while (up - lo > 0.01) {
+      const double beta = 0.5 * (lo + up);
+      if (auto f = feasible(beta)) {
+        best = f;
+        lo = beta;
+      } else {
+        up = beta;
+      }
+    }
+    if (!best)
+      throw InfeasibleError(std::string("design PRad-E: the LMI is infeasible for every beta in (0, 1)") +
+                            (unbounded ? " (trace P unbounded)" : ""));
+  } else {
+    // Nom-G: CORA's condition (μ = 1) defines a cone containing P = 0 (spec §2.11). setbound takes
+    // the analytic centre of its slice P ⪰ I, trace P ≤ 10 t* (t* the least trace P in the slice,
+    // found first): the maximiser of log det N + log det(P − I) + log(10 t* − trace P), a
+    // deterministic point strictly inside.
+    const std::optional<Found> least = feasible(1.0);  // build(): min trace P, P ⪰ I
+    if (!least)
+      throw InfeasibleError("design Nom-G: no gain L with (A − LC)ᵀP(A − LC) ⪯ P, P ⪰ I (is (C, A) detectable?)");
+    const double cap = 10.0 * model.value(P, least->x).trace();
+    model.clear_constraints();
+    const AffineExpr N = main_lmi(1.0);
+    const AffineExpr PI = P - AffineExpr::identity(n);
+    const AffineExpr room = AffineExpr(cap) - traceP;
+    model.add_lmi(N);
+    model.add_lmi(PI);
+    model.add_lmi(room);
+    model.add_logdet(
+        lmi::sym_block({{N}, {AffineExpr::zero(n, 2 * n), PI}, {AffineExpr::zero(1, 2 * n), AffineExpr::zero(1, n), room}}));
+    lmi::LmiProblem centre = model.build();
+    const lmi::SolveResult res = lmi::solve_maxdet(centre);
+    if (res.status != lmi::SolveStatus::Optimal && res.status != lmi::SolveStatus::Inaccurate)
+      throw NumericalError("design Nom-G: the analytic centre could not be computed");
+    best = Found{1.0, res.x};
+  }
+  ZonotopicGainDesign d;
+  d.beta = best->s;
+  d.P = model.value(P, best->x);
+  d.P = 0.5 * (d.P + d.P.transpose());
+  d.Y = model.value(Y, best->x);
+  Eigen::LLT<Eigen::MatrixXd> llt(d.P);
+  if (llt.info() != Eigen::Success || !d.P.allFinite())
+    throw NumericalError(std::string("design ") + who + ": P is not positive definite at the solution");
+  d.gain = llt.solve(d.Y);
+  if (!d.gain.allFinite()) throw NumericalError(std::string("design ") + who + ": the gain is not finite");
+  d.objective = d.P.trace();
+  d.lmi = main_lmi(d.beta).evaluate(best->x);
+  return d;
+}
+
+}  // namespace setbound

@@ -1,0 +1,190 @@
+// setbound — one zonotopic skeleton for CORA's zonotopic observer catalogue, the gain rule being
+// the varying part (spec cora_observers.md §1.3, §2.2–§2.11).
+//
+// Two skeletons share the state (a zonotope p ⊕ G B^m plus a pending rounding box, below), the
+// order reduction and the rounding analysis:
+//
+//   strip-based (a filter; row k of a run is the set for x_k after y_k):
+//     X̂_k = reduce(Corr(X̄_k, y_k)),   X̄_{k+1} = A X̂_k ⊕ (B u_k) ⊕ E B^{n_ω}
+//     Corr with an n×q weight Λ on the strips |C_S x − y_S| ≤ σ_S ([Le2013 ISIC] Prop. 1):
+//       p' = p + Λ (y_S − C_S p),   G' = [(I − Λ C_S) G, Λ diag(σ_S)]
+//     one output at a time (q = 1, "S-I": segment minimisation = FRad-A, Bravo = VolMin-B,
+//     fixed λ_i = PRad-A) or all outputs at once ("S-II": Wang's Kalman-like Λ = FRad-B, a
+//     fixed Λ = PRad-B/C/D);
+//   intersection-free (a predictor; row k is the set for x_k from y_0 … y_{k−1}):
+//     X_{k+1} = reduce((A − L_k C) X_k ⊕ (B u_k + L_k (y_k − D u_k)) ⊕ (E − L_k F) B^{n_ω})
+//     with Combastel's adaptive L_k (FRad-C) or a fixed L (PRad-E, Nom-G).
+//
+// Guarantee: both corrections are outer bounds for ANY weight (x = x + Λ(y − C x − v) for the
+// strip update, x_{k+1} = (A − LC) x_k + L(y_k − D u_k − F ω_k) + B u_k + E ω_k for the
+// propagation), so the rule only decides the size. In the propagation the disturbance ω_k of
+// y_k and of x_{k+1} is the same vector (setbound's model), hence the combined columns E − L F;
+// with CORA's model (E = [G_W, 0], F = [0, G_V]) they are CORA's [−L G_V, G_W].
+//
+// Floating point: every step bounds the rounding of its products (Higham's γ_k) and of the
+// computed I − ΛC / A − LC, and collects it in a pending axis-aligned box B_r that is carried
+// (|M| r through a map) but never counted as generators; the reduction absorbs it
+// (zonotope_reduction.hpp), and a box above 1e-6 of the set's largest radius becomes
+// generators. CORA's generator counts and choices are therefore unchanged.
+//
+// Conventions (Convention): Setbound (default) runs the papers' algorithms; Cora
+// reproduces CORA's behaviour where it differs and stays guaranteed:
+//   * FRad-B (§2.4): Cora builds the gain from A P Aᵀ + G_W G_Wᵀ with P = G Gᵀ of the
+//     *predicted* set (A and W applied twice, sic); Setbound uses the paper's R̄ = P of the
+//     predicted set (= A P_{k−1} Aᵀ + G_W G_Wᵀ of the previous corrected set, Wang 2018 Thm. 2).
+//   * VolMin-B (§2.2): Cora tests |cᵀg_j| > 10¹⁰·eps absolutely; Setbound relative to |c|ᵀ|g_j|.
+//   * strip-based skeleton: Cora does not reduce the first corrected set (§1.3).
+// CORA's omission of the constant c in the intersection-free skeleton (§1.3, sic) is not
+// reproducible by a guaranteed estimator: setbound's model has c inside B u, and setbound.cora
+// refuses a model with c ≠ 0 under the Cora convention.
+//
+// Known A only (an interval [A] is refused). Missing outputs (NaN entries of y) are skipped:
+// their strips are not applied, their columns of Λ / L are zero for the step (still valid).
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "setbound/core/convention.hpp"
+#include "setbound/core/error.hpp"
+#include "setbound/core/linear_system.hpp"
+#include "setbound/core/state.hpp"
+#include "setbound/estimators/measurement_check.hpp"
+#include "setbound/sets/zonotope.hpp"
+#include "setbound/sets/zonotope_reduction.hpp"
+
+namespace setbound {
+
+/// The gain rules of the shared skeleton, by skeleton (the values are the C ABI's).
+enum class ZonotopicRule {
+  SegmentMin = 1,   ///< S-I, [Alamo2005] segment minimisation (CORA FRad-A)
+  Bravo = 2,        ///< S-I, Bravo 2006 candidate parallelotopes (CORA VolMin-B)
+  FixedStrips = 3,  ///< S-I, λ_i = column i of a given n×p gain (CORA PRad-A)
+  Wang = 4,         ///< S-II, Wang et al. 2018 Kalman-like Λ (CORA FRad-B)
+  FixedLambda = 5,  ///< S-II, a given n×p Λ (CORA PRad-B, PRad-C, PRad-D)
+  Combastel = 6,    ///< intersection-free, Combastel 2015 adaptive L_k (CORA FRad-C)
+  FixedGain = 7,    ///< intersection-free, a given n×p L (CORA PRad-E, Nom-G)
+};
+
+/// Whether the rule runs the intersection-free (predictor) skeleton.
+bool is_intersection_free(ZonotopicRule rule);
+/// Whether the rule needs a given gain (FixedStrips, FixedLambda, FixedGain).
+bool needs_gain(ZonotopicRule rule);
+
+struct ZonotopicObserverOptions {
+  ZonotopicRule rule = ZonotopicRule::SegmentMin;
+  Eigen::MatrixXd gain;               ///< n_x × n_y, for the fixed rules only
+  Eigen::Index max_generators = 20;   ///< reduction limit (>= n_x), rounding box not counted
+  ZonotopeReduction reduction = ZonotopeReduction::Combastel;
+  Convention convention = Convention::Setbound;
+};
+
+/// Sets of one run: row k of center/lower/upper and element k of `sets` bound x_k.
+struct ZonotopicObserverTrajectory {
+  Eigen::MatrixXd center, lower, upper;  ///< N × n_x
+  std::vector<Zonotope> sets;
+};
+
+class ZonotopicObserver {
+ public:
+  ZonotopicObserver(LinearSystem system, const Zonotope& x0, ZonotopicObserverOptions options);
+
+  const LinearSystem& system() const { return sys_; }
+  const ZonotopicObserverOptions& options() const { return opt_; }
+  /// True for the strip-based rules (row k uses y_k), false for the intersection-free ones.
+  bool is_filter() const { return !is_intersection_free(opt_.rule); }
+  Eigen::Index steps_taken() const { return k_; }
+
+  /// Uses y_k (NaN entries: missing outputs) and u_k. Filter: the current set becomes the set
+  /// for x_k, and the prior is predicted to x_{k+1}. Predictor: the current set becomes the set
+  /// for x_{k+1}. On error the observer is unchanged.
+  void update(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u);
+  Zonotope step(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u) {
+    update(y, u);
+    return current_set();
+  }
+
+  /// Whether current_set() exists (a filter before its first step has none; a predictor's
+  /// current set is x0 before its first step).
+  bool has_current() const { return has_current_; }
+  /// The current set, the pending rounding box as axis-aligned generators.
+  Zonotope current_set() const;
+  const Eigen::VectorXd& current_center() const { return cur_.p; }
+  const Eigen::VectorXd& current_lower() const { return lo_; }
+  const Eigen::VectorXd& current_upper() const { return hi_; }
+  /// The weight of the last correction (n × n_y; Λ, the λ_i as columns, or L; zero columns for
+  /// missing outputs). For Bravo, column i is the λ of the chosen candidate (zero: no change).
+  const Eigen::MatrixXd& last_gain() const { return gain_last_; }
+
+  /// Back to the state of construction (options kept).
+  void reset();
+
+  /// Runs rows of Y (N × n_y) and U (N × n_u; empty when n_u = 0) from x0 (reset() first).
+  /// Row k is the set for x_k: after y_k (filter), from y_0 … y_{k−1} (predictor; row 0 = x0).
+  ZonotopicObserverTrajectory run(const Eigen::MatrixXd& Y, const Eigen::MatrixXd& U = Eigen::MatrixXd());
+
+  std::vector<double> save_state() const;
+  /// Restores a state of save_state() into an observer of the same system and options; throws
+  /// InvalidArgumentError ("state: ...") otherwise, unchanged on error.
+  void restore_state(const std::vector<double>& state);
+  StateFingerprint fingerprint() const;
+
+  /// A set with its pending rounding box: p ⊕ G B ⊕ box(r).
+  struct Set {
+    Eigen::VectorXd p, r;
+    Eigen::MatrixXd G;
+  };
+
+ private:
+  using Mat = Eigen::MatrixXd;
+  using Vec = Eigen::VectorXd;
+  static constexpr double kBoxToGenerators = 1e-6;
+
+  void setup();
+  void load_initial();
+  /// y_i − D_i u for the present outputs and their half-widths (widened by that rounding).
+  void shifted(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, std::vector<Eigen::Index>& rows,
+               Vec& ys, Vec& sig) const;
+  /// The strip update of X with weight Lam (n × q) on rows `rows` (values ys, half-widths sig);
+  /// with `replace` >= 0 the new column (q = 1) takes the place of that column of G (Bravo).
+  static void strip_update(Set& X, const Mat& Lam, const Mat& CS, const Vec& ys, const Vec& sig,
+                           Eigen::Index replace);
+  /// x' = M x + t ⊕ N B: G' = [M G, N]; the rounding of M (bound dM), of t (bound dt), of N
+  /// (row sums dN) and of the products into r. X is overwritten.
+  static void affine(Set& X, const Mat& M, const Mat& dM, const Vec& t, const Vec& dt, const Mat& N,
+                     const Vec& dN);
+  /// The Bravo candidate for one strip: λ (zero: Z itself) and the column it replaces (−1).
+  Eigen::Index bravo_choice(const Set& X, const Eigen::Ref<const Vec>& c, double y, double sig, Vec& lam) const;
+  /// Drops zero columns, turns a large box into generators, reduces when above the limit.
+  void finish_set(Set& X, bool reduce);
+  void hull(const Set& X);
+  /// The strip-based correction of X with y_k; the weight used goes to `gain` (n × n_y).
+  void correct(Set& X, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, Mat& gain) const;
+  void predict(Set& X, const Eigen::Ref<const Vec>& u) const;
+  /// The intersection-free step of X with y_k, u_k; the gain used goes to `gain`.
+  void propagate(Set& X, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, Mat& gain) const;
+  static Mat solve_gain(const Mat& num, const Mat& S);
+
+  LinearSystem sys_;
+  ZonotopicObserverOptions opt_;
+  Zonotope x0_;
+  Eigen::Index n_ = 0;
+  Mat Enz_;           // non-zero columns of E (strip-based prediction)
+  Vec sigma_;         // Σ_j |F_ij| rounded up
+  Mat FFt_, EEt_;     // F Fᵀ, E Eᵀ (Wang, Combastel)
+  std::vector<Eigen::Index> fcols_, ecols_;  // ω columns with F ≠ 0, then those with F = 0, E ≠ 0
+
+  Set prior_, cur_;  // filter: prior = set for x_k before y_k; predictor: cur_ only
+  bool has_current_ = false;
+  Eigen::Index k_ = 0;
+  Vec lo_, hi_;
+  Mat gain_last_;
+  detail::ReductionWorkspace rws_;
+};
+
+}  // namespace setbound
+
+// The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
+#if !defined(SETBOUND_SEPARATE_COMPILATION)
+#include "setbound/estimators/zonotopic/impl/observer.ipp"
+#endif

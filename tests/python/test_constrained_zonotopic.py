@@ -1,0 +1,286 @@
+"""The constrained-zonotope estimators CZN-A / CZN-B through Python and the C ABI (issue 21).
+
+Expected values from outside: CORA's saved final hulls (../shared/benchmarks/
+cora_linearSysDT_observe/*_cora_unittest.json, key golden_final_interval_hull, CORA v2026.0.1's
+testLong_linearSysDT_observe_01_vehicle.m and test_linearSysDT_observe_02_2dim.m), CORA's rule
+|a − b| <= 1e-6. Everything else is a property: equality with the exact consistent set without
+reduction, containment of the exact hull and of the true state with reduction (random and vertex
+disturbances), bit-for-bit continuation after save/restore."""
+import os
+import pickle
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import setbound as sb
+import setbound.cora as cora
+from setbound.benchmarks import load_cora
+from setbound.constrained_zonotopic import ConstrainedZonotopicEstimator
+from setbound.errors import DimensionError, InconsistentMeasurementError, InvalidArgumentError, NotFiniteError
+from setbound.measurement import INCONSISTENT, USED
+from setbound.sets import ConstrainedZonotope
+from setbound.zonotopic import SegmentMinEstimator, exact_hull
+
+from zono_examples import ex_le13, record
+
+DATA = Path(os.environ.get("SETBOUND_CORA_DATA",
+                           Path(__file__).resolve().parents[3] / "shared" / "benchmarks" / "cora_linearSysDT_observe"))
+needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=f"benchmark data not found at {DATA}")
+CORA_TOL = 1e-6
+
+
+def random_system(rng, nx):
+    A = rng.standard_normal((nx, nx))
+    A *= rng.uniform(0.5, 0.98) / max(abs(np.linalg.eigvals(A)))
+    ny = int(rng.integers(1, nx + 1))
+    C = rng.standard_normal((ny, nx))
+    nw = nx
+    E = np.hstack([0.1 * rng.standard_normal((nx, nw)), np.zeros((nx, ny))])
+    F = np.hstack([np.zeros((ny, nw)), 0.1 * np.eye(ny)])
+    return sb.LinearSystem(A, C, E=E, F=F)
+
+
+@needs_data
+@pytest.mark.parametrize("name", ["alamo2005_2d_cora_unittest", "vehicle2_cora_unittest"])
+@pytest.mark.parametrize("alg", ["CZN-A", "CZN-B"])
+def test_coras_saved_final_hulls(name, alg):
+    b = load_cora(DATA / f"{name}.json")
+    r = cora.observe(b, alg, convention="cora")
+    lo, hi = b.golden[alg]
+    err = max(np.abs(r.lower[-1] - lo).max(), np.abs(r.upper[-1] - hi).max())
+    assert err < CORA_TOL, (alg, name, r.lower[-1], r.upper[-1])
+    # and the set is guaranteed: it contains CORA's (exact up to CORA's rounding) hull
+    assert np.all(r.lower[-1] <= lo + 1e-9) and np.all(r.upper[-1] >= hi - 1e-9)
+
+
+def highs_exact_hull(s, ys, x0):
+    """The interval hull of the states consistent with y_0..y_k, by scipy's HiGHS (an LP engine
+    independent of the library): variables ξ_0 (x_0 = c_0 + G_0 ξ_0) and ω_0..ω_k, all in [−1, 1];
+    x_j = A^j x_0 + Σ_{i<j} A^{j−1−i} E ω_i and y_j = C x_j + F ω_j for j <= k."""
+    from scipy.optimize import linprog
+
+    n, nw, m0 = s.nx, s.nw, x0.generators.shape[1]
+    lo, hi = np.empty((len(ys), n)), np.empty((len(ys), n))
+    for k in range(len(ys)):
+        nv = m0 + (k + 1) * nw
+        # x_j = M_j v + a_j (affine in the variables v = (ξ_0, ω_0..ω_k))
+        M, a = np.zeros((n, nv)), x0.center.copy()
+        M[:, :m0] = x0.generators
+        rows, rhs = [], []
+        for j in range(k + 1):
+            Fj = np.zeros((s.ny, nv))
+            Fj[:, m0 + j * nw:m0 + (j + 1) * nw] = s.F
+            rows.append(s.C @ M + Fj)
+            rhs.append(ys[j] - s.C @ a)
+            if j < k:
+                Ej = np.zeros((n, nv))
+                Ej[:, m0 + j * nw:m0 + (j + 1) * nw] = s.E
+                M, a = s.A @ M + Ej, s.A @ a
+        Aeq, beq = np.vstack(rows), np.concatenate(rhs)
+        for i in range(n):
+            for sgn in (1.0, -1.0):
+                r = linprog(-sgn * M[i], A_eq=Aeq, b_eq=beq, bounds=[(-1, 1)] * nv, method="highs",
+                            options={"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10})
+                assert r.status == 0, r.message
+                # r.fun = min −sgn·M_i v: the bound is a_i − r.fun (upper) or a_i + r.fun (lower)
+                if sgn > 0:
+                    hi[k, i] = a[i] - r.fun
+                else:
+                    lo[k, i] = a[i] + r.fun
+    return lo, hi
+
+
+@pytest.mark.parametrize("seed", range(22))
+def test_without_reduction_it_is_the_exact_consistent_set(seed):
+    rng = np.random.default_rng(seed)
+    if seed == 0:
+        s = ex_le13()  # the zonotopic papers' example
+    else:
+        s = random_system(rng, int(rng.integers(2, 5)))
+    x0 = sb.Box(-np.ones(s.nx), np.ones(s.nx))
+    truth = rng.uniform(-0.9, 0.9, s.nx)
+    xs, ys = record(s, 25 if seed == 0 else 15, rng, vertex=bool(seed % 2), x0=truth)
+    Z0 = sb.sets.as_zonotope(x0)
+    lo_h, hi_h = highs_exact_hull(s, ys, Z0)  # the exact hull by HiGHS, independent of the library
+    # and the library's own reference (interior-point LPs over the whole record: accurate to about
+    # 1e-7, and slow for 4 states, so on the papers' example only)
+    ref = exact_hull(s, ys, x0=Z0) if seed == 0 else None
+    for correction in ("CZN-A", "CZN-B"):
+        t = ConstrainedZonotopicEstimator(s, x0, correction=correction, reduction="none").run(ys)
+        scale = np.maximum(1.0, np.maximum(np.abs(lo_h), np.abs(hi_h)))
+        np.testing.assert_array_less(np.abs(t.lower - lo_h) / scale, 1e-8)
+        np.testing.assert_array_less(np.abs(t.upper - hi_h) / scale, 1e-8)
+        if ref is not None:
+            np.testing.assert_array_less(np.abs(t.lower - ref.lower) / scale, 1e-6)
+            np.testing.assert_array_less(np.abs(t.upper - ref.upper) / scale, 1e-6)
+        assert t.contains(xs).all()
+
+
+@pytest.mark.parametrize("mode", [("CZN-A", "limits"), ("CZN-B", "limits"), ("CZN-A", "cora"), ("CZN-B", "cora")])
+def test_reduced_sets_contain_the_exact_hull_and_the_truth(mode):
+    correction, reduction = mode
+    steps = 0
+    for seed in range(4):
+        rng = np.random.default_rng(1000 + seed)
+        s = ex_le13() if seed == 0 else random_system(rng, int(rng.integers(2, 5)))
+        x0 = sb.Box(-np.ones(s.nx), np.ones(s.nx))
+        for vertex in (False, True):
+            # Short runs against the exact hull (its LPs grow with the record) ...
+            xs, ys = record(s, 30, rng, vertex=vertex, x0=rng.uniform(-0.9, 0.9, s.nx))
+            ref = exact_hull(s, ys, x0=sb.sets.as_zonotope(x0))
+            est = ConstrainedZonotopicEstimator(s, x0, correction=correction, reduction=reduction, order=3)
+            t = est.run(ys)
+            # the reference's interior-point LPs are accurate to about 1e-7 (see the test above)
+            tol = 1e-7 * np.maximum(1.0, np.abs(ref.lower) + np.abs(ref.upper))
+            assert np.all(t.lower <= ref.lower + tol) and np.all(t.upper >= ref.upper - tol)
+            assert t.contains(xs).all()
+            # ... and longer ones against the truth (>= 2 000 steps per mode in all). CORA's mode
+            # never removes a constraint (its LPs grow with the record): many shorter runs there.
+            runs, N = (1, 260) if reduction == "limits" else (6, 45)
+            for _ in range(runs):
+                xs, ys = record(s, N, rng, vertex=vertex, x0=rng.uniform(-0.9, 0.9, s.nx))
+                t = est.run(ys, keep_sets=False)
+                assert t.sets is None or not t.sets
+                assert t.in_bounds(xs).all()
+                steps += len(ys)
+            if reduction == "limits":
+                assert est.max_constraints == 4 * s.nx and est.max_generators == 24 * s.nx
+    assert steps >= 2000
+
+
+def test_bounded_mode_keeps_the_sizes_and_is_tighter_than_segment_minimisation():
+    rng = np.random.default_rng(5)
+    s = ex_le13()
+    xs, ys = record(s, 200, rng, vertex=True, x0=(0.5, -0.5))
+    est = ConstrainedZonotopicEstimator(s, sb.Box([-3, -3], [3, 3]))
+    t = est.run(ys)
+    assert max(S.nc for S in t.sets) <= 8 and max(S.ng for S in t.sets) <= 48
+    z = SegmentMinEstimator(s, sb.Box([-3, -3], [3, 3])).run(ys)
+    assert np.mean(t.upper - t.lower) < np.mean(z.upper - z.lower)
+    assert t.contains(xs).all()
+
+
+def test_missing_glitch_and_jointly_inconsistent_readings():
+    s = ex_le13()
+    rng = np.random.default_rng(3)
+    xs, ys = record(s, 30, rng, vertex=False, x0=(0.2, 0.1))
+    ys = ys.copy()
+    ys[5, 0] = np.nan          # missing
+    ys[9, 1] += 50.0           # a glitch: impossible alone
+    est = ConstrainedZonotopicEstimator(s, sb.Box([-3, -3], [3, 3]))
+    t = est.run(ys)
+    assert t.status[9, 1] == INCONSISTENT and t.status[9, 0] == USED
+    assert t.contains(xs).all()
+    with pytest.raises(InconsistentMeasurementError, match="step 9"):
+        ConstrainedZonotopicEstimator(s, sb.Box([-3, -3], [3, 3]), on_inconsistency="raise").run(ys)
+    r = ConstrainedZonotopicEstimator(s, sb.Box([-3, -3], [3, 3]), on_inconsistency="reset",
+                                      reset_set=sb.Box([-5, -5], [5, 5])).run(ys)
+    assert r.resets[9] and r.contains(xs).all()
+    # Jointly impossible: two outputs of one state each possible, together not (x known exactly,
+    # readings pulled apart within each one's predicted range but inconsistent together).
+    S2 = sb.LinearSystem([[0.5]], [[1.0], [1.0]], E=[[0.0, 0.0, 0.0]], F=[[0.0, 0.1, 0.0], [0.0, 0.0, 0.1]])
+    e2 = ConstrainedZonotopicEstimator(S2, sb.Box([-1], [1]))
+    e2.step([0.9, -0.9])
+    chk = e2.last_check
+    assert np.all(chk.status == INCONSISTENT) and np.all(np.isnan(chk.margin))
+
+
+def test_save_restore_and_pickle_continue_bit_for_bit():
+    s = ex_le13()
+    rng = np.random.default_rng(11)
+    _, ys = record(s, 40, rng, vertex=True)
+    a = ConstrainedZonotopicEstimator(s, sb.Box([-2, -2], [2, 2]), correction="CZN-B")
+    for y in ys[:20]:
+        a.step(y)
+    blob = a.save_state()
+    b = ConstrainedZonotopicEstimator(s, sb.Box([-1, -1], [1, 1]), correction="CZN-B")  # another x0 is fine
+    b.restore_state(blob)
+    c = pickle.loads(pickle.dumps(a))
+    for y in ys[20:]:
+        Sa, Sb, Sc = a.step(y), b.step(y), c.step(y)
+        for S in (Sb, Sc):
+            np.testing.assert_array_equal(S.generators, Sa.generators)
+            np.testing.assert_array_equal(S.A, Sa.A)
+            np.testing.assert_array_equal(S.b, Sa.b)
+    assert a.steps == b.steps == 40
+    other = ConstrainedZonotopicEstimator(s, sb.Box([-2, -2], [2, 2]), correction="CZN-A")
+    with pytest.raises(InvalidArgumentError, match="state"):
+        other.restore_state(blob)
+    bad = bytearray(blob)
+    bad[-8:] = np.array([np.nan]).tobytes()
+    with pytest.raises(InvalidArgumentError, match="state"):
+        b.restore_state(bytes(bad))
+    assert b.steps == 40  # unchanged
+
+
+@needs_data
+@pytest.mark.parametrize("name", ["pedestrian4", "vehicle6"])
+def test_truth_of_coras_benchmarks_stays_inside(name):
+    b = load_cora(DATA / f"{name}.json")
+    t = ConstrainedZonotopicEstimator(b.system, b.x0).run(b.y, b.u, keep_sets=False)
+    assert t.in_bounds(b.truth, tol=5e-4).all()
+
+
+def test_bad_input_is_named():
+    s = ex_le13()
+    x0 = sb.Box([-1, -1], [1, 1])
+    with pytest.raises(InvalidArgumentError, match="correction"):
+        ConstrainedZonotopicEstimator(s, x0, correction="CZN-C")
+    with pytest.raises(InvalidArgumentError, match="reduction"):
+        ConstrainedZonotopicEstimator(s, x0, reduction="some")
+    with pytest.raises(InvalidArgumentError, match="order"):
+        ConstrainedZonotopicEstimator(s, x0, reduction="cora", order=0.5)
+    with pytest.raises(InvalidArgumentError, match="max_constraints"):
+        ConstrainedZonotopicEstimator(s, x0, max_constraints=-3)
+    with pytest.raises(InvalidArgumentError, match="max_generators"):
+        ConstrainedZonotopicEstimator(s, x0, max_generators=2**40)
+    with pytest.raises(InvalidArgumentError, match="max_generators: must be >= n_x"):
+        ConstrainedZonotopicEstimator(s, x0, max_constraints=4, max_generators=3)
+    with pytest.raises(DimensionError, match="x0"):
+        ConstrainedZonotopicEstimator(s, sb.Box([-1], [1]))
+    with pytest.raises(InvalidArgumentError, match="system"):
+        ConstrainedZonotopicEstimator(sb.LinearSystem(sb.IntervalMatrix.from_mid_rad(s.A, 0.01 * np.ones((2, 2))),
+                                                      s.C, E=s.E, F=s.F), x0)
+    est = ConstrainedZonotopicEstimator(s, x0)
+    with pytest.raises(DimensionError, match="y"):
+        est.step([1.0, 2.0, 3.0])
+    with pytest.raises(NotFiniteError, match="y"):
+        est.step([np.inf, 0.0])
+    assert est.steps == 0
+    with pytest.raises(InvalidArgumentError, match="reset_set"):
+        ConstrainedZonotopicEstimator(s, x0, reset_set=x0)
+
+
+@pytest.mark.parametrize("reduction", ["limits", "none"])
+def test_rounding_box_does_not_wrap_through_a_stable_A(reduction):
+    # A stable A (spectral radius 0.95) whose |A| has row sums near 5: mapping the rounding box as a
+    # box would grow it about 4x per step (1e+90 after 300 steps, seen 2026-11-27); it must stay at
+    # the level of the rounding itself, and the hull must stay bounded.
+    th = 1.0
+    R = 0.95 * np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
+    T = np.array([[1.0, 3.0], [0.0, 1.0]])
+    A = T @ R @ np.linalg.inv(T)
+    assert np.abs(A).sum(axis=1).max() > 3.0
+    s = sb.LinearSystem(A, [[1.0, 0.0]], E=[[0.05, 0.0], [0.05, 0.0]], F=[[0.0, 0.1]])
+    rng = np.random.default_rng(4)
+    N = 300 if reduction == "limits" else 60
+    xs, ys = record(s, N, rng, vertex=True, x0=(0.1, 0.2))
+    t = ConstrainedZonotopicEstimator(s, sb.Box([-1, -1], [1, 1]), reduction=reduction).run(ys)
+    assert t.contains(xs).all()
+    assert max(S.rounding.max() for S in t.sets) < 1e-10
+    assert np.all(np.isfinite(t.upper - t.lower))
+
+
+@pytest.mark.xfail(strict=True, reason="known defect (2026-11-27): on this skewed stable system the bounded "
+                   "mode's reduction loses accuracy (hull widths up to 35 against 0.29 for segment "
+                   "minimisation; guaranteed, but far from the issue's accuracy target)")
+def test_bounded_mode_is_as_tight_as_segment_minimisation_on_a_skewed_system():
+    th = 1.0
+    R = 0.95 * np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
+    T = np.array([[1.0, 3.0], [0.0, 1.0]])
+    s = sb.LinearSystem(T @ R @ np.linalg.inv(T), [[1.0, 0.0]], E=[[0.05, 0.0], [0.05, 0.0]], F=[[0.0, 0.1]])
+    xs, ys = record(s, 300, np.random.default_rng(4), vertex=True, x0=(0.1, 0.2))
+    t = ConstrainedZonotopicEstimator(s, sb.Box([-1, -1], [1, 1])).run(ys, keep_sets=False)
+    z = SegmentMinEstimator(s, sb.Box([-1, -1], [1, 1])).run(ys)
+    assert np.max(t.upper - t.lower) <= 1.05 * np.max(z.upper - z.lower)
