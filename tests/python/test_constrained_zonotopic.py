@@ -219,7 +219,13 @@ def test_save_restore_and_pickle_continue_bit_for_bit():
 def test_truth_of_coras_benchmarks_stays_inside(name):
     b = load_cora(DATA / f"{name}.json")
     t = ConstrainedZonotopicEstimator(b.system, b.x0).run(b.y, b.u, keep_sets=False)
-    assert t.in_bounds(b.truth, tol=5e-4).all()
+    # The truth is given to 3 decimals (5e-4), and CORA's readings themselves leave the noise bound
+    # (pedestrian4, step 217: |y_1 - C_1 x| = 0.10295 > 0.1; vehicle6: by up to 6.2e-3). A set that
+    # uses such a reading exactly (the hull before the reduction does) may exclude the rounded truth
+    # by that excess, no more.
+    D = 0.0 if b.system.D is None or b.u is None else b.u @ np.asarray(b.system.D).T
+    excess = np.max(np.abs(b.y - b.truth @ b.system.C.T - D) - np.abs(b.system.F).sum(axis=1), initial=0.0)
+    assert t.in_bounds(b.truth, tol=5e-4 + max(excess, 0.0)).all()
 
 
 def test_bad_input_is_named():
@@ -272,15 +278,41 @@ def test_rounding_box_does_not_wrap_through_a_stable_A(reduction):
     assert np.all(np.isfinite(t.upper - t.lower))
 
 
-@pytest.mark.xfail(strict=True, reason="known defect (2026-11-27): on this skewed stable system the bounded "
-                   "mode's reduction loses accuracy (hull widths up to 35 against 0.29 for segment "
-                   "minimisation; guaranteed, but far from the issue's accuracy target)")
-def test_bounded_mode_is_as_tight_as_segment_minimisation_on_a_skewed_system():
+def _skewed_system():
+    # stable, but A = T R T⁻¹ with a skewed T: ‖|A|‖ > 1, where axis-aligned boxes wrap
     th = 1.0
     R = 0.95 * np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
     T = np.array([[1.0, 3.0], [0.0, 1.0]])
-    s = sb.LinearSystem(T @ R @ np.linalg.inv(T), [[1.0, 0.0]], E=[[0.05, 0.0], [0.05, 0.0]], F=[[0.0, 0.1]])
-    xs, ys = record(s, 300, np.random.default_rng(4), vertex=True, x0=(0.1, 0.2))
-    t = ConstrainedZonotopicEstimator(s, sb.Box([-1, -1], [1, 1])).run(ys, keep_sets=False)
-    z = SegmentMinEstimator(s, sb.Box([-1, -1], [1, 1])).run(ys)
-    assert np.max(t.upper - t.lower) <= 1.05 * np.max(z.upper - z.lower)
+    return sb.LinearSystem(T @ R @ np.linalg.inv(T), [[1.0, 0.0]], E=[[0.05, 0.0], [0.05, 0.0]], F=[[0.0, 0.1]])
+
+
+@pytest.fixture(scope="module")
+def skewed_runs():
+    """The skewed system over 150 steps (vertex disturbances): the truth, the exact hull (no
+    reduction), segment minimisation and the bounded mode with its default (Girard) and with PCA."""
+    s = _skewed_system()
+    xs, ys = record(s, 150, np.random.default_rng(4), vertex=True, x0=(0.1, 0.2))
+    X0 = sb.Box([-1, -1], [1, 1])
+    runs = {"exact": ConstrainedZonotopicEstimator(s, X0, reduction="none").run(ys, keep_sets=False),
+            "default": ConstrainedZonotopicEstimator(s, X0).run(ys, keep_sets=False),
+            "pca": ConstrainedZonotopicEstimator(s, X0, technique="pca").run(ys, keep_sets=False),
+            "segment_min": SegmentMinEstimator(s, X0).run(ys)}
+    return xs, {k: np.mean((t.upper - t.lower)[1:], axis=0) for k, t in runs.items()}, runs
+
+
+def test_bounded_mode_stays_guaranteed_on_a_skewed_system(skewed_runs):
+    xs, mean, runs = skewed_runs
+    for name in ("default", "pca", "exact"):
+        assert runs[name].contains(xs).all(), name
+    assert np.all(mean["exact"] <= mean["default"] + 1e-9)  # the exact hull is the tightest
+
+
+@pytest.mark.xfail(strict=True, reason="known gap (2026-11-27): issue 21's accuracy target (mean width <= 1.05x "
+                   "the exact hull and <= every zonotopic method) is not met on this skewed system with the "
+                   "default limits: Girard's axis-aligned boxes wrap (3.1x the exact hull in x_1); PCA gives "
+                   "1.4x here but 14x Girard's widths on pedestrian4; 4 rows and 128 generators give 1.002x: "
+                   "the generator limit is the bottleneck")
+def test_bounded_mode_meets_the_accuracy_target_on_a_skewed_system(skewed_runs):
+    _, mean, _ = skewed_runs
+    assert np.all(mean["default"] <= 1.05 * mean["exact"])
+    assert np.all(mean["default"] <= mean["segment_min"])
