@@ -297,9 +297,11 @@ def observe(model, alg: str, *, convention: str = "setbound", gain=None, steps: 
     >>> r.lower.shape
     (5, 2)
     """
-    _algorithm(alg)
+    a = _algorithm(alg)
     if convention not in CONVENTIONS:
         raise InvalidArgumentError(f"convention: expected one of {CONVENTIONS}, got {convention!r}")
+    if gain is not None and not a.accepts_gain:  # before reading the model, as prepare's own checks
+        raise InvalidArgumentError(f"gain: {alg} has no observer gain to give")
     m = as_model(model)
     if steps is not None:
         from ._validate import as_int

@@ -65,6 +65,9 @@ def _per_step_set_bytes(family: str, n: int, options: dict) -> int:
         return 8 * (n * n + n)  # no set object: the covariance of the step
     if family == "zonotopic":
         m = options.get("max_generators", 20)
+        if m is None and "zonotope_order" in options:  # CORA's names: order x n_x generators (default 20)
+            order = options["zonotope_order"]
+            m = int(min(order if isinstance(order, (int, float)) and not isinstance(order, bool) else 20.0, 1e6) * n)
         m = m if isinstance(m, int) else 20
         return 8 * n * (min(m, 10**6) + n + 1) + _SET_OVERHEAD
     if family == "interval":
