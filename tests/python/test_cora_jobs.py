@@ -11,6 +11,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from fuzz_support import count, fuzz
 
 import setbound.cora as cora
 from setbound import cli, jobs
@@ -174,6 +178,37 @@ def test_bad_cora_tables_are_refused_naming_the_key(table, key, message, tmp_pat
     assert ERROR_LINE.match(err), err
     assert err.startswith(f"setbound: error: {key}: "), err
     assert message in err, err
+
+
+@fuzz(300)
+@given(data=st.data())
+def test_fuzz_the_keys_of_every_cora_name(data, tmp_path_factory):
+    """Hostile values on every key of every CORA name (and on two at once): `setbound check` accepts
+    the file or refuses it in one line naming the key, never a traceback."""
+    from test_fuzz_jobs import HOSTILE_SCALARS, run_check, to_toml
+
+    count("test_cora_jobs_fuzz")
+    name = data.draw(st.sampled_from(NAMES))
+    keys = sorted(jobs.ESTIMATORS[name].options)
+    values = st.sampled_from([*HOSTILE_SCALARS, GAIN, [[0.1, 0.2]], [[0.1], [0.2], [0.3]], "cora", "setbound", "pca",
+                              "girard", "inner", 20, 1.5, 10**6, None])
+    tab = _table(name)
+    for key in data.draw(st.lists(st.sampled_from(keys), min_size=1, max_size=2, unique=True)):
+        v = data.draw(values)
+        if v is None:
+            tab.pop(key, None)
+        else:
+            tab[key] = v
+    code, out, err = run_check(tmp_path_factory.mktemp("corafuzz"), to_toml(_doc([tab])), None)
+    assert "Traceback" not in err + out
+    assert code in (0, 2), (code, err, tab)
+    if code == 2:
+        lines = err.strip().splitlines()
+        assert len(lines) == 1 and ERROR_LINE.match(lines[0]), err
+        # the key of the estimator, or the file when the value is not TOML (a 5000-digit integer)
+        assert lines[0].startswith("setbound: error: estimator[0]") or "not valid TOML" in lines[0], lines[0]
+    else:
+        assert ": ok — " in out
 
 
 def test_unknown_name_lists_the_cora_names(tmp_path):
@@ -384,3 +419,13 @@ def test_the_example_runs_and_equals_observe(tmp_path, capsys):
             z = np.load(tmp_path / "ex" / f"{spec.name}.npz")
             ref = _observe_on_job(job, spec)
             np.testing.assert_array_equal(z["upper"], ref.upper)
+
+
+def test_zonotope_order_beyond_the_generator_bound_fails_naming_it():
+    """zonotope_order x n_x above the API's generator bound: the estimator fails (a FAILED row with
+    keep_going), naming zonotope_order, before any work."""
+    from setbound.zonotopic import MAX_GENERATORS
+
+    job = jobs.from_dict(_doc([{"method": "FRad-B", "zonotope_order": MAX_GENERATORS}]))
+    res = jobs.run_estimator(job, job.estimators[0], keep_going=True, quiet=True)
+    assert not res.ok and "zonotope_order" in res.error

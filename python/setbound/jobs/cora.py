@@ -335,6 +335,12 @@ def _build(alg: str, row: CoraMethod):
         model = cora_model(job.system, job.initial, job.y, job.u, name=job.title,
                            zonotope_order=o.get("zonotope_order") or DEFAULT_ZONOTOPE_ORDER,
                            constant_input=job.constant_input, truth=job.x_true, dt=dt)
+        order = o.get("zonotope_order")
+        if order is not None and row.family == "zonotopic" and int(order * job.system.nx) > MAX_GENERATORS:
+            from ..errors import InvalidArgumentError
+
+            raise InvalidArgumentError(f"zonotope_order: {order:g} x n_x = {int(order * job.system.nx)} generators, "
+                                       f"more than {MAX_GENERATORS}")
         conv = o["convention"]
         return CoraObserver(alg, model, convention=conv, gain=o.get("gain"), options=opts,
                             guaranteed=conv in row.guaranteed, filter=row.filter.get(conv)), None
