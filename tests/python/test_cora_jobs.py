@@ -429,3 +429,18 @@ def test_zonotope_order_beyond_the_generator_bound_fails_naming_it():
     job = jobs.from_dict(_doc([{"method": "FRad-B", "zonotope_order": MAX_GENERATORS}]))
     res = jobs.run_estimator(job, job.estimators[0], keep_going=True, quiet=True)
     assert not res.ok and "zonotope_order" in res.error
+
+
+def test_interval_a_only_for_the_names_that_take_it():
+    """A job with system.A_radius: FRad-A and VolMin-A run on the interval A (the truth, simulated
+    with a matrix of [A] drawn at every step, stays inside); the other names fail naming the system
+    instead of using the midpoint (which would not be guaranteed)."""
+    doc = _doc([{"method": "FRad-A"}, {"method": "VolMin-A"}, {"method": "Hinf-G"}, {"method": "ESO-B"}],
+               horizon=30)
+    doc["system"]["A_radius"] = [[0.0, 0.0], [0.0, 0.05]]
+    doc["simulation"]["A_choice"] = "uniform"
+    job = jobs.from_dict(doc)
+    fa, va, hg, eb = jobs.run(job, keep_going=True, quiet=True)
+    assert fa.ok and fa.contained is True and va.ok and va.contained is True
+    for r in (hg, eb):
+        assert not r.ok and "system.A_radius is not supported" in r.error

@@ -71,6 +71,9 @@ class CoraMethod:
         Options of the ``"setbound"`` convention's estimator that CORA's recursion does not take.
     validate : callable, optional
         ``validate(options, where)``: further rules between options.
+    interval_a : bool, optional
+        Whether it takes a job's interval ``A`` (``A_radius``); the others refuse such a job (their
+        runners read the midpoint only, or refuse it themselves).
     """
 
     family: str
@@ -82,6 +85,7 @@ class CoraMethod:
     needs_gain: tuple = ()
     setbound_only: tuple = ()
     validate: Callable[[dict, str], None] | None = None
+    interval_a: bool = False
 
 
 _POLICY = one_of("flag", "raise", "reset")
@@ -108,9 +112,10 @@ def _ellipsoids(o: dict, where: str) -> None:
                           'sets would not be guaranteed; only with convention = "cora" (CORA\'s conversion)')
 
 
-def _zonotopic(filter_: dict, needs_gain: tuple = (), extra: dict | None = None) -> CoraMethod:
+def _zonotopic(filter_: dict, needs_gain: tuple = (), extra: dict | None = None,
+               interval_a: bool = False) -> CoraMethod:
     return CoraMethod("zonotopic", {**_ZONO, **(extra or {})}, filter=filter_, needs_gain=needs_gain,
-                      validate=_one_size)
+                      validate=_one_size, interval_a=interval_a)
 
 
 _STRIP_POLICY = {"use_first_measurement": boolean, "on_inconsistency": _POLICY}
@@ -124,8 +129,9 @@ _CZN = {**_CZN_CHECKS, "zonotope_order": _ZONO["zonotope_order"]}
 #: (ESO-A/B: ``ellipsoids``, ``step_cap``), :mod:`setbound.hinf` (ESO-C: the design's ``lambda_route``,
 #: ``passes``), :mod:`setbound.interval_observers` (Hinf-G) and :mod:`setbound.constrained_zonotopic`.
 CORA_METHODS: dict[str, CoraMethod] = {
-    "FRad-A": _zonotopic(_FILTER, extra=_STRIP_POLICY),
-    "VolMin-A": _zonotopic(_FILTER, extra=_STRIP_POLICY),
+    # SegmentMinEstimator / VolumeMinEstimator take an interval A ([Le2013]'s example)
+    "FRad-A": _zonotopic(_FILTER, extra=_STRIP_POLICY, interval_a=True),
+    "VolMin-A": _zonotopic(_FILTER, extra=_STRIP_POLICY, interval_a=True),
     "VolMin-B": _zonotopic(_FILTER),
     "FRad-B": _zonotopic(_FILTER),
     "FRad-C": _zonotopic(_PREDICTOR),
@@ -335,10 +341,13 @@ def _build(alg: str, row: CoraMethod):
         model = cora_model(job.system, job.initial, job.y, job.u, name=job.title,
                            zonotope_order=o.get("zonotope_order") or DEFAULT_ZONOTOPE_ORDER,
                            constant_input=job.constant_input, truth=job.x_true, dt=dt)
+        from ..errors import InvalidArgumentError
+
+        if not row.interval_a and np.any(job.system.A_rad != 0):
+            raise InvalidArgumentError(f"system: {alg} by CORA's name needs a known A (system.A_radius is not "
+                                       "supported; FRad-A and VolMin-A take an interval A)")
         order = o.get("zonotope_order")
         if order is not None and row.family == "zonotopic" and int(order * job.system.nx) > MAX_GENERATORS:
-            from ..errors import InvalidArgumentError
-
             raise InvalidArgumentError(f"zonotope_order: {order:g} x n_x = {int(order * job.system.nx)} generators, "
                                        f"more than {MAX_GENERATORS}")
         conv = o["convention"]
