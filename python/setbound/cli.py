@@ -11,7 +11,9 @@
 ``setbound compare FILE... [--estimators a,b,c] [--out DIR]``
     the same system under several estimators — from several files describing the same system
     (the data of the first file are used for all), or one file with an estimator filter
-    (names or methods) —: one table and overlaid plots (default ``out/compare``).
+    (names or methods; a registered method the files do not run, e.g. a CORA name such as
+    ``FRad-B``, is added with its default options) —: one table and overlaid plots (default
+    ``out/compare``).
 ``setbound study FILE [--scheduler ADDR | --scheduler-file PATH] [--processes N] [--out DIR] [--resume | --no-resume]``
     a study: the job's ``[study]`` grid (seeds × parameter values × estimators, see
     :mod:`setbound.jobs.study`) on a Dask cluster (embedded by default, see
@@ -84,8 +86,9 @@ def _same_system(a, b) -> bool:
 def load_compare(files, estimators: str | None = None):
     """The job of ``setbound compare``: the first file's system, initial set and data, with the
     estimators of every file (renamed ``<file stem>:<name>`` when names clash), filtered by
-    ``estimators`` (comma-separated names or methods). Raises ConfigError when the files describe
-    different systems or the filter selects nothing.
+    ``estimators`` (comma-separated names or methods; a registered method that no file runs, such
+    as a CORA name, is added with its default options). Raises ConfigError when the files describe
+    different systems or a name of the filter is neither an estimator of the files nor a method.
 
     Parameters
     ----------
@@ -119,11 +122,20 @@ def load_compare(files, estimators: str | None = None):
             specs.append(jobs.EstimatorSpec(s.method, name.replace(":", "_"), s.options))
     if estimators:
         want = [w.strip() for w in estimators.split(",") if w.strip()]
-        unknown = [w for w in want if not any(w in (s.name, s.method) for s in specs)]
+        absent = [w for w in want if not any(w in (s.name, s.method) for s in specs)]
+        unknown = [w for w in absent if w not in jobs.ESTIMATORS]
         if unknown:
+            from .jobs.schema import closest
+
             raise jobs.ConfigError(f"--estimators: {', '.join(unknown)} not among "
-                                     f"{', '.join(s.name for s in specs)}")
+                                   f"{', '.join(s.name for s in specs)} nor a registered method"
+                                   f"{closest(unknown[0], [*(s.name for s in specs), *jobs.ESTIMATORS])} "
+                                   f"(methods: {', '.join(jobs.ESTIMATORS)})")
+        # a method the files do not run (e.g. a CORA name): added with its default options
+        added = [jobs.estimator_spec({"method": w}, f"--estimators {w}", job.system_kind, job.system) for w in absent]
         specs = [s for s in specs if s.name in want or s.method in want]
+        taken = {s.name for s in specs}
+        specs += [a for a in added if a.name not in taken]
     job.estimators = specs
     if job.plots.reference not in {s.name for s in specs}:
         job.plots.reference = None
@@ -163,7 +175,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--quiet", "-q", action="store_true", default=argparse.SUPPRESS, help="no progress bars")
     m = sub.add_parser("compare", help="one system under several estimators: one table, overlaid plots")
     m.add_argument("files", nargs="+", metavar="FILE")
-    m.add_argument("--estimators", help="comma-separated estimator names or methods to keep")
+    m.add_argument("--estimators", help="comma-separated estimator names or methods to keep (a method no file "
+                                        "runs, e.g. a CORA name, is added)")
     m.add_argument("--out", default="out/compare", help="directory for the results (default out/compare)")
     m.add_argument("--no-plots", action="store_true", help="write no PNG files")
     m.add_argument("--quiet", "-q", action="store_true", default=argparse.SUPPRESS, help="no progress bars")

@@ -169,6 +169,91 @@ def as_model(model) -> CoraBenchmark:
         f"model: expected a CORA-format JSON path or setbound.benchmarks.load_cora(...), got {type(model).__name__}")
 
 
+def accepts_gain(alg: str) -> bool:
+    """Whether the observer CORA calls ``alg`` takes a given gain (``gain=L``).
+
+    Parameters
+    ----------
+    alg : str
+        CORA's name of the observer (:func:`algorithms` lists them).
+
+    Returns
+    -------
+    bool
+
+    Raises
+    ------
+    InvalidArgumentError
+        Unknown ``alg``.
+
+    Examples
+    --------
+    >>> import setbound.cora as cora
+    >>> cora.accepts_gain("PRad-E"), cora.accepts_gain("FRad-B")
+    (True, False)
+    """
+    return _algorithm(alg).accepts_gain
+
+
+def _algorithm(alg) -> _Algorithm:
+    _load_families()
+    if not isinstance(alg, str) or alg not in _ALGORITHMS:
+        raise InvalidArgumentError(f"alg: unknown CORA observer {alg!r}; known: {', '.join(_ALGORITHMS)}")
+    return _ALGORITHMS[alg]
+
+
+def prepare(model, alg: str, *, convention: str = "setbound", gain=None, **options) -> Callable[[], tuple]:
+    """The offline part of :func:`observe` (checks, estimator, design): returns the run.
+
+    What :func:`observe` and the job files (``method = "<CORA name>"``, :mod:`setbound.jobs.cora`)
+    share: the same checks and the same runner, so both give the same sets.
+
+    Parameters
+    ----------
+    model : str, Path or CoraBenchmark
+        As in :func:`observe`.
+    alg : str
+        CORA's name of the observer.
+    convention : {"setbound", "cora"}, optional
+        setbound's guaranteed algorithm (default) or CORA's exact behaviour.
+    gain : array_like, shape (n_x, n_y), optional
+        A given observer gain (gain-based methods only).
+    **options
+        The method's own options.
+
+    Returns
+    -------
+    callable
+        ``run()`` processes ``model.y`` from the initial set and returns ``(lower, upper, sets)``;
+        it may be called again (each call starts from the initial set).
+
+    Raises
+    ------
+    InvalidArgumentError
+        As :func:`observe`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from setbound.cora import prepare
+    >>> from setbound.sets import Zonotope
+    >>> from setbound.benchmarks import CoraBenchmark
+    >>> from setbound.system import LinearSystem
+    >>> sys = LinearSystem([[0.5, 0.1], [0.0, 0.6]], [[1.0, 0.0]], E=[[0.1], [0.1]], F=[[0.0]])
+    >>> m = CoraBenchmark("toy", sys, Zonotope([0, 0], np.eye(2)), y=np.zeros((5, 1)),
+    ...                   u=np.zeros((5, 0)), truth=None, zonotope_order=20, reduction="girard")
+    >>> lower, upper, sets = prepare(m, "FRad-B")()
+    >>> lower.shape, len(sets)
+    ((5, 2), 5)
+    """
+    a = _algorithm(alg)
+    if convention not in CONVENTIONS:
+        raise InvalidArgumentError(f"convention: expected one of {CONVENTIONS}, got {convention!r}")
+    if gain is not None and not a.accepts_gain:
+        raise InvalidArgumentError(f"gain: {alg} has no observer gain to give")
+    return a.runner(as_model(model), convention=convention, gain=gain, **options)
+
+
 def observe(model, alg: str, *, convention: str = "setbound", gain=None, steps: int | None = None,
             **options) -> CoraResult:
     """Runs the observer CORA calls ``alg`` on a CORA model and its measurements.
@@ -212,13 +297,10 @@ def observe(model, alg: str, *, convention: str = "setbound", gain=None, steps: 
     >>> r.lower.shape
     (5, 2)
     """
-    _load_families()
-    if not isinstance(alg, str) or alg not in _ALGORITHMS:
-        raise InvalidArgumentError(f"alg: unknown CORA observer {alg!r}; known: {', '.join(_ALGORITHMS)}")
+    a = _algorithm(alg)
     if convention not in CONVENTIONS:
         raise InvalidArgumentError(f"convention: expected one of {CONVENTIONS}, got {convention!r}")
-    a = _ALGORITHMS[alg]
-    if gain is not None and not a.accepts_gain:
+    if gain is not None and not a.accepts_gain:  # before reading the model, as prepare's own checks
         raise InvalidArgumentError(f"gain: {alg} has no observer gain to give")
     m = as_model(model)
     if steps is not None:
@@ -226,7 +308,7 @@ def observe(model, alg: str, *, convention: str = "setbound", gain=None, steps: 
         k = as_int(steps, "steps", lo=1, hi=len(m.y))
         m = dataclasses.replace(m, y=m.y[:k], u=m.u[:k], truth=None if m.truth is None else m.truth[:k])
     t0 = time.perf_counter()
-    run = a.runner(m, convention=convention, gain=gain, **options)
+    run = prepare(m, alg, convention=convention, gain=gain, **options)
     t1 = time.perf_counter()
     lower, upper, sets = run()
     t2 = time.perf_counter()

@@ -135,7 +135,8 @@ def format_table(rows) -> str:
         inside = "n/a" if r["contains_truth"] is None else ("yes" if r["contains_truth"] else "NO")
         if not r["guaranteed"]:
             inside += "*"
-            notes.add("* not a guaranteed method (Kalman: mean ± 3σ box)")
+            notes.add("* not a guaranteed method, the truth is not checked (Kalman: mean ± 3σ box; CORA's code "
+                      "under convention = \"cora\")")
         vol = _g(r["steady_volume"], 11)
         if r["steady_volume_kind"] == "final":
             vol += "†"

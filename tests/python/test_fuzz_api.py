@@ -777,6 +777,7 @@ OPTIONS: dict[str, dict[str, str]] = {
     "setbound.constrained_zonotopic.ConstrainedZonotopicEstimator.step": {"u": "data"},
     "setbound.constrained_zonotopic.ConstrainedZonotopicEstimator.run": {"u": "data", "keep_sets": "bool"},
     "setbound.cora.observe": {"convention": "choice", "gain": "data", "steps": "int?"},
+    "setbound.cora.prepare": {"convention": "choice", "gain": "data"},
     "setbound.cora.register_algorithm": {"summary": "str", "accepts_gain": "bool"},
     "setbound.zonotopic.BravoEstimator.__init__": {"max_generators": "int", "reduction": "choice",
                                                    "convention": "choice"},
@@ -1152,6 +1153,7 @@ CALLS = {
     "setbound.constrained_zonotopic.ConstrainedZonotopicEstimator.run":
         lambda c, **kw: czn.ConstrainedZonotopicEstimator(c["S"], c["X0"]).run(np.zeros((2, 1)), **kw),
     "setbound.cora.observe": lambda c, **kw: sbcora.observe(_cora_model(c), "FRad-A", **kw),
+    "setbound.cora.prepare": lambda c, **kw: sbcora.prepare(_cora_model(c), "FRad-A", **kw)(),
     "setbound.cora.register_algorithm":
         lambda c, **kw: sbcora.register_algorithm("FRad-A", lambda m, **o: None, **{"summary": "x", **kw}),
     "setbound.sets.as_box": lambda c, **kw: sbsets.as_box(c["E"], **kw),

@@ -60,7 +60,9 @@ method or model is added in one place:
 
 The thesis kinds (system kinds ``thesis``, ``lpv``, ``nonlinear``; estimators
 ``interval_luenberger``, ``interval_invariant``, ``nonlinear_interval``, ``ellipsoidal_sm``,
-``lpv_sm``, ``invariant_tube``) live in :mod:`setbound.jobs.thesis`. A system object may bring its own simulation (``simulate_job``, plus extra
+``lpv_sm``, ``invariant_tube``) live in :mod:`setbound.jobs.thesis`; CORA's observer names
+(``method = "FRad-B"``, ``convention``, ``gain``: every name of :func:`setbound.cora.algorithms`) in
+:mod:`setbound.jobs.cora`. A system object may bring its own simulation (``simulate_job``, plus extra
 ``[simulation]`` keys in ``simulation_keys``) and per-step data for its estimators
 (``job.extra``, e.g. the LPV scheduling signal); :func:`compile_expression` evaluates the
 whitelisted expressions with extra variables (``k``, the state ``x1 … xn``, a parameter ``p``).
@@ -86,6 +88,7 @@ checks the import graph)::
     runner       run, run_estimator, run_trajectory          -> registry, model
     linear       the papers' kinds (registered on import)    -> schema, registry
     thesis       the thesis kinds (registered on import)     -> schema, expressions, registry
+    cora         CORA's names of setbound.cora (on import)   -> schema, registry, linear
     study        the [study] grid: Study, load_study         -> schema, registry, loader
 
 :mod:`setbound.config` and :mod:`setbound.thesis_jobs` are façades re-exporting these names.
@@ -93,7 +96,7 @@ checks the import graph)::
 from __future__ import annotations
 
 from .expressions import compile_expression, eval_expression
-from .loader import from_dict, load
+from .loader import estimator_spec, from_dict, load
 from .model import EstimatorSpec, Job, PlotSpec, Result
 from .registry import (ESTIMATORS, METHODS, SYSTEMS, BuiltSystem, EstimatorKind, SystemKind, register_estimator,
                        register_system, system_kind_of)
@@ -103,7 +106,10 @@ from .schema import ConfigError
 # the registered kinds: importing them registers them (the papers' first, then the thesis')
 from . import linear  # noqa: E402,F401  isort: skip
 from . import thesis  # noqa: E402,F401  isort: skip
+from . import cora  # noqa: E402,F401  isort: skip  (CORA's names: setbound.cora's registry)
+
+cora.register_cora_names()
 
 __all__ = ["ConfigError", "BuiltSystem", "SystemKind", "EstimatorKind", "SYSTEMS", "ESTIMATORS", "METHODS",
            "register_system", "register_estimator", "system_kind_of", "EstimatorSpec", "PlotSpec", "Job", "Result",
-           "load", "from_dict", "run", "run_estimator", "run_trajectory", "compile_expression", "eval_expression"]
+           "load", "from_dict", "estimator_spec", "run", "run_estimator", "run_trajectory", "compile_expression", "eval_expression"]

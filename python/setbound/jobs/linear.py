@@ -1,7 +1,7 @@
 """The job-file kinds of the papers: system kinds ``linear`` and ``descriptor``; estimators
 ``offline``, ``online``, ``scaled``, ``improved``, ``descriptor`` (ellipsoidal), ``segment_min``,
-``volume_min``, ``pradius`` (zonotopic), ``czn_a``, ``czn_b`` (constrained zonotopes; also under CORA's
-names ``CZN-A``, ``CZN-B``) and ``kalman`` (registered on import)."""
+``volume_min``, ``pradius`` (zonotopic), ``czn_a``, ``czn_b`` (constrained zonotopes; CORA's names
+``CZN-A``, ``CZN-B`` are in :mod:`setbound.jobs.cora`) and ``kalman`` (registered on import)."""
 from __future__ import annotations
 
 import numpy as np
@@ -243,9 +243,10 @@ register_estimator("volume_min", "zonotopic", _ZONO, _build_zonotopic("volume_mi
 register_estimator("pradius", "zonotopic", {**_ZONO, "approach": 1}, _build_zonotopic("pradius"),
                    checks={**_ZONO_CHECKS, "approach": one_of(1, 2)},
                    description="[Le2013] offline P-radius gains (Methods › Zonotopic estimation › P-radius designs)")
+# CORA's names CZN-A / CZN-B (with `convention`) are registered with the other CORA names by
+# setbound.jobs.cora; their options are these.
 for _name, _corr, _what in (("czn_a", "exact_output", "exact intersection with the output set"),
                             ("czn_b", "wang_strips", "output strips in Wang et al.'s gain representation")):
-    for _alias in (_name, _name.upper().replace("_", "-")):
-        register_estimator(_alias, "constrained_zonotopic", _CZN, _build_czn(_corr), checks=_CZN_CHECKS,
-                           description=f"[Scott2016] constrained zonotopes, {_what} (CORA's "
-                                       f"{_name.upper().replace('_', '-')}; Methods › Constrained zonotopes)")
+    register_estimator(_name, "constrained_zonotopic", _CZN, _build_czn(_corr), checks=_CZN_CHECKS,
+                       description=f"[Scott2016] constrained zonotopes, {_what} (CORA's "
+                                   f"{_name.upper().replace('_', '-')}; Methods › Constrained zonotopes)")

@@ -23,7 +23,7 @@ from .registry import ESTIMATORS, SYSTEMS, BuiltSystem, check_option, unknown_me
 from .schema import (MAX_DEPTH, ConfigError, as_choice, as_float, as_int, check_document, check_keys, closest,
                      describe, matrix, require)
 
-__all__ = ["load", "from_dict", "memory_estimate", "available_memory", "TRIAL_STEPS", "MAX_HORIZON"]
+__all__ = ["load", "from_dict", "estimator_spec", "memory_estimate", "available_memory", "TRIAL_STEPS", "MAX_HORIZON"]
 
 #: Steps simulated by ``simulate=False`` (``setbound check``) to meet failing expressions early.
 TRIAL_STEPS = 64
@@ -65,6 +65,9 @@ def _per_step_set_bytes(family: str, n: int, options: dict) -> int:
         return 8 * (n * n + n)  # no set object: the covariance of the step
     if family == "zonotopic":
         m = options.get("max_generators", 20)
+        if m is None and "zonotope_order" in options:  # CORA's names: order x n_x generators (default 20)
+            order = options["zonotope_order"]
+            m = int(min(order if isinstance(order, (int, float)) and not isinstance(order, bool) else 20.0, 1e6) * n)
         m = m if isinstance(m, int) else 20
         return 8 * n * (min(m, 10**6) + n + 1) + _SET_OVERHEAD
     if family == "interval":
@@ -183,7 +186,66 @@ def _inputs(spec, t, nu, key, *, sample: bool = False):
 # Options whose shape follows from the system: checked at load time (not only when the estimator is
 # built, where a wrong shape would be an estimator failure, exit 1, instead of a job-file error).
 _OPTION_SHAPES = {"xhat0": lambda s: (s.nx,), "cov0": lambda s: (s.nx, s.nx), "L": lambda s: (s.nx, s.ny),
+                  "gain": lambda s: (s.nx, s.ny),
                   "omega_cov": lambda s: (getattr(s, "nw", None), getattr(s, "nw", None))}
+
+
+def estimator_spec(tab, where: str, system_kind: str = "linear", system=None) -> EstimatorSpec:
+    """Validates one ``[[estimator]]`` table (what :func:`load` does for each; ``setbound compare
+    --estimators`` for a method named on the command line).
+
+    Parameters
+    ----------
+    tab : dict
+        The table (``method``, optional ``name``, the method's options).
+    where : str
+        How errors name it (``estimator[0]``).
+    system_kind : str, optional
+        The job's system kind.
+    system : object, optional
+        The job's system (then options whose shape follows from it are checked).
+
+    Returns
+    -------
+    EstimatorSpec
+
+    Examples
+    --------
+    >>> spec = setbound.jobs.estimator_spec({"method": "FRad-B", "convention": "cora"}, "estimator[0]")
+    >>> spec.name, spec.options["convention"]
+    ('FRad-B', 'cora')
+    """
+    if not isinstance(tab, dict):
+        raise ConfigError(f"{where}: expected a table, got {describe(tab)}")
+    if "method" not in tab:
+        for k in tab:  # a misspelt `method` is the likely cause: say so
+            if closest(k, {"method"}):
+                raise ConfigError(f"{where}.{k}: unknown key (did you mean 'method'?)")
+    method = require(tab, "method", where)
+    if not isinstance(method, str) or method not in ESTIMATORS:
+        raise unknown_method(method, where)
+    kind = ESTIMATORS[method]
+    check_keys(tab, {"method", "name", *kind.options}, where)
+    if system_kind not in kind.systems:
+        raise ConfigError(f"{where}.method: {method!r} does not apply to a {system_kind} system "
+                          f"(it applies to: {', '.join(kind.systems)})")
+    given = {}
+    for k, v in tab.items():
+        if k in kind.options:
+            given[k] = check_option(kind.checks[k], v, f"{where}.{k}") if k in kind.checks else v
+    if system is not None:
+        for k, v in given.items():
+            if k in _OPTION_SHAPES and v is not None:
+                shape = _OPTION_SHAPES[k](system)
+                matrix(v, f"{where}.{k}", ndim=len(shape), shape=shape)
+    opts = {**kind.options, **given}
+    if kind.validate is not None:
+        kind.validate(opts, where)
+    name = tab.get("name", method)
+    if not isinstance(name, str) or not name or len(name) > 100 or any(ch in name for ch in "/\\:*?\"<>|\0") \
+            or name.startswith(".") or not name.isprintable():
+        raise ConfigError(f"{where}.name: must be a non-empty string usable as a file name, got {describe(name)}")
+    return EstimatorSpec(method, name, opts)
 
 
 def _estimators(lst, system_kind: str, system=None):
@@ -192,38 +254,11 @@ def _estimators(lst, system_kind: str, system=None):
     out, names = [], set()
     for i, tab in enumerate(lst):
         where = f"estimator[{i}]"
-        if not isinstance(tab, dict):
-            raise ConfigError(f"{where}: expected a table, got {describe(tab)}")
-        if "method" not in tab:
-            for k in tab:  # a misspelt `method` is the likely cause: say so
-                if closest(k, {"method"}):
-                    raise ConfigError(f"{where}.{k}: unknown key (did you mean 'method'?)")
-        method = require(tab, "method", where)
-        if not isinstance(method, str) or method not in ESTIMATORS:
-            raise unknown_method(method, where)
-        kind = ESTIMATORS[method]
-        check_keys(tab, {"method", "name", *kind.options}, where)
-        if system_kind not in kind.systems:
-            raise ConfigError(f"{where}.method: {method!r} does not apply to a {system_kind} system "
-                              f"(it applies to: {', '.join(kind.systems)})")
-        given = {}
-        for k, v in tab.items():
-            if k in kind.options:
-                given[k] = check_option(kind.checks[k], v, f"{where}.{k}") if k in kind.checks else v
-        if system is not None:
-            for k, v in given.items():
-                if k in _OPTION_SHAPES and v is not None:
-                    shape = _OPTION_SHAPES[k](system)
-                    matrix(v, f"{where}.{k}", ndim=len(shape), shape=shape)
-        opts = {**kind.options, **given}
-        name = tab.get("name", method)
-        if not isinstance(name, str) or not name or len(name) > 100 or any(ch in name for ch in "/\\:*?\"<>|\0") \
-                or name.startswith(".") or not name.isprintable():
-            raise ConfigError(f"{where}.name: must be a non-empty string usable as a file name, got {describe(name)}")
-        if name in names:
-            raise ConfigError(f"{where}.name: duplicate estimator name {name!r}")
-        names.add(name)
-        out.append(EstimatorSpec(method, name, opts))
+        spec = estimator_spec(tab, where, system_kind, system)
+        if spec.name in names:
+            raise ConfigError(f"{where}.name: duplicate estimator name {spec.name!r}")
+        names.add(spec.name)
+        out.append(spec)
     return out
 
 

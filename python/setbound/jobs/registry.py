@@ -87,6 +87,8 @@ class EstimatorKind:
         One line for the command line's listings.
     checks : dict, optional
         Validation of option values (see :func:`register_estimator`).
+    validate : callable, optional
+        ``validate(options, where)``: rules between options (see :func:`register_estimator`).
     """
 
     method: str
@@ -98,6 +100,7 @@ class EstimatorKind:
     steady_volume: Callable[[Any, Any], float] | None = None
     description: str = ""
     checks: dict[str, Any] = field(default_factory=dict)
+    validate: Callable[[dict, str], None] | None = None
 
 
 #: Registered system kinds, ``kind -> SystemKind``.
@@ -141,11 +144,13 @@ def register_system(kind: str, keys, build: Callable[[dict], Any], cls: type, *,
 
 def register_estimator(method: str, family: str, options: dict[str, Any], build, *, systems=("linear",),
                        guaranteed: bool = True, steady_volume=None, description: str = "", checks=None,
-                       replace: bool = False) -> EstimatorKind:
+                       validate=None, replace: bool = False) -> EstimatorKind:
     """Adds an estimator kind usable as ``[[estimator]] method = "<method>"`` (see
     :mod:`setbound.jobs`). ``options`` must not contain ``method`` or ``name``. ``checks`` maps an
     option to a conversion ``f(value, key)`` or to ``(predicate, what it must be)``: values given
-    in a job file are validated when it is loaded.
+    in a job file are validated when it is loaded. ``validate(options, where)`` then sees all the
+    options (defaults filled in) and raises :class:`ConfigError` naming ``<where>.<option>`` when
+    two of them do not go together.
 
     Parameters
     ----------
@@ -167,6 +172,8 @@ def register_estimator(method: str, family: str, options: dict[str, Any], build,
         One line for listings.
     checks : dict, optional
         Option validation.
+    validate : callable, optional
+        ``validate(options, where)``: rules between options.
     replace : bool, optional
         Replace an existing registration of ``method``.
 
@@ -180,7 +187,7 @@ def register_estimator(method: str, family: str, options: dict[str, Any], build,
     if bad:
         raise ValueError(f"options: {', '.join(sorted(bad))} is reserved")
     entry = EstimatorKind(method, family, dict(options), build, tuple(systems), guaranteed, steady_volume,
-                          description, dict(checks or {}))
+                          description, dict(checks or {}), validate)
     ESTIMATORS[method] = entry
     METHODS[method] = (family, entry.options)
     return entry

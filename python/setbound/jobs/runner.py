@@ -32,7 +32,8 @@ def run_trajectory(estimator, y, u=None, *, label: str = "", quiet: bool = False
     """``estimator.run(y, u)`` with a progress bar (see :mod:`setbound.progress`) when stderr is a
     terminal: then in chunks (``chunk`` rows, default N/50). The first chunk starts from the
     initial set and the others continue from the current state (``run(..., reset=False)``), so
-    the chunks join into the same trajectory as one call.
+    the chunks join into the same trajectory as one call. An estimator whose ``resumable``
+    attribute is False is run in one call.
 
     Parameters
     ----------
@@ -59,6 +60,12 @@ def run_trajectory(estimator, y, u=None, *, label: str = "", quiet: bool = False
     with Progress(N, label, quiet=quiet) as bar:
         if not bar.enabled and chunk is None:
             return estimator.run(y, u)  # nothing to draw: one call
+        if not getattr(estimator, "resumable", True):
+            # a run that cannot continue another (setbound.jobs.cora: CORA's runners process the
+            # whole record at once): one call, the bar jumps to the end
+            traj = estimator.run(y, u)
+            bar.update(N)
+            return traj
         if chunk is None:
             chunk = max(1, -(-N // 50))
         parts = []
