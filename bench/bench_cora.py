@@ -140,16 +140,50 @@ def shortened(model, steps: int | None):
                                truth=None if model.truth is None else model.truth[:steps])
 
 
+def with_timeout(fn, timeout: float | None, what: str) -> dict:
+    """``fn()`` (a dict) in a forked child that is stopped after ``timeout`` seconds: a design of
+    minutes (tank30's 21 × 7 PRad-A SDPs) or an LP hull per step must not hold the whole run, and a C
+    call cannot be interrupted from Python. None: in this process."""
+    if not timeout:
+        return fn()
+    import multiprocessing as mp
+
+    ctx = mp.get_context("fork")
+    recv, send = ctx.Pipe(duplex=False)
+
+    def child():
+        try:
+            send.send(fn())
+        except BaseException as e:  # noqa: BLE001
+            send.send({"error": short_error(e)})
+
+    p = ctx.Process(target=child, daemon=True)
+    p.start()
+    send.close()
+    out = recv.recv() if recv.poll(timeout) else None
+    p.join(1 if out is not None else 0)
+    if p.is_alive():
+        p.terminate()
+        p.join()
+    if out is None:
+        return {"skipped": f"{what} not finished within {timeout:g} s on this machine"}
+    return out
+
+
 # ---- one method on one model -----------------------------------------------------------------
 
-def run_method(model, alg: str, reps: int, gains: dict, exact: dict | None = None) -> dict:
+def run_method(model, alg: str, reps: int, gains: dict, exact: dict | None = None, rep_budget: float = 15.0) -> dict:
     row = {"alg": alg, "n": model.system.nx}
     reason = skip_reason(alg, model.system.nx)
     if reason:
         return {**row, "skipped": reason}
     gain, note = None, ""
     runs = []
+    t_start = time.perf_counter()
     for _ in range(reps):
+        if runs and time.perf_counter() - t_start > rep_budget:
+            note = (note + "; " if note else "") + f"{len(runs)} Python run(s): each above {rep_budget:g} s"
+            break
         try:
             r = cora.observe(model, alg, gain=gain)
         except Exception as e:  # noqa: BLE001 — every setbound error is a row, never a crash
@@ -200,7 +234,7 @@ def exact_reference(model, exact_max: int) -> dict | None:
 
 # ---- CORA's saved values -----------------------------------------------------------------------
 
-def golden_check(model, gains: dict) -> list[dict]:
+def golden_check(model, gains: dict, timeout: float | None = None) -> list[dict]:
     """Every saved final hull of the model, run with convention="cora" (and, for the names whose
     CORA gain is an SDP end point, with CORA's saved gain where there is one)."""
     out = []
@@ -213,38 +247,56 @@ def golden_check(model, gains: dict) -> list[dict]:
         if model.name.startswith("vehicle2") and alg in gains:
             tries.append(("CORA's saved gain", gains[alg]))
         for how, gain in tries:
-            try:
-                r = cora.observe(model, alg, convention="cora", gain=gain, steps=steps)
+            def check(alg=alg, gain=gain, steps=steps, lo=lo, hi=hi):
+                try:
+                    r = cora.observe(model, alg, convention="cora", gain=gain, steps=steps)
+                except Exception as e:  # noqa: BLE001
+                    return {"ok": False, "message": short_error(e)}
                 err = max(np.abs(r.lower[-1] - lo).max(), np.abs(r.upper[-1] - hi).max())
-                ok = within_tol(r.lower[-1], lo) and within_tol(r.upper[-1], hi)
-                entry[how] = {"ok": ok, "error": float(err)}
-            except Exception as e:  # noqa: BLE001
-                entry[how] = {"ok": False, "message": short_error(e)}
+                return {"ok": within_tol(r.lower[-1], lo) and within_tol(r.upper[-1], hi), "error": float(err)}
+            res = with_timeout(check, timeout, "the run")
+            entry[how] = res if "ok" in res else {"ok": False, "message": res.get("skipped") or res.get("error")}
         out.append(entry)
     return out
 
 
 # ---- C++ -----------------------------------------------------------------------------------------
 
-def cpp_figures(args, files: list[str]) -> tuple[dict, dict | None]:
+def cpp_figures(args, plan: dict[str, list[str]]) -> tuple[dict, dict | None]:
+    """The C++ rows: ``bench_cora_cpp`` once per model, for the methods of ``plan[model file]`` (the
+    ones the Python run did not skip: a design Python could not finish in time would not finish in
+    C++ either). ``--cpp-json``: an earlier run's output instead."""
     if args.no_cpp:
         return {}, None
     if args.cpp_json:
         d = json.loads(Path(args.cpp_json).read_text())
-    else:
-        exe = Path(args.cpp) if args.cpp else ROOT / "build" / "bench" / "bench_cora_cpp"
-        if not exe.is_file():
-            print(f"bench_cora: no C++ program at {exe} (build it with -DSETBOUND_BUILD_BENCH=ON); "
-                  "C++ columns left empty", file=sys.stderr)
-            return {}, None
-        with tempfile.TemporaryDirectory() as tmp:
-            out = Path(tmp) / "cpp.json"
-            cmd = [str(exe), str(args.data), "--models", ",".join(files), "--json", str(out),
+        return {(r["model"], r["alg"]): r for r in d["rows"]}, d
+    exe = Path(args.cpp) if args.cpp else ROOT / "build" / "bench" / "bench_cora_cpp"
+    if not exe.is_file():
+        print(f"bench_cora: no C++ program at {exe} (build it with -DSETBOUND_BUILD_BENCH=ON); "
+              "C++ columns left empty", file=sys.stderr)
+        return {}, None
+    meta, rows = None, []
+    with tempfile.TemporaryDirectory() as tmp:
+        for model, algs in plan.items():
+            if not algs:
+                continue
+            out = Path(tmp) / f"{model}.json"
+            cmd = [str(exe), str(args.data), "--models", model, "--methods", ",".join(algs), "--json", str(out),
                    "--min-steps", str(args.cpp_min_steps), "--max-seconds", str(args.cpp_max_seconds)]
             print("running", " ".join(cmd), file=sys.stderr)
             subprocess.run(cmd, check=True)
             d = json.loads(out.read_text())
-    return {(r["model"], r["alg"]): r for r in d["rows"]}, d
+            if meta is None:
+                meta = d
+            meta["loadavg_end"] = d["loadavg_end"]
+            rows += d["rows"]
+    if meta is None:
+        return {}, None
+    meta["rows"] = rows
+    if args.save_cpp_json:
+        Path(args.save_cpp_json).write_text(json.dumps(meta, indent=1))
+    return {(r["model"], r["alg"]): r for r in rows}, meta
 
 
 # ---- report --------------------------------------------------------------------------------------
@@ -371,13 +423,18 @@ def figure(results, cpp, path: Path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from matplotlib.ticker import NullFormatter
+
     shorts = list(results)
-    fig, axes = plt.subplots(1, len(shorts), figsize=(4.2 * len(shorts), 4.0), squeeze=False)
+    cols = min(3, len(shorts))
+    rows_ = (len(shorts) + cols) // cols  # one more panel for the legend
+    fig, grid = plt.subplots(rows_, cols, figsize=(4.6 * cols, 3.6 * rows_), squeeze=False)
+    panels = list(grid.flat)
     algs = sorted({r["alg"] for s in shorts for r in results[s]["rows"]})
     cmap = plt.get_cmap("tab20")
     colour = {a: cmap(i % 20) for i, a in enumerate(algs)}
     markers = "os^vD<>ph*Xd8P"
-    for ax, s in zip(axes[0], shorts):
+    for ax, s in zip(panels, shorts):
         res = results[s]
         for i, r in enumerate(res["rows"]):
             if "mean_iradius" not in r:
@@ -392,16 +449,20 @@ def figure(results, cpp, path: Path):
         ex = res["exact"]
         if ex and "mean_iradius" in ex:
             ax.axhline(ex["mean_iradius"], color="k", ls="--", lw=0.8, label="exact hull")
-        ax.set(xscale="log", yscale="log", title=LABELS[s], xlabel="time per step [µs] (C++; open: Python)")
+        ax.set(xscale="log", yscale="log", title=LABELS[s], xlabel="time per step [µs] (C++; open: Python)",
+               ylabel="mean IRadius")
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.yaxis.set_minor_formatter(NullFormatter())
         ax.grid(True, which="both", lw=0.3)
-    axes[0][0].set_ylabel("mean IRadius")
-    handles, labels = {}, []
-    for ax in axes[0]:
+    handles = {}
+    for ax in panels[:len(shorts)]:
         for h, lab in zip(*ax.get_legend_handles_labels()):
             handles.setdefault(lab, h)
-    fig.legend(list(handles.values()), list(handles), loc="lower center", ncol=min(10, len(handles)), fontsize=8,
-               frameon=False)
-    fig.tight_layout(rect=(0, 0.12, 1, 1))
+    for ax in panels[len(shorts):]:
+        ax.axis("off")
+    panels[len(shorts)].legend(list(handles.values()), list(handles), loc="center", ncol=2, fontsize=9,
+                               frameon=False)
+    fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=90)
     plt.close(fig)
@@ -420,6 +481,11 @@ def main(argv=None) -> dict:
     ap.add_argument("--cpp", help="the bench_cora_cpp program (default build/bench/bench_cora_cpp)")
     ap.add_argument("--cpp-json", help="use the JSON output of an earlier bench_cora_cpp run")
     ap.add_argument("--no-cpp", action="store_true", help="no C++ timing")
+    ap.add_argument("--save-cpp-json", help="keep the C++ program's output (for --cpp-json)")
+    ap.add_argument("--method-timeout", type=float, default=150.0,
+                    help="seconds for one method on one model (design and runs; 0: no limit)")
+    ap.add_argument("--rep-budget", type=float, default=15.0,
+                    help="no further Python run of a method once its runs took this many seconds")
     ap.add_argument("--cpp-min-steps", type=int, default=400)
     ap.add_argument("--cpp-max-seconds", type=float, default=20.0)
     ap.add_argument("--no-golden", action="store_true", help="skip the count of CORA's saved values")
@@ -440,18 +506,20 @@ def main(argv=None) -> dict:
     started = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     load0 = os.getloadavg()
     gains = saved_gains(args.data)
-    cpp, cpp_meta = cpp_figures(args, [MODELS[s] for s in shorts])
     algs = list(cora.algorithms())
     results, golden = {}, {}
     for s in shorts:
         full = load_cora(args.data / f"{MODELS[s]}.json")
         model = shortened(full, args.steps)
         print(f"{s}: {len(algs)} methods", file=sys.stderr)
-        exact = exact_reference(model, args.exact_max)
+        exact = with_timeout(lambda: exact_reference(model, args.exact_max), args.method_timeout * 3 or None,
+                             "exact hull")
         rows = []
         for alg in algs:
             t0 = time.perf_counter()
-            rows.append(run_method(model, alg, args.reps, gains, exact))
+            row = with_timeout(lambda: run_method(model, alg, args.reps, gains, exact, args.rep_budget),
+                               args.method_timeout, "design and run")
+            rows.append({"alg": alg, "n": model.system.nx, **row})
             r = rows[-1]
             print(f"  {alg:10s} {r.get('mean_iradius', float('nan')):10.4g} {time.perf_counter() - t0:7.1f} s "
                   f"{r.get('error') or r.get('skipped') or ''}", file=sys.stderr)
@@ -459,7 +527,9 @@ def main(argv=None) -> dict:
             exact.pop("lower", None), exact.pop("upper", None)
         results[s] = {"file": model.name, "rows": rows, "exact": exact, "n": model.system.nx, "N": len(model.y)}
         if not args.no_golden and full.golden:
-            golden[model.name] = golden_check(full, gains)
+            golden[model.name] = golden_check(full, gains, args.method_timeout)
+    cpp, cpp_meta = cpp_figures(args, {res["file"]: [r["alg"] for r in res["rows"] if "skipped" not in r]
+                                       for res in results.values()})
     load1 = os.getloadavg()
 
     lines = [f"Generated by `bench/bench_cora.py` ({' '.join(['--models', args.models] + (['--quick'] if args.quick else []) + (['--steps', str(args.steps)] if args.steps else []) + ['--reps', str(args.reps)])}) "
