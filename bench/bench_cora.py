@@ -243,6 +243,10 @@ def golden_check(model, gains: dict, timeout: float | None = None) -> list[dict]
         alg = key.split(" ")[0]
         steps = 20 if "[tFinal==10]" in key else None
         entry = {"key": key, "spec": spec.get(key, "")}
+        if alg not in cora.algorithms():
+            entry["own design"] = {"ok": False, "message": f"{alg} is not registered in setbound.cora"}
+            out.append(entry)
+            continue
         tries = [("own design", None)]
         if model.name.startswith("vehicle2") and alg in gains:
             tries.append(("CORA's saved gain", gains[alg]))
