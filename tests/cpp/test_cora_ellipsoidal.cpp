@@ -151,6 +151,31 @@ TEST(BoundingEllipsoid, SavedStatesReplayBitForBit) {
   expect_error_naming<setbound::InvalidArgumentError>([&] { other.restore_state(state); }, "state");
 }
 
+// Every saved state restores, at every step, for both rules and conventions: the shapes must be
+// exactly symmetric. They were not when symmetrised by `M = 0.5 * (M + M.transpose())` (Eigen
+// aliasing), and a state saved mid-run was refused by restore_state (found by test_threads.py).
+TEST(BoundingEllipsoid, EveryStateSavedMidRunRestores) {
+  for (unsigned seed = 0; seed < 12; ++seed) {
+    const Case c = random_case(seed);
+    for (const BoundingRule rule : {BoundingRule::Gollamudi, BoundingRule::Liu})
+      for (const Convention conv : {Convention::Setbound, Convention::Cora}) {
+        BoundingEllipsoidOptions opt;
+        opt.rule = rule;
+        opt.convention = conv;
+        opt.step_cap = 0.5;
+        BoundingEllipsoidEstimator a(c.sys, {}, {}, c.x0c, c.Q0, 1.0, opt);
+        BoundingEllipsoidEstimator b(c.sys, {}, {}, c.x0c, c.Q0, 1.0, opt);
+        std::mt19937 g(seed + 100);
+        for (int k = 0; k < 25; ++k) {
+          a.step(rnd(g, c.sys.ny(), 1, 0.2), Eigen::VectorXd::Constant(1, std::sin(0.3 * k)));
+          const auto state = a.save_state();
+          ASSERT_NO_THROW(b.restore_state(state)) << "seed " << seed << ", step " << k;
+          EXPECT_TRUE(setbound::testing::same_bits(b.save_state(), state));
+        }
+      }
+  }
+}
+
 TEST(BoundingEllipsoid, BadInputIsRefusedWithTheArgumentNamed) {
   const Case c = random_case(1);
   const Eigen::Index n = c.sys.nx(), p = c.sys.ny();

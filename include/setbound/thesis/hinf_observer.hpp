@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "setbound/core/state.hpp"
+#include "setbound/core/symmetric.hpp"
 #include "setbound/thesis/hinf_gain.hpp"
 #include "setbound/thesis/reading_screen.hpp"
 

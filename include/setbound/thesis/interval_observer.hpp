@@ -43,6 +43,7 @@
 
 #include "setbound/core/error.hpp"
 #include "setbound/core/state.hpp"
+#include "setbound/core/symmetric.hpp"
 #include "setbound/core/validate.hpp"
 #include "setbound/sets/box.hpp"
 #include "setbound/sets/interval.hpp"

@@ -53,6 +53,7 @@
 #include "setbound/core/error.hpp"
 #include "setbound/core/linear_system.hpp"
 #include "setbound/core/state.hpp"
+#include "setbound/core/symmetric.hpp"
 #include "setbound/core/validate.hpp"
 #include "setbound/estimators/ellipsoidal_common.hpp"
 #include "setbound/sets/ellipsoid.hpp"

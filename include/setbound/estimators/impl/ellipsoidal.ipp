@@ -399,7 +399,7 @@ SETBOUND_INLINE EllDesign ell_design_impl(const LinearSystem& sys, const EllDesi
 
   // --- read back, normalise, certify ----------------------------------------------------
   Eigen::MatrixXd Pv = model.value(P, best_x);
-  Pv = 0.5 * (Pv + Pv.transpose());
+  symmetrize(Pv);
   const Eigen::MatrixXd Yv = model.value(Y, best_x);
   double sigma = s * s * (logdet ? 1.0 : model.scalar_value(sig, best_x));
   Eigen::LLT<Eigen::MatrixXd> llt(Pv);

@@ -27,7 +27,7 @@ SETBOUND_INLINE Eigen::MatrixXd inverse_with_error(const Eigen::MatrixXd& P, dou
   Eigen::LLT<Eigen::MatrixXd> llt(P);
   if (llt.info() != Eigen::Success) throw NotPositiveDefiniteError("P: matrix is not positive definite");
   Eigen::MatrixXd X = llt.solve(Eigen::MatrixXd::Identity(n, n));
-  X = 0.5 * (X + X.transpose());
+  symmetrize(X);
   const Eigen::MatrixXd R = Eigen::MatrixXd::Identity(n, n) - P * X;
   const double r = R.norm() + ell_rounding::gamma(n + 2) * P.norm() * X.norm();
   if (!(r < 0.5)) throw NumericalError(std::string("P: too ill-conditioned to bound ") + what + " reliably");

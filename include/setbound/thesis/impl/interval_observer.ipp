@@ -45,7 +45,7 @@ SETBOUND_INLINE Contraction certify_contraction(const Eigen::MatrixXd& Ao, const
     if (!P.allFinite()) break;
     if (Ak.cwiseAbs().maxCoeff() < 1e-20) break;
   }
-  P = 0.5 * (P + P.transpose());
+  symmetrize(P);
   if (!P.allFinite())
     throw NumericalError(name + ": A_o = A - L C is too close to instability (spectral radius " + num(rho) +
                          "): its Lyapunov matrix overflows");
@@ -78,7 +78,7 @@ SETBOUND_INLINE Contraction certify_contraction(const Eigen::MatrixXd& Ao, const
     const double cand = b0 + margin;
     if (cand >= 1.0) break;
     Eigen::MatrixXd S = cand * P - G;
-    S = 0.5 * (S + S.transpose());
+    symmetrize(S);
     // rounding of forming G and cand·P: relative to tr(|G|) + tr(cand P)
     const double tr = (G.diagonal().cwiseAbs().sum() + cand * P.diagonal().sum());
     S.diagonal().array() -= (8 * gam(n + 1) + 4 * gam(2 * n)) * tr;
@@ -942,7 +942,7 @@ SETBOUND_INLINE double certified_rate(const Eigen::MatrixXd& Ao, const Eigen::Ma
     const double cand = b0 + margin;
     Eigen::MatrixXd S = cand * P - G;
     const double tr = G.diagonal().cwiseAbs().sum() + cand * P.diagonal().cwiseAbs().sum();
-    S = 0.5 * (S + S.transpose());
+    symmetrize(S);
     S.diagonal().array() -= (8 * gam(n + 1) + 4 * gam(2 * n)) * tr;
     if (Eigen::LLT<Eigen::MatrixXd>(S).info() == Eigen::Success) return up(std::sqrt(cand));
     margin *= 4;

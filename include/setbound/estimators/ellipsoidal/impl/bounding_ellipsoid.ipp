@@ -75,7 +75,7 @@ SETBOUND_INLINE Eigen::MatrixXd enclosing_ellipsoid_shape(const Eigen::MatrixXd&
   if (m == 0) return Q;
   const double md = static_cast<double>(m);
   Q = md * (G * G.transpose());
-  Q = 0.5 * (Q + Q.transpose());
+  symmetrize(Q);
   // Elementwise rounding of m G Gᵀ; its row sums on the diagonal make the result ⪰ the exact shape.
   const Eigen::MatrixXd err = detail::be_slack(G.cols() + 4) * md * (G.cwiseAbs() * G.cwiseAbs().transpose());
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -133,13 +133,13 @@ SETBOUND_INLINE void BoundingEllipsoidEstimator::init_noise() {
     QW_ = enclosing_ellipsoid_shape(sys_.E());
   } else {
     detail::be_require_psd(QW_, n, "QW");
-    QW_ = 0.5 * (QW_ + QW_.transpose());
+    symmetrize(QW_);
   }
   if (QV_.size() == 0 && p > 0) {
     QV_ = enclosing_ellipsoid_shape(sys_.F());
   } else {
     detail::be_require_psd(QV_, p, "QV");
-    QV_ = 0.5 * (QV_ + QV_.transpose());
+    symmetrize(QV_);
   }
   wbar_ = std::sqrt(std::max(QW_.trace(), 0.0));
   if (opt_.rule == BoundingRule::Gollamudi) {
@@ -302,7 +302,7 @@ SETBOUND_INLINE void BoundingEllipsoidEstimator::step_cora(const Eigen::VectorXd
   s_out_ = 1.0;
   // Prediction with u_k (post: A E + B u + c; then eq. (48) of Liu 2016).
   Eigen::MatrixXd Qh = sys_.A() * Q * sys_.A().transpose();
-  Qh = 0.5 * (Qh + Qh.transpose());
+  symmetrize(Qh);
   Eigen::VectorXd qh = sys_.A() * c;
   if (sys_.nu() > 0) qh += sys_.B() * u;
   if (wbar_ > 0.0) {
@@ -369,7 +369,7 @@ SETBOUND_INLINE void BoundingEllipsoidEstimator::step_setbound(const Eigen::Vect
     const Eigen::MatrixXd Rm = liu ? R_ : Eigen::MatrixXd::Identity(p, p);
     const Eigen::MatrixXd aR = Rm.cwiseAbs();
     Eigen::MatrixXd Wt = a1 * W + a2 * (C.transpose() * (Rm * C));
-    Wt = 0.5 * (Wt + Wt.transpose());
+    symmetrize(Wt);
     const Eigen::MatrixXd aCRC = aC.transpose() * (aR * aC);
     const Eigen::MatrixXd E = be_slack(2 * p + 8) * (a1 * W.cwiseAbs() + a2 * aCRC);
     Eigen::MatrixXd Wo = Wt;
@@ -446,7 +446,7 @@ SETBOUND_INLINE void BoundingEllipsoidEstimator::step_setbound(const Eigen::Vect
   const double t = (sp >= 1e-6 && sp <= 1e6) ? sp : 1.0;
   const double st = t == sp ? 1.0 : sp;  // sp / t, exact in both cases
   Eigen::MatrixXd Ah = A * (st * Pp) * A.transpose();
-  Ah = 0.5 * (Ah + Ah.transpose());
+  symmetrize(Ah);
   Eigen::VectorXd qn = A * q_out_;
   Eigen::VectorXd dc = aA * q_out_.cwiseAbs();
   if (nu > 0) {
@@ -470,7 +470,7 @@ SETBOUND_INLINE void BoundingEllipsoidEstimator::step_setbound(const Eigen::Vect
     Sn.diagonal() += d2;
     Eb.diagonal() += be_slack(8) * d2;
   }
-  Sn = 0.5 * (Sn + Sn.transpose());
+  symmetrize(Sn);
   for (Eigen::Index i = 0; i < n; ++i)
     Sn(i, i) = round_up(Sn(i, i) + round_up(Eb.row(i).sum() + 4.0 * u_eps * std::abs(Sn(i, i))));
   if (!Sn.allFinite())
