@@ -167,7 +167,16 @@ TEST(BoundingEllipsoid, EveryStateSavedMidRunRestores) {
         BoundingEllipsoidEstimator b(c.sys, {}, {}, c.x0c, c.Q0, 1.0, opt);
         std::mt19937 g(seed + 100);
         for (int k = 0; k < 25; ++k) {
-          a.step(rnd(g, c.sys.ny(), 1, 0.2), Eigen::VectorXd::Constant(1, std::sin(0.3 * k)));
+          const Eigen::VectorXd y = rnd(g, c.sys.ny(), 1, 0.2), u = Eigen::VectorXd::Constant(1, std::sin(0.3 * k));
+          if (conv == Convention::Cora) {  // CORA's unguarded recursion may break down: an error, not NaN
+            try {
+              a.step(y, u);
+            } catch (const setbound::NumericalError&) {
+              break;
+            }
+          } else {
+            a.step(y, u);
+          }
           const auto state = a.save_state();
           ASSERT_NO_THROW(b.restore_state(state)) << "seed " << seed << ", step " << k;
           EXPECT_TRUE(setbound::testing::same_bits(b.save_state(), state));

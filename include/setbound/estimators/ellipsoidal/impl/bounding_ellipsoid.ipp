@@ -105,6 +105,7 @@ SETBOUND_INLINE BoundingEllipsoidEstimator::BoundingEllipsoidEstimator(LinearSys
   require_finite(q0_, "x0");
   require_shape(Q0_, n, n, "Q0");
   require_positive_definite(Q0_, "Q0");
+  symmetrize(Q0_);  // symmetric within tolerance is accepted; the saved shapes must be exactly so
   require_finite(rho0_, "rho0");
   require_positive(rho0_, "rho0");
   init_noise();
@@ -225,10 +226,16 @@ SETBOUND_INLINE void BoundingEllipsoidEstimator::step(const Eigen::Ref<const Eig
   require_finite(uu, "u");
   // Work on a copy so that an error leaves the estimator unchanged.
   BoundingEllipsoidEstimator next = *this;
-  if (opt_.convention == Convention::Cora)
+  if (opt_.convention == Convention::Cora) {
     next.step_cora(y, uu);
-  else
+    // CORA's recursion has no guards: a level s <= 0 (ESO-B) makes the next prediction's step NaN.
+    // Say so instead of carrying NaN into the state (which could then not be saved and restored).
+    if (!next.S_.allFinite() || !next.q_.allFinite() || !std::isfinite(next.s_) || !std::isfinite(next.last_lambda_))
+      throw NumericalError("convention cora: CORA's recursion broke down (a non-finite prediction or step; "
+                           "e.g. ESO-B's level s <= 0)");
+  } else {
     next.step_setbound(y, uu);
+  }
   next.k_ = k_ + 1;
   *this = std::move(next);
 }
@@ -548,8 +555,15 @@ SETBOUND_INLINE void BoundingEllipsoidEstimator::restore_state(const std::vector
     x.lam = r.scalar("last lambda");
     x.inc = r.flag("last inconsistent");
     r.finish();
-    if (x.S != x.S.transpose() || x.M != x.M.transpose()) r.fail("a shape is not symmetric");
-    if (!(x.s > 0) || !(x.so > 0)) r.fail("a level is not positive");
+    // Symmetric to rounding, not bit for bit: CORA's convention keeps CORA's unsymmetrised products
+    // (Q = (1 − λ)(I − K C) Q, inverses), and a saved state must restore exactly as it was.
+    const auto symmetric = [](const Eigen::MatrixXd& X) {
+      return (X - X.transpose()).cwiseAbs().maxCoeff() <= 1e-10 * X.cwiseAbs().maxCoeff();
+    };
+    if (!symmetric(x.S) || !symmetric(x.M)) r.fail("a shape is not symmetric");
+    // CORA's recursion may drive its levels to 0 or below (ESO-B's s = (1 − λ)s + λ − δᵀQ⁻¹δ, no guard)
+    // and go on stepping, so only setbound's convention can insist on positive levels.
+    if (opt_.convention == Convention::Setbound && (!(x.s > 0) || !(x.so > 0))) r.fail("a level is not positive");
     return x;
   });
   k_ = static_cast<long>(t.k);
