@@ -7,9 +7,11 @@
 #include "setbound/core/config.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <optional>
 
+#include "setbound/core/symmetric.hpp"
 #include "setbound/estimators/pradius.hpp"
 #include "setbound/lmi/classes.hpp"
 #include "setbound/lmi/model.hpp"
@@ -22,7 +24,8 @@ namespace detail {
 /// CORA's PRad-B LMI (designs.hpp) for the outputs rows Cs (q × n), output noise Fv (q × r) and
 /// ε; β by bisection on (0, 1) to 0.01, the last feasible solve kept.
 SETBOUND_INLINE ZonotopicGainDesign prad_b_design(const LinearSystem& sys, const Eigen::MatrixXd& Cs,
-                                                  const Eigen::MatrixXd& Fv, double eps, const std::string& who) {
+                                                  const Eigen::MatrixXd& Fv, double eps, const std::string& who,
+                                                  bool least_norm) {
   using lmi::AffineExpr;
   const Eigen::Index n = sys.nx(), q = Cs.rows();
   const Eigen::MatrixXd& A = sys.A();
@@ -80,10 +83,67 @@ SETBOUND_INLINE ZonotopicGainDesign prad_b_design(const LinearSystem& sys, const
     }
   }
   if (best_beta < 0) throw InfeasibleError("design " + who + ": the LMI is infeasible for every beta in (0, 1)");
+  if (least_norm) {
+    // Only τ (a bound on λ_min(P)) is maximised, so the optimum is a face, and the gain components
+    // of states the outputs cannot see are whatever the solver's end point says (spec §2.6: SDPT3
+    // and our interior point disagree there). Second solve at the kept β: within 0.1 % of the
+    // best τ, the Y of least norm (‖Y‖₂ ≤ t as [[t I, Y], [Yᵀ, t I]] ⪰ 0).
+    const double tau_best = model.scalar_value(tau, best_x);
+    lmi::Model second;
+    const lmi::Var P2 = second.symmetric(static_cast<int>(n));
+    const lmi::Var Y2 = second.full(static_cast<int>(n), static_cast<int>(q));
+    const lmi::Var tau2 = second.scalar();
+    const lmi::Var t = second.scalar();
+    // the same LMIs on the new variables: rebuild main_lmi's blocks by substitution
+    const AffineExpr K2 = P2 - Y2 * Cs;
+    std::vector<std::vector<AffineExpr>> rows;
+    rows.push_back({best_beta * P2});
+    std::vector<AffineExpr> last{K2 * A};
+    if (Ew.cols() > 0) {
+      rows.push_back({AffineExpr::zero(Ew.cols(), n), AffineExpr(Eigen::MatrixXd(Ew.transpose() * Ew))});
+      last.push_back(K2 * Ew);
+    }
+    if (Fv.cols() > 0) {
+      std::vector<AffineExpr> r{AffineExpr::zero(Fv.cols(), n)};
+      if (Ew.cols() > 0) r.push_back(AffineExpr::zero(Fv.cols(), Ew.cols()));
+      r.push_back(AffineExpr(Eigen::MatrixXd(Fv.transpose() * Fv)));
+      rows.push_back(r);
+      last.push_back(Y2 * Fv);
+    }
+    last.push_back(P2);
+    rows.push_back(last);
+    second.add_lmi(lmi::sym_block(rows));
+    second.add_lmi(P2);
+    second.add_lmi(((1.0 - best_beta) / eps) * P2 - tau2 * Eigen::MatrixXd::Identity(n, n));
+    second.add_lmi(tau2 - AffineExpr(Eigen::MatrixXd::Constant(1, 1, (1.0 - 1e-3) * tau_best)));
+    second.add_lmi(lmi::sym_block({{t * Eigen::MatrixXd::Identity(n, n)},
+                                   {AffineExpr(Y2).transpose(), t * Eigen::MatrixXd::Identity(q, q)}}));
+    second.minimize(t);
+    lmi::LmiProblem p2 = second.build();
+    lmi::InteriorPointSolver s2(p2);
+    const lmi::SolveResult& r2 = s2.solve();
+    if (r2.status == lmi::SolveStatus::Optimal || r2.status == lmi::SolveStatus::Inaccurate) {
+      ZonotopicGainDesign d;
+      d.beta = best_beta;
+      d.P = second.value(P2, r2.x);
+      symmetrize(d.P);
+      d.Y = second.value(Y2, r2.x);
+      d.objective = second.scalar_value(tau2, r2.x);
+      Eigen::LLT<Eigen::MatrixXd> llt(d.P);
+      if (llt.info() == Eigen::Success && d.P.allFinite()) {
+        d.gain = llt.solve(d.Y);
+        if (d.gain.allFinite()) {
+          d.lmi = lmi::sym_block(rows).evaluate(r2.x);
+          return d;
+        }
+      }
+    }
+    // the second solve failed: keep the first one's end point (below)
+  }
   ZonotopicGainDesign d;
   d.beta = best_beta;
   d.P = model.value(P, best_x);
-  d.P = 0.5 * (d.P + d.P.transpose());
+  symmetrize(d.P);
   d.Y = model.value(Y, best_x);
   d.objective = model.scalar_value(tau, best_x);
   Eigen::LLT<Eigen::MatrixXd> llt(d.P);
@@ -110,20 +170,38 @@ SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sy
                                                : Eigen::VectorXd(Eigen::VectorXd::Zero(sys.ny()));
     if (method == ZonotopicGainMethod::PRadB)
       return detail::prad_b_design(sys, sys.C(), detail::compress_disturbance(sys.F()),
-                                   radW.norm() + sigma.squaredNorm(), "PRad-B");
-    ZonotopicGainDesign all;
-    all.gain = Eigen::MatrixXd::Zero(sys.nx(), sys.ny());
-    for (Eigen::Index i = 0; i < sys.ny(); ++i) {
-      // Output i alone, its noise the 1-D box of half-width σ_i (spec §2.6).
-      const Eigen::MatrixXd Fi = Eigen::MatrixXd::Constant(1, sigma(i) > 0 ? 1 : 0, sigma(i));
-      ZonotopicGainDesign d = detail::prad_b_design(sys, sys.C().row(i), Fi, radW.norm() + sigma(i) * sigma(i),
-                                                    "PRad-A (output " + std::to_string(i) + ")");
-      all.gain.col(i) = d.gain;
-      all.P = d.P;
-      all.Y = d.Y;
-      all.beta = d.beta;
-      all.objective = d.objective;
-      all.lmi = d.lmi;
+                                   radW.norm() + sigma.squaredNorm(), "PRad-B", false);
+    // Each output's design alone (spec §2.6). The strips are applied one after the other, so the
+    // error map of a step is Π_i (I − λ_i c_iᵀ) A; the single-output LMIs bound each factor's
+    // P_i-radius but not the product. When the solver's end points compose to a map with a
+    // spectral radius ≥ 1 (vehicle6: 263, the set overflows at step 126), every output is
+    // designed again with the least-norm tie-break of prad_b_design (vehicle6: ρ = 0.993).
+    auto design_all = [&](bool least_norm) {
+      ZonotopicGainDesign all;
+      all.gain = Eigen::MatrixXd::Zero(sys.nx(), sys.ny());
+      for (Eigen::Index i = 0; i < sys.ny(); ++i) {
+        // Output i alone, its noise the 1-D box of half-width σ_i (spec §2.6).
+        const Eigen::MatrixXd Fi = Eigen::MatrixXd::Constant(1, sigma(i) > 0 ? 1 : 0, sigma(i));
+        ZonotopicGainDesign d = detail::prad_b_design(sys, sys.C().row(i), Fi, radW.norm() + sigma(i) * sigma(i),
+                                                      "PRad-A (output " + std::to_string(i) + ")", least_norm);
+        all.gain.col(i) = d.gain;
+        all.P = d.P;
+        all.Y = d.Y;
+        all.beta = d.beta;
+        all.objective = d.objective;
+        all.lmi = d.lmi;
+      }
+      return all;
+    };
+    auto composed_radius = [&](const Eigen::MatrixXd& gain) {
+      Eigen::MatrixXd M = sys.A();
+      for (Eigen::Index i = 0; i < sys.ny(); ++i) M -= gain.col(i) * (sys.C().row(i) * M);
+      return M.eigenvalues().cwiseAbs().maxCoeff();
+    };
+    ZonotopicGainDesign all = design_all(false);
+    if (sys.ny() > 1 && !(composed_radius(all.gain) < 1.0)) {
+      ZonotopicGainDesign tied = design_all(true);
+      if (composed_radius(tied.gain) < composed_radius(all.gain)) all = std::move(tied);
     }
     return all;
   }
@@ -231,7 +309,7 @@ SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sy
   ZonotopicGainDesign d;
   d.beta = best->s;
   d.P = model.value(P, best->x);
-  d.P = 0.5 * (d.P + d.P.transpose());
+  symmetrize(d.P);
   d.Y = model.value(Y, best->x);
   Eigen::LLT<Eigen::MatrixXd> llt(d.P);
   if (llt.info() != Eigen::Success || !d.P.allFinite())
