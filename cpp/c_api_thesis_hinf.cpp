@@ -5,17 +5,24 @@
 #include <vector>
 
 #include "c_api_common.hpp"
+#include "setbound/thesis/eso_d.hpp"
 #include "setbound/thesis/lpv.hpp"
 
 using namespace setbound;
 using namespace setbound::capi;
 using namespace setbound::thesis;
 
+static_assert(SB_HINF_MAX_GAMMAS == setbound::thesis::hinf_detail::kMaxGammas, "setbound.h and hinf_gain.hpp disagree");
+
 struct sb_hinf_design {
   std::optional<Plant> plant;     // LTI (Algorithm 2)
   std::optional<LpvSystem> lpv;   // LPV (Algorithm 3)
   EllipsoidalSMDesign design;
   int nvert = 1, nx = 0, nu = 0, ny = 0, nd = 0, nv = 0, nrho = 0;
+  // ESO-D designs (sb_eso_d_design_create): the γ searches of steps (a) and (c), step (b)'s shift.
+  bool eso_d = false;
+  std::vector<GammaTrial> trials[2];
+  double lyapunov_shift = 0;
 };
 
 struct sb_hinf_observer {
@@ -270,6 +277,81 @@ int sb_hinf_design_create(int nvert, int nx, int nu, int ny, int nd, int nv, int
     *out = d.release();
   });
 }
+
+/* ==== ESO-D (CORA's name; Martinez, Loukkas, Meslem 2020): a grid design for sb_hinf_observer ==== */
+
+int sb_eso_d_design_create(int nx, int nu, int ny, int nd, int nv, const double* A, const double* B, const double* C,
+                           const double* F, const double* Z, const double* wbar, const double* W, int ngammas,
+                           const double* gammas, sb_hinf_design** out) {
+  return guard("sb_eso_d_design_create", [&] {
+    require_pointer(out, "out");
+    *out = nullptr;
+    require_dimension(nx, "nx");
+    require_dimension(nu, "nu", true);
+    require_dimension(ny, "ny");
+    require_dimension(nd, "nd", true);
+    require_dimension(nv, "nv", true);
+    require_dimension(ngammas, "ngammas", true);
+    if (ngammas > SB_HINF_MAX_GAMMAS)
+      throw InvalidArgumentError("ngammas: at most " + std::to_string(SB_HINF_MAX_GAMMAS) + " (each gamma is an SDP), got " +
+                                 std::to_string(ngammas));
+    if (ngammas > 0) require_pointer(gammas, "gammas");
+    const int m = nd + nv;
+    EsoDOptions opt;
+    if (ngammas > 0) opt.gammas.assign(gammas, gammas + ngammas);
+    if (W) opt.w_covariance = ConstRowMap(W, m, m);
+    const Eigen::VectorXd wb = vector_arg(wbar, m, "wbar");
+    auto d = std::make_unique<sb_hinf_design>();
+    d->nvert = 1, d->nx = nx, d->nu = nu, d->ny = ny, d->nd = nd, d->nv = nv, d->nrho = 0;
+    d->plant.emplace(Eigen::MatrixXd(matrix_arg(A, nx, nx, "A")), Eigen::MatrixXd(matrix_arg(B, nx, nu, "B")),
+                     Eigen::MatrixXd(matrix_arg(C, ny, nx, "C")), Eigen::MatrixXd(matrix_arg(F, nx, nd, "F")),
+                     Eigen::MatrixXd(matrix_arg(Z, ny, nv, "Z")));
+    EsoDDesign e = design_eso_d(*d->plant, wb, opt);
+    d->design = std::move(e.sm);
+    d->eso_d = true;
+    d->trials[0] = std::move(e.trials_a);
+    d->trials[1] = std::move(e.trials_c);
+    d->lyapunov_shift = e.lyapunov_shift;
+    *out = d.release();
+  });
+}
+
+int sb_hinf_design_gammas(const sb_hinf_design* design, int search, int* count, double* gammas, int* status) {
+  return guard("sb_hinf_design_gammas", [&] {
+    require_pointer(design, "design");
+    require_pointer(count, "count");
+    if (!design->eso_d)
+      throw InvalidArgumentError("design: not a gamma-grid design (sb_hinf_design_create minimises gamma; only "
+                                 "sb_eso_d_design_create searches a grid)");
+    if (search != 0 && search != 1)
+      throw InvalidArgumentError("search: expected 0 (step (a), Q = I) or 1 (step (c), Q = V^-1), got " +
+                                 std::to_string(search));
+    const std::vector<GammaTrial>& t = design->trials[search];
+    const int n = static_cast<int>(t.size());
+    const int capacity = *count;
+    if ((gammas != nullptr || status != nullptr) && capacity < n) {
+      *count = n;
+      throw BufferTooSmallError("count: " + std::to_string(n) + " gamma values were tried, capacity " +
+                                std::to_string(capacity));
+    }
+    *count = n;
+    for (int i = 0; i < n; ++i) {
+      if (gammas) gammas[i] = t[static_cast<size_t>(i)].gamma;
+      if (status) status[i] = static_cast<int>(t[static_cast<size_t>(i)].status);
+    }
+  });
+}
+
+int sb_eso_d_design_lyapunov_shift(const sb_hinf_design* design, double* shift) {
+  return guard("sb_eso_d_design_lyapunov_shift", [&] {
+    require_pointer(design, "design");
+    require_pointer(shift, "shift");
+    if (!design->eso_d) throw InvalidArgumentError("design: not an ESO-D design (sb_eso_d_design_create)");
+    *shift = design->lyapunov_shift;
+  });
+}
+
+/* ==== end ESO-D ==== */
 
 int sb_hinf_design_free(sb_hinf_design* design) {
   delete design;

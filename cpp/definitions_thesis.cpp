@@ -5,6 +5,7 @@
 #include "setbound/thesis/impl/reading_screen.ipp"
 #include "setbound/thesis/impl/hinf_gain.ipp"
 #include "setbound/thesis/impl/hinf_observer.ipp"
+#include "setbound/thesis/impl/eso_d.ipp"
 #include "setbound/thesis/impl/interval_observer.ipp"
 #include "setbound/thesis/impl/invariant.ipp"
 #include "setbound/thesis/impl/lpv.ipp"

@@ -731,6 +731,33 @@ int sb_hinf_observer_state_size(const sb_hinf_observer* observer, int* n);
 int sb_hinf_observer_save_state(const sb_hinf_observer* observer, double* state, int n);
 int sb_hinf_observer_restore_state(sb_hinf_observer* observer, const double* state, int n);
 /* ==== end thesis H-infinity observers ==== */
+/* ==== ESO-D: CORA's H-infinity set-membership observer (Martinez, Loukkas, Meslem 2020, LTI case;
+ * include/setbound/thesis/eso_d.hpp) ====
+ * The design (a) LMI (2.35) with Q = I at the first feasible gamma of a grid, (b) the Lyapunov
+ * LMI V >= 0, Ao V Ao' - V <= -E W E' (its least-trace solution: the Lyapunov equation's), Q = V^-1,
+ * (c) LMI (2.35) with that Q, gamma from the grid's start; lambda = lambda_min(Q, P). The result is
+ * an sb_hinf_design: sb_hinf_design_get / _pass (pass 0 = step (a), 1 = step (c)) / _mu0_* and
+ * sb_hinf_observer_create take it. Plant as sb_hinf_design_create with nvert = 1, nrho = 0;
+ * wbar (m = nd + nv) the half-widths of the centred box of w; W (m x m) the covariance of step
+ * (b), NULL = diag(wbar^2/3); gammas (ngammas, strictly increasing, > 0) the grid of both
+ * searches, ngammas = 0 (gammas NULL) = CORA's linspace(1, 50, 100). No gamma feasible:
+ * SB_ERR_INFEASIBLE ("infeasible for every gamma"); some gamma not decided by the solver:
+ * SB_ERR_NUMERICAL ("not solved (iteration limit)" counts in the message). */
+#define SB_HINF_MAX_GAMMAS 10000
+int sb_eso_d_design_create(int nx, int nu, int ny, int nd, int nv, const double* A, const double* B,
+                           const double* C, const double* F, const double* Z, const double* wbar,
+                           const double* W, int ngammas, const double* gammas, sb_hinf_design** out);
+/* The gamma values a grid design tried, in order: search 0 = step (a), 1 = step (c). *count in:
+ * capacity of gammas / status (either may be NULL; both NULL: only the count is written), out:
+ * the number tried. status[i]: SB_LMI_OPTIMAL (a certified solution: the last one),
+ * SB_LMI_INFEASIBLE (certificate of infeasibility), SB_LMI_MAX_ITERATIONS (not solved: iteration
+ * limit), SB_LMI_NUMERICAL_ERROR / SB_LMI_INACCURATE (not solved or not certified). A design of
+ * sb_hinf_design_create (gamma minimised, no grid): SB_ERR_INVALID_ARGUMENT. */
+int sb_hinf_design_gammas(const sb_hinf_design* design, int search, int* count, double* gammas, int* status);
+/* The shift delta of step (b): 0 when V solves Ao V Ao' - V = -E W E' (the least-trace V), delta > 0
+ * when that V was singular and the right-hand side became -(E W E' + delta I). */
+int sb_eso_d_design_lyapunov_shift(const sb_hinf_design* design, double* shift);
+/* ==== end ESO-D ==== */
 /* ==== thesis Chapter 1: polytopes and invariant sets (thesis.md §3.3–3.6) ====
  * Polytopes are full-dimensional, held in both representations: vertices (nvertices x n,
  * row-major, one vertex per row) and {x : H x <= b} (H nfacets x n with unit-norm rows).

@@ -46,6 +46,7 @@ extern "C" {
 #include "setbound/lmi/scalar_search.hpp"
 #include "setbound/lmi/solver.hpp"
 #include "setbound/thesis/hinf_gain.hpp"
+#include "setbound/thesis/eso_d.hpp"
 #include "setbound/thesis/hinf_observer.hpp"
 #include "setbound/thesis/lpv.hpp"
 #include "setbound/thesis/plant.hpp"

@@ -862,9 +862,10 @@ def _run_thesis(case: Case, res: CaseResult, rng):
     s = case.system
     name = case.estimator
     wbar = np.ones(s.Fd.shape[1] + s.Z.shape[1])
-    if name == "thesis_sm_observer":
+    if name in ("thesis_sm_observer", "eso_d"):
         plant = s.plant()
-        design = hinf.design_ellipsoidal_sm_observer(plant, wbar)
+        design = (hinf.design_ellipsoidal_sm_observer if name == "thesis_sm_observer" else hinf.design_eso_d)(plant,
+                                                                                                             wbar)
         (lo, hi), x, y, delta = _sim_plant(case, rng)
         xh = 0.5 * (lo + hi)
         obs = hinf.EllipsoidalSMObserver(design, xh, hinf.mu0_from_box(design, lo - xh, hi - xh))
@@ -964,6 +965,8 @@ ESTIMATORS = {
     # CORA's catalogue (issue 22), default convention
     "eso_a_obe": _Spec(16, _run_bounding_ellipsoid, horizon=2000),
     "eso_b_liu": _Spec(17, _run_bounding_ellipsoid, horizon=2000),
+    # ESO-D (CORA's name): design_eso_d + the thesis observer; up to 200 feasibility SDPs per design
+    "eso_d": _Spec(19, _run_thesis, horizon=2000),
 }
 
 

@@ -37,6 +37,7 @@ __all__ = [
     "refine_dissipation_matrix", "covariance_dissipation_matrix", "chebyshev_error_ellipsoid",
     "polytopic_weights", "design_ellipsoidal_sm_observer", "design_ellipsoidal_sm_observer_lpv",
     "mu0_from_ball", "mu0_from_vertices", "mu0_from_box", "box_corners",
+    "EsoDDesign", "design_eso_d", "CORA_GAMMA_GRID",
 ]
 
 _ROUTES = {None: -1, "default": -1, "logdet": 0, "direct": 1, "input_or_logdet": 2, "largest": 3}
@@ -740,6 +741,143 @@ def box_corners(lo, hi) -> np.ndarray:
     return np.array([[hi[i] if (j >> i) & 1 else lo[i] for i in range(n)] for j in range(1 << n)])
 
 
+# ---- ESO-D (CORA's name): Martinez, Loukkas, Meslem 2020, LTI case ----------------------------
+
+#: CORA's γ grid of its H∞ designs: MATLAB's ``linspace(1, 50, 100)``.
+CORA_GAMMA_GRID = np.linspace(1.0, 50.0, 100)
+#: Upper bound of the length of a γ grid (each value is an SDP); ``SB_HINF_MAX_GAMMAS``.
+MAX_GAMMAS = lib.SB_HINF_MAX_GAMMAS
+
+#: What a γ of a grid search gave (the ``SB_LMI_*`` status of its feasibility problem).
+_GAMMA_VERDICTS = {lib.SB_LMI_OPTIMAL: "feasible", lib.SB_LMI_INFEASIBLE: "infeasible",
+                   lib.SB_LMI_MAX_ITERATIONS: "not solved (iteration limit)"}
+
+
+@dataclass
+class EsoDDesign(EllipsoidalSMDesign):
+    """The ESO-D design of Martinez, Loukkas, Meslem (2020) (CORA's ``ESO-D``), made by :func:`design_eso_d`.
+
+    An :class:`EllipsoidalSMDesign` (so :class:`EllipsoidalSMObserver` runs it): ``passes[0]`` is
+    step (a) (``Q_input = I``), ``passes[1]`` step (c) (``Q_input = V⁻¹``); no log-det refinement
+    (``Q_refined = Q_input``). The attributes below are the ESO-D extras.
+
+    Parameters
+    ----------
+    plant, L, P, Q_input, Q_refined, V, e_inf, gamma, g, lambda_, lambda_input, lambda_refined, cbar, wtw, lambda_max_P, design_time, passes : object
+        As :class:`EllipsoidalSMDesign` (``V``: step (b)'s ``V``; ``lambda_input = lambda_refined =
+        lambda_ = λ_min(V⁻¹, P)``).
+    gamma_trials : list of list of (float, str)
+        The γ values searches (a) and (c) tried, in grid order, each with its verdict:
+        ``"feasible"`` (the last one), ``"infeasible"`` (certificate), ``"not solved (iteration
+        limit)"`` or ``"not solved (numerical trouble)"``.
+    lyapunov_shift : float
+        ``δ`` of step (b): 0 when ``V`` solves the Lyapunov equation, ``> 0`` when that ``V`` was
+        singular and the right-hand side became ``E W Eᵀ + δI``.
+    """
+    gamma_trials: list = field(default_factory=list)
+    lyapunov_shift: float = 0.0
+
+
+def _design_eso_d(plant, wbar, W, gammas) -> EsoDDesign:
+    plant = as_plant(plant)
+    n, nu, ny, nd, nv = plant.nx, plant.nu, plant.ny, plant.nd, plant.nv
+    m = nd + nv
+    wbar = np.ones(m) if wbar is None else as_f64(wbar, "wbar", shape=(m,))
+    Wa = None if W is None else as_f64(W, "W", shape=(m, m))
+    g = None
+    if gammas is not None:
+        g = as_f64(gammas, "gammas", ndim=1)
+        if g.size == 0 or g.size > MAX_GAMMAS:
+            raise InvalidArgumentError(f"gammas: expected 1 .. {MAX_GAMMAS} values (each is an SDP), got {g.size}")
+    h = ffi.new("sb_hinf_design**")
+    check(lib.sb_eso_d_design_create(n, nu, ny, nd, nv, dptr(plant.A), dptr(plant.B), dptr(plant.C), dptr(plant.F),
+                                     dptr(plant.Z), dptr(wbar), dptr(Wa) if Wa is not None else ffi.NULL,
+                                     0 if g is None else g.size, dptr(g) if g is not None else ffi.NULL, h))
+    handle = ffi.gc(h[0], lib.sb_hinf_design_free)
+    P, L, Qi, Qr, V, e, s = (np.empty((n, n)), np.empty((1, n, ny)), np.empty((n, n)), np.empty((n, n)),
+                             np.empty((n, n)), np.empty(n), np.empty(9))
+    check(lib.sb_hinf_design_get(handle, dptr(P), dptr(L), dptr(Qi), dptr(Qr), dptr(V), dptr(e), dptr(s)))
+    ps = []
+    for k in range(2):
+        pP, pL, pQi, pQr, ss = np.empty((n, n)), np.empty((1, n, ny)), np.empty((n, n)), np.empty((n, n)), np.empty(7)
+        check(lib.sb_hinf_design_pass(handle, k, dptr(pP), dptr(pL), dptr(pQi), dptr(pQr), dptr(ss)))
+        ps.append(DesignPass(pP, pL[0], pQi, pQr, ss[0], ss[1], ss[2], ss[3], ss[4], ss[5], bool(ss[6])))
+    trials = []
+    for search in range(2):
+        cnt = ffi.new("int*", 0)
+        check(lib.sb_hinf_design_gammas(handle, search, cnt, ffi.NULL, ffi.NULL))
+        gv, st = np.empty(cnt[0]), ffi.new("int[]", max(cnt[0], 1))
+        check(lib.sb_hinf_design_gammas(handle, search, cnt, dptr(gv), st))
+        trials.append([(float(gv[i]), _GAMMA_VERDICTS.get(st[i], "not solved (numerical trouble)"))
+                       for i in range(cnt[0])])
+    shift = ffi.new("double*")
+    check(lib.sb_eso_d_design_lyapunov_shift(handle, shift))
+    d = EsoDDesign(plant, L[0], P, Qi, Qr, V, e, s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7], s[8], ps, handle,
+                   trials, shift[0])
+    return remember_call(d, _design_eso_d, plant, wbar, W, gammas)
+
+
+def design_eso_d(plant, wbar=None, *, W=None, gammas=None) -> EsoDDesign:
+    """The ESO-D design of Martinez, Loukkas, Meslem (2020) (LTI case, CORA's ``ESO-D``) for :class:`EllipsoidalSMObserver`.
+
+    The online observer is the one of Loukkas' Chapter 2 (Methods › H∞ set-membership observers ›
+    Online recursion); the offline design is the 2020 paper's Algorithm 1 as CORA codes it:
+
+    (a) LMI (2.35) with ``Q = I`` at the first ``γ`` of the grid with a solution → ``P``, ``L``;
+    (b) ``V ⪰ 0``, ``A_o V A_oᵀ − V ⪯ −E W Eᵀ`` (``A_o = A − LC``, ``E = [F, −LZ]``,
+        ``W = diag(w̄²/3)``, CORA's ``I/3``), ``Q = V⁻¹``;
+    (c) LMI (2.35) with that ``Q``, ``γ`` again from the grid's start; ``λ = λ_min(Q, P)``.
+
+    Where CORA's result depends on its solver, this design makes a defined choice: step (b) takes
+    the least-trace ``V`` (the Lyapunov equation's solution, the least feasible ``V``: CORA's
+    feasibility problem has no objective and uses YALMIP's default solver), a ``γ`` counts as
+    infeasible only with a certificate, and ``λ`` is the true smallest generalized eigenvalue
+    (CORA's ``eigs`` returns the 6 largest, not the minimum when ``n > 6``). Every quantity the
+    bound uses is certified in floating point, as for :func:`design_ellipsoidal_sm_observer`.
+
+    Parameters
+    ----------
+    plant : Plant, LinearSystem or control.StateSpace
+        The plant (converted by :func:`setbound.plant.as_plant`).
+    wbar : array_like, optional
+        Half-widths of the centred box of ``w = (d, v)`` (default: ones).
+    W : array_like, optional
+        Covariance of ``w`` in step (b) (default ``diag(w̄²/3)``).
+    gammas : array_like, optional
+        The ``γ`` grid of both searches, strictly increasing and positive, at most
+        :data:`MAX_GAMMAS` values (default CORA's ``linspace(1, 50, 100)``).
+
+    Returns
+    -------
+    EsoDDesign
+
+    Raises
+    ------
+    setbound.errors.InfeasibleError
+        LMI (2.35) is infeasible at every ``γ`` of the grid (step (a) or (c), named).
+    setbound.errors.NumericalError
+        Some ``γ`` was not solved (iteration limit, numerical trouble) and none was feasible.
+    setbound.errors.NotDetectableError
+        ``(A, C)`` is not detectable.
+
+    Examples
+    --------
+    >>> plant = setbound.Plant([[0.9, 0.2], [-0.2, 0.8]], [[1.0, 0.0]], B=[[0.0], [1.0]],
+    ...                        Fd=0.05 * np.eye(2), Z=[[0.1]])
+    >>> design = setbound.hinf.design_eso_d(plant)
+    >>> bool(0 < design.lambda_ <= 1), design.gamma_trials[0][-1][1]
+    (True, 'feasible')
+    >>> obs = setbound.hinf.EllipsoidalSMObserver(design, setbound.Box([-1, -1], [1, 1]))
+    >>> traj = obs.run(np.zeros((5, 1)), np.zeros((5, 1)))
+    >>> bool(traj.in_bounds(np.zeros((5, 2))).all())
+    True
+    """
+    if isinstance(plant, LpvPlant):
+        raise InvalidArgumentError("plant: ESO-D is designed here for LTI plants (the LPV case of the 2020 paper is "
+                                   "not implemented); use design_ellipsoidal_sm_observer_lpv for an LpvPlant")
+    return _design_eso_d(plant, wbar, W, gammas)
+
+
 class _Observer(ReadingChecks, StateMixin):
     _lpv = False
     #: row k of a trajectory used y_0 … y_{k−1} only (Trajectory.filter)
@@ -1051,11 +1189,47 @@ def _eso_c_runner(model, *, convention, gain, **options):
     return run
 
 
+def _eso_d_runner(model, *, convention, gain, **options):
+    """ESO-D = Martinez, Loukkas, Meslem, Int. J. Control 2020 (Alg. 1, LTI case): design_eso_d +
+    the thesis's EllipsoidalSMObserver, with W's and V's generators (|w_i| <= 1) and the initial
+    box of R0 (guaranteed). CORA's own result depends on YALMIP's default solver (a feasibility
+    problem with no objective), so the cora convention is refused. Options: gammas."""
+    from .ellipsoidal import _cora_noise_generators
+    from .interval import Box
+
+    if convention == "cora":
+        raise InvalidArgumentError("convention: CORA's ESO-D cannot be reproduced: its design solves feasibility "
+                                   "problems with no objective (step (b) with YALMIP's default solver, not "
+                                   "options.solver), so its gain and hull are whatever that solver stops at; "
+                                   'use convention="setbound" (the same algorithm with defined choices, guaranteed)')
+    s = model.system
+    unknown = set(options) - {"gammas"}
+    if unknown:
+        raise InvalidArgumentError(f"{sorted(unknown)[0]}: not an option of ESO-D")
+    if np.any(s.D != 0.0):
+        raise InvalidArgumentError("model: an output offset (D u) is not supported by ESO-D")
+    Gw, Gv = _cora_noise_generators(s)
+    plant = Plant(s.A, s.C, B=s.B, Fd=Gw if Gw.shape[1] else np.zeros((s.nx, 1)),
+                  Z=Gv if Gv.shape[1] else np.zeros((s.ny, 1)))
+    design = design_eso_d(plant, **options)
+    c = np.asarray(model.x0.center)
+    r = np.abs(np.asarray(model.x0.generators)).sum(axis=1)
+    obs = EllipsoidalSMObserver(design, Box(c - r, c + r))
+
+    def run():
+        t = obs.run(model.y, model.u)
+        return t.lower, t.upper, []
+    return run
+
+
 def _register_cora_names():
     from .cora import register_algorithm
     register_algorithm("ESO-C", _eso_c_runner,
                        summary="invariant-ellipsoid set-membership observer [Loukkas 2017] = the thesis's "
                                "EllipsoidalSMObserver (CORA's own ESO-C cannot run)")
+    register_algorithm("ESO-D", _eso_d_runner,
+                       summary="H-infinity set-membership observer [Martinez 2020], CORA's gamma-grid design "
+                               "(design_eso_d) with the thesis's EllipsoidalSMObserver")
 
 
 _register_cora_names()

@@ -40,6 +40,7 @@
 #include "setbound/estimators/kalman.hpp"
 #include "setbound/estimators/volume_min.hpp"
 #include "setbound/estimators/zonotopic.hpp"
+#include "setbound/thesis/eso_d.hpp"
 #include "setbound/thesis/hinf_observer.hpp"
 #include "setbound/thesis/interval_observer.hpp"
 #include "setbound/thesis/lpv.hpp"
@@ -268,6 +269,23 @@ std::vector<Kind> kinds() {
   const EllipsoidalSMDesign smd = design_ellipsoidal_sm_observer(ch2, VectorXd::Ones(2));
   out.push_back({"EllipsoidalSMObserver", [ch2, smd, pd] {
                    auto e = std::make_shared<EllipsoidalSMObserver>(ch2, smd, VectorXd::Zero(2), 2.0);
+                   Subject s = saving(e);
+                   s.step = [e, pd](int i) { e->step(pd->y[size_t(i)], pd->u[size_t(i)]); };
+                   s.sets = [e] {
+                     Blob v;
+                     append(v, e->center());
+                     append(v, e->lower());
+                     append(v, e->upper());
+                     v.push_back(e->mu());
+                     return v;
+                   };
+                   return s;
+                 },
+                 5});
+  // The same observer fed with CORA's ESO-D design (thesis/eso_d.hpp).
+  const EllipsoidalSMDesign esod = design_eso_d(ch2, VectorXd::Ones(2)).sm;
+  out.push_back({"EllipsoidalSMObserver(ESO-D)", [ch2, esod, pd] {
+                   auto e = std::make_shared<EllipsoidalSMObserver>(ch2, esod, VectorXd::Zero(2), 2.0);
                    Subject s = saving(e);
                    s.step = [e, pd](int i) { e->step(pd->y[size_t(i)], pd->u[size_t(i)]); };
                    s.sets = [e] {

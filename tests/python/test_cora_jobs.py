@@ -164,6 +164,7 @@ def _check(tmp_path, doc) -> tuple[int, str]:
     ({"method": "Hinf-G", "convention": "cora", "gain": GAIN, "variant": "wrapped"}, "estimator[0].variant",
      "CORA's recursion"),
     ({"method": "ESO-C", "convention": "cora"}, "estimator[0].convention", "ESO-C cannot run"),
+    ({"method": "ESO-D", "convention": "cora"}, "estimator[0].convention", "ESO-D cannot be reproduced"),
     ({"method": "ESO-A", "ellipsoids": "inner"}, "estimator[0].ellipsoids", "not be guaranteed"),
     ({"method": "FRad-A", "zonotope_order": 10, "max_generators": 5}, "estimator[0].max_generators", "not both"),
     ({"method": "CZN-A", "zonotope_order": 10, "order": 5}, "estimator[0].order", "not both"),

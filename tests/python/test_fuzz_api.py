@@ -558,6 +558,33 @@ def test_hinf_observer(seed, nx, ny, nd, nv, nu, scale, vertex):
     count("hinf-contained")
 
 
+@fuzz(10)
+@given(**plant_params)
+def test_eso_d_observer(seed, nx, ny, nd, nv, nu, scale, vertex):
+    """CORA's ESO-D (design_eso_d, up to 200 feasibility SDPs) with the thesis observer."""
+    count("eso_d")
+    rng = np.random.default_rng(seed)
+    A, B, C, Fm, Zm = random_plant(rng, nx, ny, nd, nv, nu, scale)
+    p, err = attempt(Plant, A, C, B=B, F=Fm, Z=Zm)
+    if p is None:
+        return
+    wbar = np.full(nd + nv, 1.0)
+    d, err = attempt(hinf.design_eso_d, p, wbar)
+    if d is None:
+        return
+    assert_psd(d.P)
+    assert 0 < d.lambda_ <= 1 and np.isfinite(d.gamma) and d.gamma >= 1
+    obs = hinf.EllipsoidalSMObserver(d, np.zeros(nx), hinf.mu0_from_box(d, -np.ones(nx), np.ones(nx)))
+    x0 = rng.uniform(-1, 1, nx)
+    xs, ys, us = sim_plant(rng, A, B, C, Fm, Zm, x0, 6, vertex, wbar[:nd], wbar[nd:], nu)
+    for k in range(6):
+        bx = obs.step(ys[k], us[k])
+        assert_finite(bx.lo, bx.hi)
+        tol = 1e-9 * (1 + np.abs(xs[k + 1]))
+        assert np.all(xs[k + 1] >= bx.lo - tol) and np.all(xs[k + 1] <= bx.hi + tol), k
+    count("eso_d-contained")
+
+
 @fuzz(30)
 @given(**plant_params, kind=st.sampled_from(("luenberger", "wrapped", "invariant", "nonlinear")))
 def test_interval_observers(seed, nx, ny, nd, nv, nu, scale, vertex, kind):
@@ -802,6 +829,7 @@ OPTIONS: dict[str, dict[str, str]] = {
                                                      "passes": "int"},
     "setbound.hinf.design_ellipsoidal_sm_observer_lpv": {"W": "data", "lambda_route": "choice?", "passes": "int"},
     "setbound.hinf.mu0_from_ball": {"radius": "float"},
+    "setbound.hinf.design_eso_d": {"wbar": "data", "W": "data", "gammas": "data"},
     "setbound.hinf._Observer.__init__": {"mu0": "float", "on_inconsistency": "choice", "reset_set": "data"},
     "setbound.hinf.EllipsoidalSMObserver.step": {"u": "data"},
     "setbound.hinf.EllipsoidalSMObserver.run": {"u": "data"},

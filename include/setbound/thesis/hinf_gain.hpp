@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "setbound/core/error.hpp"
+#include "setbound/core/symmetric.hpp"
 #include "setbound/core/validate.hpp"
 #include "setbound/estimators/ellipsoidal_common.hpp"
 #include "setbound/lmi/classes.hpp"
@@ -65,6 +66,24 @@ struct HinfGain {
   int iterations = 0;
   double solve_time = 0;       // seconds
   double spectral_radius = 0;  // of A − LC (< 1)
+};
+
+/// One γ of a grid search (hinf_observer_gain_first_feasible): LMI (2.35) at the fixed level
+/// g = γ², solved as a feasibility problem. `status`: Optimal = a certified solution (the last
+/// trial of a successful search); Infeasible = the solver's certificate of infeasibility;
+/// MaxIterations = not solved (iteration or time limit); NumericalError / Inaccurate = not
+/// solved or not certified (numerical trouble).
+struct GammaTrial {
+  double gamma = 0;
+  lmi::SolveStatus status = lmi::SolveStatus::NumericalError;
+  int iterations = 0;
+};
+
+/// Result of a γ grid search: the certified gain at the first γ that gave one (g = γ², enlarged
+/// by a relative 1e-9·4^k at most if the certificate needs it) and every γ tried, in order.
+struct GammaGridGain {
+  HinfGain gain;
+  std::vector<GammaTrial> trials;
 };
 
 struct BrlRpi {
@@ -111,15 +130,42 @@ struct VertexGainResult {
   double g = 0, g_solver = 0, solve_time = 0, spectral_radius = 0;
   lmi::SolveStatus status = lmi::SolveStatus::NumericalError;
   int iterations = 0;
+  /// False when the solver gave no point (fixed-g mode only; `status` says why). A solved
+  /// result with an empty P was not certified (the caller may retry with a larger margin).
+  bool solved = true;
 };
+
+/// The solver's verdict in words for messages: "infeasible" (certificate), "not solved
+/// (iteration limit)", "not solved (numerical trouble: <status>)".
+std::string solve_verdict(lmi::SolveStatus s);
 
 /// The vertex LMIs (3.13) with a common P (one vertex = LMI 2.35): minimise g. `what` names
 /// the caller in messages. C may have zero rows only with `no_gain` (the BRL: U = 0, L = 0).
+/// With fixed_g > 0 the level is fixed (g = fixed_g, no objective: a feasibility problem solved
+/// by lmi::find_feasible, which certifies infeasibility); a point the solver does not give
+/// returns `solved = false` with its status instead of throwing.
 VertexGainResult hinf_vertex_gains_once(const std::vector<Eigen::MatrixXd>& As,
                                                const std::vector<Eigen::MatrixXd>& Fs, const Eigen::MatrixXd& C,
                                                const Eigen::MatrixXd& Z, const Eigen::MatrixXd& Q,
                                                const HinfOptions& opt, const std::string& what, bool no_gain,
-                                               double margin, double& needed_margin);
+                                               double margin, double& needed_margin, double fixed_g = 0.0);
+
+struct GammaSearch {
+  VertexGainResult gain;
+  std::vector<GammaTrial> trials;
+};
+
+/// The vertex LMIs at g = γ² for γ = gammas[0], gammas[1], … until one has a certified
+/// solution (the margin escalates as in hinf_vertex_gains). Throws InfeasibleError when every γ
+/// is certified infeasible, NumericalError naming the counts ("infeasible" / "not solved
+/// (iteration limit)" / "not solved (numerical trouble)") when some γ was not decided.
+GammaSearch first_feasible_gamma(const std::vector<Eigen::MatrixXd>& As, const std::vector<Eigen::MatrixXd>& Fs,
+                                 const Eigen::MatrixXd& C, const Eigen::MatrixXd& Z, const Eigen::MatrixXd& Q,
+                                 const std::vector<double>& gammas, const HinfOptions& opt, const std::string& what);
+
+/// gammas: non-empty, finite, > 0, strictly increasing, at most kMaxGammas values.
+void require_gamma_grid(const std::vector<double>& gammas);
+constexpr int kMaxGammas = 10000;  // = SB_HINF_MAX_GAMMAS of setbound.h
 
 /// The vertex LMIs (3.13) with a common P (one vertex = LMI 2.35): minimise g, certified.
 /// `what` names the caller in messages. With `no_gain` (the BRL) U = 0, L = 0.
@@ -136,6 +182,19 @@ VertexGainResult hinf_vertex_gains(const std::vector<Eigen::MatrixXd>& As,
 /// Throws NotDetectableError when (A, C) is not detectable, InfeasibleError when the LMI fails,
 /// NumericalError when the solution cannot be certified.
 HinfGain hinf_observer_gain(const Plant& plant, const Eigen::MatrixXd& Q = {}, const HinfOptions& opt = {});
+
+/// CORA's γ grid of its H∞ designs (ESO-C/D, Hinf-G): linspace(1, 50, 100).
+std::vector<double> cora_gamma_grid();
+
+/// LMI (2.35) with dissipation matrix Q (empty = I_n) at the first γ of `gammas` (increasing,
+/// > 0) for which it has a certified solution: CORA's search (priv_observe_gain_ESO_C/D), not a
+/// minimisation, so γ ≥ the optimum of hinf_observer_gain by up to one grid step. Every γ is a
+/// feasibility problem of lmi::find_feasible (a γ is skipped only on a certificate of
+/// infeasibility or when the solver does not decide it; `trials` says which). Errors: as
+/// first_feasible_gamma, NotDetectableError when (A, C) is not detectable.
+GammaGridGain hinf_observer_gain_first_feasible(const Plant& plant, const Eigen::MatrixXd& Q = {},
+                                                const std::vector<double>& gammas = cora_gamma_grid(),
+                                                const HinfOptions& opt = {});
 
 /// LMI (1.48) for x⁺ = A x + E w with |w| ≤ w̄ componentwise (so wᵀw ≤ w̄ᵀw̄):
 /// minimise γ²; level = λ_max(P) γ² w̄ᵀw̄ (1.55), rounded up. A must be Schur stable.

@@ -153,6 +153,11 @@ struct EllipsoidalSMDesign {
 
 namespace hinf_detail {
 
+/// The design's result from its last pass (d.wtw set, d.passes not empty): L, P, Q, g, γ, λ
+/// copied, c̄ = g w̄ᵀw̄/λ and ē∞ = sqrt(diag(c̄P⁻¹)) rounded up, the bound of λ_max(P).
+/// Shared by Algorithm 2/3 and the ESO-D design (eso_d.hpp).
+void finish_design(EllipsoidalSMDesign& d);
+
 /// Algorithm 2/3 on vertex data. gain_fn(Q) returns the vertex gain result for dissipation Q.
 template <class GainFn>
 EllipsoidalSMDesign design_vertices(const std::vector<Eigen::MatrixXd>& As, const std::vector<Eigen::MatrixXd>& Fs,
@@ -213,22 +218,7 @@ EllipsoidalSMDesign design_vertices(const std::vector<Eigen::MatrixXd>& As, cons
     }
     d.passes.push_back(std::move(p));
   }
-  const EllipsoidalSMPass& f = d.passes.back();
-  d.L_vertices = f.L;
-  d.L = f.L.front();
-  d.P = f.P;
-  d.Q_input = f.Q_input;
-  d.Q_refined = f.Q_refined;
-  d.g = f.g;
-  d.gamma = f.gamma;
-  d.lambda = f.lambda;
-  d.lambda_input = f.lambda_input;
-  d.lambda_refined = f.lambda_refined;
-  d.cbar = round_up(round_up(d.g * d.wtw) / d.lambda);
-  const Eigen::VectorXd di = inverse_diagonal_upper(d.P);
-  d.e_inf.resize(n);
-  for (Eigen::Index i = 0; i < n; ++i) d.e_inf(i) = round_up(std::sqrt(round_up(d.cbar * di(i))));
-  d.lambda_max_P = lambda_max_up(d.P);
+  finish_design(d);
   return d;
 }
 

@@ -152,6 +152,14 @@ CORA_METHODS: dict[str, CoraMethod] = {
                         guaranteed=("setbound",), filter={"setbound": False}, conventions=("setbound",),
                         why_not_cora="CORA's ESO-C cannot run (its gain design reads an undefined variable), so "
                                      "there is nothing to reproduce; setbound's is Loukkas' guaranteed observer"),
+    # ESO-D: design_eso_d (Martinez, Loukkas, Meslem 2020) + the thesis observer; the γ grid is the
+    # design's own (CORA's linspace(1, 50, 100)), not a job key
+    "ESO-D": CoraMethod("ellipsoidal", {}, guaranteed=("setbound",), filter={"setbound": False},
+                        conventions=("setbound",),
+                        why_not_cora="CORA's ESO-D cannot be reproduced: its design solves feasibility problems with "
+                                     "no objective (one with YALMIP's default solver), so its result is whatever "
+                                     "that solver stops at; setbound's is the same algorithm with defined choices, "
+                                     "guaranteed"),
     "Hinf-G": CoraMethod("interval", {"variant": one_of("tight", "wrapped"), "on_inconsistency": _POLICY},
                          guaranteed=("setbound",), filter={"setbound": False}, needs_gain=("cora",),
                          setbound_only=("variant", "on_inconsistency")),

@@ -101,7 +101,8 @@ SETBOUND_INLINE VertexGainResult hinf_vertex_gains_once(const std::vector<Eigen:
                                                const std::vector<Eigen::MatrixXd>& Fs, const Eigen::MatrixXd& C,
                                                const Eigen::MatrixXd& Z, const Eigen::MatrixXd& Q,
                                                const HinfOptions& opt, const std::string& what, bool no_gain,
-                                               double margin, double& needed_margin) {
+                                               double margin, double& needed_margin, double fixed_g) {
+  const bool fixed = fixed_g > 0;
   const int n = static_cast<int>(As.front().rows());
   const int ny = static_cast<int>(C.rows());
   const int nd = static_cast<int>(Fs.front().cols());
@@ -113,8 +114,10 @@ SETBOUND_INLINE VertexGainResult hinf_vertex_gains_once(const std::vector<Eigen:
   std::vector<lmi::Var> U;
   if (!no_gain)
     for (size_t i = 0; i < N; ++i) U.push_back(model.full(n, ny));
-  lmi::Var g = model.scalar();
+  lmi::Var g;
+  if (!fixed) g = model.scalar();
   const Eigen::MatrixXd Im = Eigen::MatrixXd::Identity(m, m);
+  const lmi::AffineExpr gI = fixed ? lmi::AffineExpr(Eigen::MatrixXd(fixed_g * Im)) : lmi::AffineExpr(g * Im);
   for (size_t i = 0; i < N; ++i) {
     lmi::AffineExpr PAo = P * As[i];
     if (!no_gain) PAo = PAo - U[i] * C;
@@ -122,21 +125,30 @@ SETBOUND_INLINE VertexGainResult hinf_vertex_gains_once(const std::vector<Eigen:
     if (nd > 0 && nv > 0) PE = lmi::block_matrix({{P * Fs[i], -(U[i] * Z)}});
     else if (nd > 0) PE = P * Fs[i];
     else PE = no_gain ? lmi::AffineExpr::zero(n, m) : -(U[i] * Z);
-    model.add_lmi(lmi::sym_block({{P - Q}, {lmi::AffineExpr::zero(m, n), g * Im}, {-PAo, -PE, P}}), margin);
+    model.add_lmi(lmi::sym_block({{P - Q}, {lmi::AffineExpr::zero(m, n), gI}, {-PAo, -PE, P}}), margin);
   }
-  model.minimize(g);
+  if (!fixed) model.minimize(g);
   const lmi::LmiProblem problem = model.build();
-  const lmi::SolveResult res = lmi::solve(problem, opt.solver);
+  // Fixed level: a feasibility problem. find_feasible stops at its first certified strictly
+  // feasible iterate (Optimal) or proves infeasibility (Infeasible); anything else is "not
+  // solved", never read as infeasible.
+  const lmi::SolveResult res = fixed ? lmi::find_feasible(problem, opt.solver) : lmi::solve(problem, opt.solver);
   VertexGainResult out;
   out.status = res.status;
   out.iterations = res.iterations;
   out.solve_time = res.solve_time;
+  if (fixed && res.status != lmi::SolveStatus::Optimal) {
+    out.solved = false;
+    return out;
+  }
   if (res.status != lmi::SolveStatus::Optimal && res.status != lmi::SolveStatus::Inaccurate)
-    throw InfeasibleError(what + ": the H-infinity LMI has no solution (solver status: " +
-                          lmi::status_name(res.status) + ")");
+    // The class stays InfeasibleError for callers that skip infeasible systems; the message
+    // says whether the solver proved infeasibility or stopped (iteration limit, numerics).
+    throw InfeasibleError(what + ": the H-infinity LMI is " + solve_verdict(res.status) + " (solver status: " +
+                          lmi::status_name(res.status) + ", " + std::to_string(res.iterations) + " iterations)");
   out.P = model.value(P, res.x);
-  out.P = 0.5 * (out.P + out.P.transpose());
-  out.g_solver = model.scalar_value(g, res.x);
+  symmetrize(out.P);  // not 0.5 * (P + Pᵀ) into P: that aliases (core/symmetric.hpp)
+  out.g_solver = fixed ? fixed_g : model.scalar_value(g, res.x);
   Eigen::LLT<Eigen::MatrixXd> llt(out.P);
   if (llt.info() != Eigen::Success) throw NumericalError(what + ": the solver returned a P that is not positive definite");
   for (size_t i = 0; i < N; ++i) {
@@ -172,7 +184,13 @@ SETBOUND_INLINE VertexGainResult hinf_vertex_gains_once(const std::vector<Eigen:
   for (size_t i = 0; i < N; ++i)
     tr = std::max(tr, dissipation_block(out.P, Q, Aos[i], Es[i], gc).diagonal().cwiseAbs().sum());
   needed_margin = (ell_rounding::gamma(2 * n + m + 1) * 4.0 + opt.certificate_slack) * tr;
-  if (!ok) return VertexGainResult{};  // empty P: not certified
+  if (!ok) {  // empty P: not certified
+    VertexGainResult nc;
+    nc.status = out.status;
+    nc.iterations = out.iterations;
+    nc.solve_time = out.solve_time;
+    return nc;
+  }
   out.g = gc;
   return out;
 }
@@ -194,6 +212,78 @@ SETBOUND_INLINE VertexGainResult hinf_vertex_gains(const std::vector<Eigen::Matr
   }
   throw NumericalError(what + ": the LMI solution could not be certified in floating point (margin " +
                        std::to_string(margin) + ")");
+}
+
+SETBOUND_INLINE std::string solve_verdict(lmi::SolveStatus s) {
+  switch (s) {
+    case lmi::SolveStatus::Infeasible: return "infeasible";
+    case lmi::SolveStatus::MaxIterations: return "not solved (iteration limit)";
+    default: return std::string("not solved (numerical trouble: ") + lmi::status_name(s) + ")";
+  }
+}
+
+SETBOUND_INLINE void require_gamma_grid(const std::vector<double>& gammas) {
+  if (gammas.empty()) throw InvalidArgumentError("gammas: the gamma grid is empty");
+  if (gammas.size() > static_cast<size_t>(kMaxGammas))
+    throw InvalidArgumentError("gammas: at most " + std::to_string(kMaxGammas) + " values (each one is an SDP), got " +
+                               std::to_string(gammas.size()));
+  for (size_t i = 0; i < gammas.size(); ++i) {
+    if (!std::isfinite(gammas[i])) throw NotFiniteError("gammas: entry " + std::to_string(i) + " is not finite");
+    if (!(gammas[i] > 0)) throw InvalidArgumentError("gammas: entry " + std::to_string(i) + " must be > 0");
+    if (i > 0 && !(gammas[i] > gammas[i - 1]))
+      throw InvalidArgumentError("gammas: must be strictly increasing (entry " + std::to_string(i) + ")");
+  }
+}
+
+SETBOUND_INLINE GammaSearch first_feasible_gamma(const std::vector<Eigen::MatrixXd>& As,
+                                                 const std::vector<Eigen::MatrixXd>& Fs, const Eigen::MatrixXd& C,
+                                                 const Eigen::MatrixXd& Z, const Eigen::MatrixXd& Q,
+                                                 const std::vector<double>& gammas, const HinfOptions& opt,
+                                                 const std::string& what) {
+  require_gamma_grid(gammas);
+  GammaSearch out;
+  double time = 0;
+  int infeasible = 0, iteration_limit = 0, other = 0;
+  for (const double gm : gammas) {
+    GammaTrial t;
+    t.gamma = gm;
+    const double g2 = gm * gm;
+    double margin = opt.margin * std::max(1.0, Q.cwiseAbs().maxCoeff()), needed = 0;
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      VertexGainResult r = hinf_vertex_gains_once(As, Fs, C, Z, Q, opt, what, false, margin, needed, g2);
+      t.iterations += r.iterations;
+      time += r.solve_time;
+      if (!r.solved) {  // the solver's verdict on this γ (with this margin)
+        t.status = r.status;
+        break;
+      }
+      if (r.P.size() > 0) {  // certified
+        t.status = lmi::SolveStatus::Optimal;
+        out.trials.push_back(t);
+        r.solve_time = time;
+        r.iterations = t.iterations;
+        out.gain = std::move(r);
+        return out;
+      }
+      t.status = lmi::SolveStatus::NumericalError;  // solved, not certified: retry with a larger margin
+      margin = std::max(margin * 10.0, 8.0 * needed);
+    }
+    out.trials.push_back(t);
+    if (t.status == lmi::SolveStatus::Infeasible) ++infeasible;
+    else if (t.status == lmi::SolveStatus::MaxIterations) ++iteration_limit;
+    else ++other;
+  }
+  std::ostringstream s;
+  s << what << ": LMI (2.35) at gamma = " << gammas.front() << " .. " << gammas.back() << " (" << gammas.size()
+    << " values)";
+  if (iteration_limit == 0 && other == 0) {
+    s << " is infeasible for every gamma of the grid (a certificate of infeasibility for each)";
+    throw InfeasibleError(s.str());
+  }
+  s << ": no gamma gave a certified solution; infeasible at " << infeasible << ", not solved (iteration limit) at "
+    << iteration_limit << ", not solved or not certified (numerical trouble) at " << other
+    << " (raise the solver's max_iterations / time_limit, or give a grid that reaches larger gamma)";
+  throw NumericalError(s.str());
 }
 
 }  // namespace hinf_detail
@@ -223,6 +313,40 @@ SETBOUND_INLINE HinfGain hinf_observer_gain(const Plant& plant, const Eigen::Mat
   h.solve_time = r.solve_time;
   h.spectral_radius = r.spectral_radius;
   return h;
+}
+
+SETBOUND_INLINE std::vector<double> cora_gamma_grid() {
+  // MATLAB's linspace(1, 50, 100): d1 + (0:n-1)·(d2 − d1)/(n − 1), the last point exactly d2.
+  std::vector<double> g(100);
+  for (int i = 0; i < 100; ++i) g[static_cast<size_t>(i)] = 1.0 + i * (49.0 / 99.0);
+  g.back() = 50.0;
+  return g;
+}
+
+SETBOUND_INLINE GammaGridGain hinf_observer_gain_first_feasible(const Plant& plant, const Eigen::MatrixXd& Q,
+                                                                const std::vector<double>& gammas,
+                                                                const HinfOptions& opt) {
+  opt.validate();
+  hinf_detail::require_gamma_grid(gammas);
+  const Eigen::MatrixXd Qd = hinf_detail::dissipation_or_identity(Q, plant.nx());
+  hinf_detail::require_detectable(plant.A, plant.C, opt.detectability_tol, "A, C");
+  hinf_detail::GammaSearch r = hinf_detail::first_feasible_gamma({plant.A}, {plant.F}, plant.C, plant.Z, Qd, gammas,
+                                                                 opt, "hinf_observer_gain_first_feasible");
+  GammaGridGain out;
+  HinfGain& h = out.gain;
+  h.P = std::move(r.gain.P);
+  h.U = std::move(r.gain.U.front());
+  h.L = std::move(r.gain.L.front());
+  h.Q = Qd;
+  h.g = r.gain.g;
+  h.gamma = ell_rounding::round_up(std::sqrt(r.gain.g));
+  h.g_solver = r.gain.g_solver;
+  h.status = r.gain.status;
+  h.iterations = r.gain.iterations;
+  h.solve_time = r.gain.solve_time;
+  h.spectral_radius = r.gain.spectral_radius;
+  out.trials = std::move(r.trials);
+  return out;
 }
 
 SETBOUND_INLINE BrlRpi brl_ellipsoidal_rpi(const Eigen::MatrixXd& A, const Eigen::MatrixXd& E, const Eigen::VectorXd& wbar,

@@ -45,6 +45,27 @@ SETBOUND_INLINE Eigen::VectorXd inverse_diagonal_upper(const Eigen::MatrixXd& P)
   return d;
 }
 
+SETBOUND_INLINE void finish_design(EllipsoidalSMDesign& d) {
+  using ell_rounding::round_up;
+  const EllipsoidalSMPass& f = d.passes.back();
+  d.L_vertices = f.L;
+  d.L = f.L.front();
+  d.P = f.P;
+  d.Q_input = f.Q_input;
+  d.Q_refined = f.Q_refined;
+  d.g = f.g;
+  d.gamma = f.gamma;
+  d.lambda = f.lambda;
+  d.lambda_input = f.lambda_input;
+  d.lambda_refined = f.lambda_refined;
+  d.cbar = round_up(round_up(d.g * d.wtw) / d.lambda);
+  const Eigen::VectorXd di = inverse_diagonal_upper(d.P);
+  const Eigen::Index n = d.P.rows();
+  d.e_inf.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) d.e_inf(i) = round_up(std::sqrt(round_up(d.cbar * di(i))));
+  d.lambda_max_P = lambda_max_up(d.P);
+}
+
 SETBOUND_INLINE double lambda_min_certified(const Eigen::MatrixXd& Q, const Eigen::MatrixXd& P) {
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(Q, P, Eigen::EigenvaluesOnly);
   if (ges.info() != Eigen::Success) throw NumericalError("Q, P: the generalised eigenvalue problem failed");
