@@ -96,8 +96,7 @@ int sb_ropo_run(sb_ropo* estimator, int N, const double* Y, const double* U, dou
   return guard("sb_ropo_run", [&] {
     require_pointer(estimator, "estimator");
     const ParallelotopeEstimator& est = estimator->estimator;
-    const int nx = static_cast<int>(est.system().nx()), ny = static_cast<int>(est.system().ny());
-    const int nu = static_cast<int>(est.system().nu());
+    const int ny = static_cast<int>(est.system().ny()), nu = static_cast<int>(est.system().nu());
     require_dimension(N, "N", true);
     const Eigen::MatrixXd Ym = matrix_arg(Y, N, ny, "Y");
     const Eigen::MatrixXd Um = nu > 0 ? Eigen::MatrixXd(matrix_arg(U, N, nu, "U")) : Eigen::MatrixXd(N, 0);
@@ -107,7 +106,6 @@ int sb_ropo_run(sb_ropo* estimator, int N, const double* Y, const double* U, dou
     write_matrix(t.center, center);
     write_matrix(t.lower, lower);
     write_matrix(t.upper, upper);
-    (void)nx;
     estimator->estimator = std::move(work);
   });
 }

@@ -75,7 +75,7 @@ SETBOUND_INLINE void strip_swap(ParallelotopeEstimator::Set& X, const Eigen::Vec
                                 const Eigen::Ref<const Eigen::VectorXd>& c, double y, double sig,
                                 Eigen::Index replace) {
   using rounding_bounds::gamma;
-  const Eigen::Index n = X.p.size(), m = X.G.cols();
+  const Eigen::Index n = X.p.size();
   const double g = gamma(n + 5);
   const Eigen::VectorXd w = X.G.cwiseAbs().rowwise().sum();
   const Eigen::VectorXd absL = lam.cwiseAbs(), absc = c.cwiseAbs();
@@ -97,7 +97,6 @@ SETBOUND_INLINE void strip_swap(ParallelotopeEstimator::Set& X, const Eigen::Vec
   r += Gn.col(replace).cwiseAbs();
   Gn.col(replace) = lam * sig;
   r += g * absL * sig;
-  (void)m;
   X.p.swap(pn);
   X.G.swap(Gn);
   X.r = r * (1.0 + g);
