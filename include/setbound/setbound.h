@@ -1086,3 +1086,70 @@ int sb_zono_observer_restore_state(sb_zono_observer* observer, const double* sta
 int sb_zono_gain_design(const sb_linear_system* system, int method, double* gain, double* P, double* Y,
                         double* beta);
 /* ==== end CORA's zonotopic observers ==== */
+/* ==== CORA's ROPO parallelotopes and the Rauch-Tung-Striebel smoother (issue 22;
+ * estimators/zonotopic/parallelotope.hpp, estimators/point/rts_smoother.hpp) ====
+ * ROPO (Vicino & Zappa 1996): the set is a parallelotope theta + T [-1, 1]^nx (T nx x nx). Each
+ * step: the prior A X + B u + E w is reduced to a parallelotope (CORA's order-1 reduction:
+ * SB_ZONO_REDUCE_GIRARD = the interval hull, SB_ZONO_REDUCE_PCA = a PCA-oriented box), then the
+ * strips of the outputs present are applied one after another with the Vicino-Zappa step
+ * (tighten the strip, shrink each generator segment, keep the least-volume candidate).
+ * convention: SB_CONVENTION_SETBOUND (guaranteed after rounding: a pending rounding box is
+ * carried, readings are screened with SB_ON_INCONSISTENCY_* as for sb_zonotopic; step k uses
+ * y_k) or SB_CONVENTION_CORA (CORA's priv_observe_ROPO as it is: step 0 returns x0 without using
+ * y_0, no rounding control, no emptiness check: not guaranteed; every output needs a noise
+ * bound). A filter: step k returns the set for x_k, then predicts x_{k+1} with u_k. */
+typedef struct sb_ropo sb_ropo;
+typedef struct sb_ropo_options {
+  int reduction;        /* SB_ZONO_REDUCE_GIRARD (default) or SB_ZONO_REDUCE_PCA */
+  int convention;       /* SB_CONVENTION_SETBOUND (default) or SB_CONVENTION_CORA */
+  int on_inconsistency; /* SB_ON_INCONSISTENCY_* (default FLAG; RESET restarts from x0); CORA: FLAG only */
+} sb_ropo_options;
+/* Fills *options with the defaults (girard, setbound, flag). */
+int sb_ropo_default_options(sb_ropo_options* options);
+/* x0 = p0 + H0 [-1, 1]^m0 (H0 nx x m0 row-major; any zonotope: it is reduced to a parallelotope at
+ * the first correction). options: NULL for the defaults. Known A only. */
+int sb_ropo_create(const sb_linear_system* system, const sb_ropo_options* options, int m0, const double* p0,
+                   const double* H0, sb_ropo** out);
+int sb_ropo_free(sb_ropo* estimator);
+/* One step: y (ny; NaN entries are missing outputs), u (nu; NULL when nu = 0). Writes the centre,
+ * the interval hull (lower, upper: nx each; outward rounded in the setbound convention) and the
+ * generator count *m of the set for x_k (nx plus the non-zero entries of the rounding box; NULL
+ * outputs are skipped). On error the estimator is unchanged. */
+int sb_ropo_step(sb_ropo* estimator, const double* y, const double* u, double* center, double* lower,
+                 double* upper, int* m);
+/* Runs N rows of Y (N x ny) and U (N x nu; NULL when nu = 0) from x0 (as after sb_ropo_reset) and
+ * writes row k of center, lower, upper (N x nx each, row-major; NULL skipped): the set for x_k.
+ * On error the estimator is unchanged; on success it holds the state after the last row. */
+int sb_ropo_run(sb_ropo* estimator, int N, const double* Y, const double* U, double* center, double* lower,
+                double* upper);
+/* The set of the last step: centre p (nx) and generators H (nx x m, row-major): the parallelotope's
+ * nx columns T (zero columns kept; in the cora convention step 0 returns x0's generators), then
+ * the rounding box as axis-aligned columns. *m in: capacity in columns, out: the count (too
+ * small: SB_ERR_BUFFER_TOO_SMALL with the count needed). No step taken: SB_ERR_INVALID_ARGUMENT. */
+int sb_ropo_current_set(const sb_ropo* estimator, int* m, double* p, double* H);
+/* The parallelotope of the last step apart: theta (nx), T (nx x nx row-major) and the rounding box
+ * radius box (nx; the set is theta + T [-1,1]^nx + [-box, box]); NULL outputs are skipped. Not a
+ * parallelotope (cora convention, step 0 with x0 of another generator count): SB_ERR_INVALID_ARGUMENT. */
+int sb_ropo_parallelotope(const sb_ropo* estimator, double* theta, double* T, double* box);
+/* What the last step did with each output (SB_OUTPUT_*, margins, reset flag), as for
+ * sb_zonotopic_last_check; NULL outputs are skipped. */
+int sb_ropo_last_check(const sb_ropo* estimator, int* status, double* margin, int* reset);
+int sb_ropo_reset(sb_ropo* estimator);
+int sb_ropo_steps(const sb_ropo* estimator, int* steps);
+/* Saved state (see "saved states" above). */
+int sb_ropo_state_size(const sb_ropo* estimator, int* n);
+int sb_ropo_save_state(const sb_ropo* estimator, double* state, int n);
+int sb_ropo_restore_state(sb_ropo* estimator, const double* state, int n);
+/* Rauch-Tung-Striebel smoother (point estimates, NOT guaranteed): x+ = A x + B u + w,
+ * y = C x + D u + v, w ~ N(0, Sigma_w), v ~ N(0, Sigma_v), x_0 ~ N(x0, P0), with A, B, C, D of
+ * `system` (its E, F are not used; known A only). x0 (nx), P0 (nx x nx, symmetric PSD), Sigma_w
+ * (nx x nx, symmetric PSD), Sigma_v (ny x ny, symmetric positive definite), Y (N x ny; NaN entries
+ * are missing outputs), U (N x nu; NULL when nu = 0). use_first_measurement = 1: y_0 corrects the
+ * prior (the textbook); 0: CORA's indexing (the estimate of x_0 is x0, y_0 unused). Outputs (NULL
+ * skipped): smoothed (N x nx) x^s_k, smoothed_cov (N x nx x nx) P^s_k, filtered (N x nx) the
+ * forward Kalman filter's x_k|k, filtered_cov (N x nx x nx) its P_k|k; row-major, matrix after
+ * matrix. */
+int sb_rts_smooth(const sb_linear_system* system, const double* x0, const double* P0, const double* Sigma_w,
+                  const double* Sigma_v, int N, const double* Y, const double* U, int use_first_measurement,
+                  double* smoothed, double* smoothed_cov, double* filtered, double* filtered_cov);
+/* ==== end ROPO and RTS ==== */

@@ -23,6 +23,7 @@ from .hinf import LpvPlant  # noqa: E402
 from . import inclusion, invariant  # noqa: E402  (thesis Chapter 1)
 from .invariant import Polytope  # noqa: E402
 from . import interval_observers  # noqa: E402
+from . import parallelotope, point  # noqa: E402  (CORA's ROPO; the Rauch-Tung-Striebel smoother)
 from .interval_observers import (  # noqa: E402
     IntervalInvariantObserver,
     IntervalLuenbergerObserver,
@@ -65,6 +66,8 @@ __all__ = [
     "invariant",
     "lmi",
     "measurement",
+    "parallelotope",
+    "point",
     "zonotopic",
     "version",
 ] + list(errors.__all__)

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import constrained_zonotopic, ellipsoidal, hinf, interval_observers, zonotopic
+from . import constrained_zonotopic, ellipsoidal, hinf, interval_observers, parallelotope, zonotopic
 from ._validate import as_bool, as_float, as_int
 from .errors import SetboundError
 from .interval import Box, IntervalMatrix
@@ -506,6 +506,8 @@ def random_case(estimator: str, seed: int, max_nx: int = 8) -> Case:
         opts = {"approach": int(rng.choice([1, 2]))}
     if estimator == "zono_strip_gain":
         opts = {"all_strips": int(rng.integers(0, 2))}
+    if estimator == "ropo":
+        opts = {"reduction": str(rng.choice(["girard", "pca"]))}
     if estimator == "thesis_lpv":
         nv = int(rng.integers(2, 4))
         dA = [rng.standard_normal((s.nx, s.nx)) * 0.05 * np.abs(s.A).max() for _ in range(nv)]
@@ -776,6 +778,9 @@ def _run_zonotopic(case: Case, res: CaseResult, rng):
         est = zonotopic.WangEstimator(system, x0)
     elif case.estimator == "zono_combastel":
         est = zonotopic.CombastelObserver(system, x0)
+    elif case.estimator == "ropo":
+        # CORA's ROPO (setbound.parallelotope): a parallelotope plus its rounding box per step
+        est = parallelotope.ParallelotopeEstimator(system, x0, reduction=case.options["reduction"])
     elif case.estimator in ("zono_strip_gain", "zono_propagation"):
         # A fixed gain from the stationary Kalman recursion of the model (any gain is guaranteed;
         # this one keeps the sets bounded on detectable systems).
@@ -965,6 +970,8 @@ ESTIMATORS = {
     # CORA's catalogue (issue 22), default convention
     "eso_a_obe": _Spec(16, _run_bounding_ellipsoid, horizon=2000),
     "eso_b_liu": _Spec(17, _run_bounding_ellipsoid, horizon=2000),
+    # CORA's ROPO, Vicino–Zappa parallelotopes (setbound.parallelotope), default convention
+    "ropo": _Spec(18, _run_zonotopic, horizon=1000),
     # ESO-D (CORA's name): design_eso_d + the thesis observer; up to 200 feasibility SDPs per design
     "eso_d": _Spec(19, _run_thesis, horizon=2000),
 }

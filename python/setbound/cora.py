@@ -148,6 +148,7 @@ def _load_families() -> None:
     # The families register their names on import; importing them here keeps `setbound.cora`
     # importable on its own and the registry complete.
     from . import constrained_zonotopic, ellipsoidal, hinf, interval_observers, zonotopic  # noqa: F401
+    from . import parallelotope, point  # noqa: F401  (ROPO; Rauch-Tung-Striebel)
 
 
 def as_model(model) -> CoraBenchmark:

@@ -40,6 +40,7 @@
 #include "setbound/estimators/kalman.hpp"
 #include "setbound/estimators/volume_min.hpp"
 #include "setbound/estimators/zonotopic.hpp"
+#include "setbound/estimators/zonotopic/parallelotope.hpp"
 #include "setbound/thesis/eso_d.hpp"
 #include "setbound/thesis/hinf_observer.hpp"
 #include "setbound/thesis/interval_observer.hpp"
@@ -251,6 +252,37 @@ std::vector<Kind> kinds() {
   out.push_back({"ZonotopicEstimator(segment_min, [A])", zono(me17u(0.02), segment_min_gain, 4, ZonotopeReduction::Pca), 7});
   out.push_back({"ZonotopicEstimator(P-radius)", zono(sys, ZonotopeGain::fixed(lam), 4, ZonotopeReduction::Girard), 5});
   out.push_back({"ZonotopicEstimator(volume_min)", zono(sys, volume_min_gain, 4, ZonotopeReduction::Combastel), 5});
+  // CORA's ROPO (estimators/zonotopic/parallelotope.hpp), both conventions; the truth is checked
+  // in the guaranteed (setbound) one.
+  for (Convention conv : {Convention::Setbound, Convention::Cora}) {
+    out.push_back({std::string("ParallelotopeEstimator(") + (conv == Convention::Cora ? "cora" : "setbound") + ")",
+                   [sys, d, conv] {
+                     ParallelotopeOptions po;
+                     po.convention = conv;
+                     po.reduction = conv == Convention::Cora ? ZonotopeReduction::Girard : ZonotopeReduction::Pca;
+                     auto e = std::make_shared<ParallelotopeEstimator>(
+                         sys, Zonotope(VectorXd::Zero(2), 2.0 * MatrixXd::Identity(2, 2)), po);
+                     Subject s = saving(e);
+                     s.step = [e, d](int i) { e->update(d->y[size_t(i)], d->u[size_t(i)]); };
+                     s.sets = [e] {
+                       Blob v;
+                       append(v, e->current_center());
+                       append(v, e->current_generators());
+                       append(v, e->current_box());
+                       append(v, e->current_lower());
+                       append(v, e->current_upper());
+                       return v;
+                     };
+                     if (conv == Convention::Setbound)
+                       s.holds_truth = [e, d](int i) {
+                         const VectorXd& x = d->x[size_t(i)];
+                         return (e->current_lower().array() <= x.array()).all() &&
+                                (x.array() <= e->current_upper().array()).all();
+                       };
+                     return s;
+                   },
+                   5});
+  }
 
   // Thesis observers.
   using namespace thesis;

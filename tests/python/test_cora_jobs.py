@@ -324,7 +324,7 @@ def test_cora_model_file_as_job_gives_observe_sets(tmp_path):
             row = CORA_METHODS.get(name)
             if row is not None and row.family in ("zonotopic", "constrained_zonotopic"):
                 tab["zonotope_order"] = 100
-            if row is not None and row.family == "zonotopic":
+            if row is not None and row.family in ("zonotopic", "parallelotope"):
                 tab["reduction"] = "pca"
             if row is not None and row.family == "constrained_zonotopic":
                 tab["technique"] = "pca"

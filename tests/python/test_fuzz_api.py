@@ -817,6 +817,12 @@ OPTIONS: dict[str, dict[str, str]] = {
     "setbound.zonotopic.PropagationObserver.__init__": {"max_generators": "int", "reduction": "choice",
                                                         "convention": "choice"},
     "setbound.zonotopic.design_zonotopic_gain": {"method": "choice"},
+    # CORA's ROPO and the Rauch-Tung-Striebel smoother
+    "setbound.parallelotope.ParallelotopeEstimator.__init__": {"reduction": "choice", "convention": "choice",
+                                                               "on_inconsistency": "choice"},
+    "setbound.parallelotope.ParallelotopeEstimator.step": {"u": "data"},
+    "setbound.parallelotope.ParallelotopeEstimator.run": {"u": "data"},
+    "setbound.point.rts_smooth": {"u": "data", "use_first_measurement": "bool"},
     "setbound.zonotopic._ZonotopicObserver.step": {"u": "data"},
     "setbound.zonotopic._ZonotopicObserver.run": {"u": "data"},
     # hinf
@@ -959,7 +965,7 @@ OPTIONS: dict[str, dict[str, str]] = {
 
 #: The modules whose public functions the table must cover (the API modules; the job-file modules
 #: config, campaign, cli, demo and thesis_jobs validate their own values).
-API_MODULES = ("ellipsoidal", "zonotopic", "constrained_zonotopic", "cora", "hinf", "interval", "interval_observers", "invariant", "inclusion", "lmi",
+API_MODULES = ("ellipsoidal", "zonotopic", "parallelotope", "point", "constrained_zonotopic", "cora", "hinf", "interval", "interval_observers", "invariant", "inclusion", "lmi",
                "sets", "system", "simulation", "plant", "trajectory", "plotting", "benchmarks", "fault",
                "studies", "studies.engine", "studies.executor", "studies.store", "studies.study", "studies.summary",
                "studies.tasks")
@@ -1090,6 +1096,10 @@ CALLS = {
     "setbound.zonotopic.PRadiusEstimator.__init__": lambda c, **kw: zonotopic.PRadiusEstimator(c["pr"], c["X0"], **kw),
     "setbound.zonotopic.design_zonotopic_gain": lambda c, **kw: zonotopic.design_zonotopic_gain(c["S"], **kw),
     "setbound.zonotopic.BravoEstimator.__init__": lambda c, **kw: zonotopic.BravoEstimator(c["S"], c["X0"], **kw),
+    "setbound.parallelotope.ParallelotopeEstimator.__init__":
+        lambda c, **kw: sb.parallelotope.ParallelotopeEstimator(c["S"], c["X0"], **kw),
+    "setbound.point.rts_smooth": lambda c, **kw: sb.point.rts_smooth(c["S"], np.zeros(2), np.eye(2), 0.01 * np.eye(2),
+                                                                     [[0.01]], np.zeros((3, 1)), **kw),
     "setbound.zonotopic.WangEstimator.__init__": lambda c, **kw: zonotopic.WangEstimator(c["S"], c["X0"], **kw),
     "setbound.zonotopic.CombastelObserver.__init__":
         lambda c, **kw: zonotopic.CombastelObserver(c["S"], c["X0"], **kw),

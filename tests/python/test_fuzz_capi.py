@@ -53,7 +53,7 @@ FINITE_FILLS = ("normal", "zeros", "ones", "eye1", "eye2", "eye3", "huge", "tiny
 NAN_OUTPUT_OK = re.compile(
     r"^sb_(lmi_solve|lmi_solve_class|lmi_solve_gevp|lmi_dual|lmi_dual_eq|hinf_design_pass|hinf_design_get"
     r"|zonotopic_last_check|czonotopic_last_check|ellipsoidal_last_check|hinf_observer_last_check|interval_luenberger_last_check"
-    r"|interval_nonlinear_last_check|interval_invariant_last_check"
+    r"|interval_nonlinear_last_check|interval_invariant_last_check|ropo_last_check"
     r"|interval_luenberger_info|interval_nonlinear_info|interval_luenberger_gain|interval_nonlinear_gain)$")
 
 
@@ -130,6 +130,7 @@ class Handles:
         self._make("sb_ellipsoidal", lib.sb_ellipsoidal_create, self.h["sb_ell_design"], lib.SB_ELL_ONLINE_SCALED,
                    0, 0, 0, ffi.NULL, _p(I2), _p(p0), 1.0)
         self._make("sb_kalman", lib.sb_kalman_create, sysh, _p(p0), _p(I2), ffi.NULL)
+        self._make("sb_ropo", lib.sb_ropo_create, sysh, ffi.NULL, 2, _p(p0), _p(H0))
         self._make("sb_bounding_ellipsoid", lib.sb_bounding_ellipsoid_create, sysh, ffi.NULL, ffi.NULL, _p(p0),
                    _p(I2), 1.0, lib.SB_BE_X0_SHAPE, lib.SB_BE_LIU, lib.SB_CONVENTION_SETBOUND, 1e-4)
         Lc = _arr([[0.3], [0.1]])
@@ -194,6 +195,7 @@ def handles():
 def test_every_handle_type_has_a_live_handle(handles):
     types = {t for sig in SIGNATURES.values() for (_, t, stars, _) in sig if t.startswith("sb_") and stars >= 1}
     types.discard("sb_lmi_result")
+    types.discard("sb_ropo_options")  # a plain struct (filled per call), not a handle
     assert types <= set(handles.h), sorted(types - set(handles.h))
 
 
@@ -271,6 +273,14 @@ def call_case(handles, name, data, allow_huge=False):
                 args.append(ffi.new("int[]", [v] + [int(i) % 3 for i in range(BUF_INTS - 1)]))
         elif typ == "sb_lmi_result" and stars == 1:
             args.append(ffi.NULL if data.draw(st.integers(0, 7)) == 0 else ffi.new("sb_lmi_result*"))
+        elif typ == "sb_ropo_options" and stars == 1:
+            if data.draw(st.integers(0, 5)) == 0:
+                args.append(ffi.NULL)
+            else:
+                o = ffi.new("sb_ropo_options*")
+                o.reduction, o.convention, o.on_inconsistency = (data.draw(st.sampled_from((-1, 0, 1, 2, 3, 4)))
+                                                                 for _ in range(3))
+                args.append(o)
         elif typ.startswith("sb_") and stars == 1:
             if name.endswith("_free"):
                 args.append(ffi.NULL)  # live handles are shared; freeing them is the caller's bug

@@ -8,7 +8,7 @@ estimator kind is the C++ test StateFuzz.EveryFieldOfEveryKind).
   deleted); it no longer sizes anything, so the restore succeeds and the estimator continues
   bit-for-bit like an untouched copy, and deleting it is clean.
 * A smaller fuzz: every field of the blobs of the zonotopic estimators, an ellipsoidal
-  predictor and a Kalman filter, each set to NaN, ±Inf,
+  predictor, a Kalman filter and CORA's ROPO (both conventions), each set to NaN, ±Inf,
   huge, negative, -0 and fractional values, plus truncations and another kind's blob. Each
   restore either raises InvalidArgumentError ("state: ...") with the estimator unchanged, or
   succeeds and the estimator can step (a setbound error is allowed for a different state)."""
@@ -24,6 +24,7 @@ import pytest
 import setbound as sb
 from setbound import ellipsoidal as ell
 from setbound import zonotopic as zono
+from setbound.parallelotope import ParallelotopeEstimator
 
 
 def _me17u():
@@ -130,6 +131,10 @@ def _estimators():
         out["zonotopic-" + kind] = (lambda kind=kind: _zonotopic(kind), lambda e, k: e.step(ys[k], us[k]))
     out["ellipsoidal"] = (lambda: ell.OnlineEstimator(design, E0), lambda e, k: e.step(ys[k], us[k]))
     out["kalman"] = (lambda: ell.KalmanFilter(s, np.zeros(2), np.eye(2)), lambda e, k: e.step(ys[k], us[k]))
+    for conv in ("setbound", "cora"):  # CORA's ROPO
+        out["ropo-" + conv] = (lambda conv=conv: ParallelotopeEstimator(s, sb.Zonotope(np.zeros(2), 2.0 * np.eye(2)),
+                                                                        reduction="pca", convention=conv),
+                               lambda e, k: e.step(ys[k], us[k]))
     return out
 
 

@@ -10,7 +10,7 @@ import numpy as np
 
 import setbound as sb
 from setbound import Box, Ellipsoid, LinearSystem, Plant, Zonotope
-from setbound import constrained_zonotopic, ellipsoidal, hinf, interval_observers as iobs, zonotopic
+from setbound import constrained_zonotopic, ellipsoidal, hinf, interval_observers as iobs, parallelotope, zonotopic
 from setbound._native import ffi, last_error, lib
 
 A = np.array([[0.5, 0.1], [0.0, 0.4]])
@@ -329,6 +329,8 @@ CASES = {
     "PropagationObserver": Sharing(
         lambda: zonotopic.PropagationObserver(_system(), X0Z, np.full((2, _system().ny), 0.3), max_generators=6),
         lambda e, t, i: e.step(_y(t, i), U0), ["sb_zono_observer_step"], 30),
+    "ParallelotopeEstimator": Sharing(lambda: parallelotope.ParallelotopeEstimator(_system(), X0Z, reduction="pca"),
+                                      lambda e, t, i: e.step(_y(t, i), U0), ["sb_ropo_step"], 30),
     "EllipsoidalSMObserver": Sharing(
         lambda: hinf.EllipsoidalSMObserver(_once("hinf", lambda: hinf.design_ellipsoidal_sm_observer(
             _thesis_plant(), [1.0, 1.0])), np.zeros(2), 2.0),
@@ -389,7 +391,7 @@ def test_every_class_holding_a_mutable_handle_is_threadsafe():
     # the two rows of the table in docs/c_api.md, "Threads: which handles may be shared"
     assert mutable == {"sb_ellipsoidal", "sb_kalman", "sb_zonotopic", "sb_zono_observer", "sb_czonotopic", "sb_hinf_observer", "sb_lmi_problem",
                        "sb_interval_luenberger", "sb_interval_nonlinear", "sb_interval_invariant",
-                       "sb_bounding_ellipsoid", "sb_cora_interval"}
+                       "sb_bounding_ellipsoid", "sb_cora_interval", "sb_ropo"}
     immutable = set(re.findall(r"typedef struct (sb_\w+) sb_\w+;", HEADER.read_text())) - mutable - {"sb_lmi_result"}
     assert immutable == {"sb_linear_system", "sb_descriptor_system", "sb_ell_design", "sb_hinf_design",
                          "sb_interval_invariant_design", "sb_polytope", "sb_mrpi"}

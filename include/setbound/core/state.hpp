@@ -52,6 +52,7 @@ enum class StateKind : int {
   BoundingEllipsoid = 21,
   IntervalHinfObserver = 22,
   ZonotopicObserver = 23,  ///< estimators/zonotopic/observer.hpp (CORA's zonotopic catalogue)
+  ParallelotopeEstimator = 24,  ///< estimators/zonotopic/parallelotope.hpp (CORA's ROPO)
 };
 
 inline constexpr double kStateTagBase = 5342000.0;  // "SB" 0x53 0x42

@@ -53,7 +53,8 @@ class CoraMethod:
     Parameters
     ----------
     family : str
-        The set family (``zonotopic``, ``ellipsoidal``, ``interval``, ``constrained_zonotopic``).
+        The set family (``zonotopic``, ``ellipsoidal``, ``interval``, ``constrained_zonotopic``,
+        ``parallelotope``; ``point`` for the point estimates of the RTS smoother).
     options : dict
         The method's own job-file keys, each with its check ``f(value, key)``; every default is
         "not given" (the method's own default).
@@ -165,6 +166,14 @@ CORA_METHODS: dict[str, CoraMethod] = {
                          setbound_only=("variant", "on_inconsistency")),
     "CZN-A": CoraMethod("constrained_zonotopic", _CZN, filter=_FILTER, validate=_one_order),
     "CZN-B": CoraMethod("constrained_zonotopic", _CZN, filter=_FILTER, validate=_one_order),
+    # ---- ROPO and the Rauch-Tung-Striebel smoother (setbound.parallelotope, setbound.point) ----
+    # ROPO: CORA's reduction technique (always order 1: no zonotope_order / max_generators); the
+    # cora convention has no emptiness check, so only the setbound one is guaranteed
+    "ROPO": CoraMethod("parallelotope", {"reduction": one_of("girard", "pca"), "on_inconsistency": _POLICY},
+                       guaranteed=("setbound",), filter=_FILTER, setbound_only=("on_inconsistency",)),
+    # point estimates (lower = upper = the smoothed state): never guaranteed
+    "Rauch-Tung-Striebel": CoraMethod("point", {}, guaranteed=(), filter=_FILTER),
+    "RTS": CoraMethod("point", {}, guaranteed=(), filter=_FILTER),
 }
 
 #: Keys that shape the model (not passed to the runner).

@@ -24,6 +24,7 @@ SETBOUND_INLINE const char* state_kind_name(StateKind k) {
     case StateKind::BoundingEllipsoid: return "BoundingEllipsoidEstimator";
     case StateKind::IntervalHinfObserver: return "IntervalHinfObserver";
     case StateKind::ZonotopicObserver: return "ZonotopicObserver";
+    case StateKind::ParallelotopeEstimator: return "ParallelotopeEstimator";
   }
   return "unknown estimator";
 }
