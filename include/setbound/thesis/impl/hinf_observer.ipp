@@ -234,7 +234,7 @@ SETBOUND_INLINE CovarianceDissipation covariance_dissipation_matrix(const std::v
     throw NotPositiveDefiniteError("V: the error covariance is singular (the disturbance does not excite every error "
                                    "direction); Q = V^-1 does not exist");
   c.Q = llt.solve(Eigen::MatrixXd::Identity(n, n));
-  c.Q = 0.5 * (c.Q + c.Q.transpose());
+  symmetrize(c.Q);
   return c;
 }
 
