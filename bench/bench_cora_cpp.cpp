@@ -42,10 +42,10 @@
 
 #include "cora_data.hpp"
 #include "setbound/core/convention.hpp"
-#include "setbound/estimators/constrained_zonotopic.hpp"
+#include "setbound/estimators/constrained_zonotopic/estimator.hpp"
 #include "setbound/estimators/ellipsoidal/bounding_ellipsoid.hpp"
-#include "setbound/estimators/volume_min.hpp"
-#include "setbound/estimators/zonotopic.hpp"
+#include "setbound/estimators/zonotopic/volume_min.hpp"
+#include "setbound/estimators/zonotopic/gain_estimator.hpp"
 #include "setbound/estimators/zonotopic/designs.hpp"
 #include "setbound/estimators/zonotopic/observer.hpp"
 #include "setbound/estimators/zonotopic/parallelotope.hpp"

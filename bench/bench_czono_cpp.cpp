@@ -10,7 +10,7 @@
 //                   [--update-doc docs/benchmarks.md]
 //
 // Ratios are of means over all steps and coordinates: mean width of the method / mean width of
-// the reference (< 1: the constrained zonotope is tighter). The exact hull (exact_hull.hpp: 2 n_x
+// the reference (< 1: the constrained zonotope is tighter). The exact hull (polytopic/exact_hull.hpp: 2 n_x
 // interior-point LPs per step, growing with k) is computed on the first `exact_horizon` steps of
 // a record, and every ratio to it is over those steps.
 #include <malloc.h>
@@ -35,11 +35,11 @@
 #include <vector>
 
 #include "setbound/core/linear_system.hpp"
-#include "setbound/estimators/constrained_zonotopic.hpp"
-#include "setbound/estimators/exact_hull.hpp"
-#include "setbound/estimators/pradius.hpp"
-#include "setbound/estimators/volume_min.hpp"
-#include "setbound/estimators/zonotopic.hpp"
+#include "setbound/estimators/constrained_zonotopic/estimator.hpp"
+#include "setbound/estimators/polytopic/exact_hull.hpp"
+#include "setbound/estimators/zonotopic/pradius.hpp"
+#include "setbound/estimators/zonotopic/volume_min.hpp"
+#include "setbound/estimators/zonotopic/gain_estimator.hpp"
 #include "setbound/lmi/lp.hpp"
 #include "setbound/sets/box_lp.hpp"
 #include "cora_data.hpp"

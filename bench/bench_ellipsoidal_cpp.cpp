@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "setbound/estimators/ellipsoidal.hpp"
-#include "setbound/estimators/improved_estimator.hpp"
-#include "setbound/estimators/kalman.hpp"
+#include "setbound/estimators/ellipsoidal/lmi_estimators.hpp"
+#include "setbound/estimators/ellipsoidal/improved_estimator.hpp"
+#include "setbound/estimators/point/kalman.hpp"
 
 using namespace setbound;
 using Clock = std::chrono::steady_clock;

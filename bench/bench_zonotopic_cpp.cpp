@@ -25,8 +25,8 @@
 #include <vector>
 
 #include "setbound/core/linear_system.hpp"
-#include "setbound/estimators/pradius.hpp"
-#include "setbound/estimators/zonotopic.hpp"
+#include "setbound/estimators/zonotopic/pradius.hpp"
+#include "setbound/estimators/zonotopic/gain_estimator.hpp"
 #include "cora_data.hpp"
 
 using namespace setbound;

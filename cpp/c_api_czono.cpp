@@ -1,5 +1,5 @@
 // setbound — C ABI: constrained zonotopes (sets/constrained_zonotope.hpp, polygon_projection.hpp) and
-// the estimators CZN-A / CZN-B (estimators/constrained_zonotopic.hpp). Sets cross as arrays
+// the estimators CZN-A / CZN-B (estimators/constrained_zonotopic/estimator.hpp). Sets cross as arrays
 // (c, G, A, b, r); the estimator is an opaque handle.
 #include <algorithm>
 #include <limits>
@@ -7,7 +7,7 @@
 #include <string>
 
 #include "c_api_handles.hpp"
-#include "setbound/estimators/constrained_zonotopic.hpp"
+#include "setbound/estimators/constrained_zonotopic/estimator.hpp"
 #include "setbound/sets/constrained_zonotope.hpp"
 #include "setbound/sets/polygon_projection.hpp"
 

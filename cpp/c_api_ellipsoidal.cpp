@@ -5,10 +5,10 @@
 #include <variant>
 
 #include "c_api_handles.hpp"
-#include "setbound/estimators/descriptor.hpp"
-#include "setbound/estimators/ellipsoidal.hpp"
-#include "setbound/estimators/improved_estimator.hpp"
-#include "setbound/estimators/kalman.hpp"
+#include "setbound/estimators/ellipsoidal/descriptor.hpp"
+#include "setbound/estimators/ellipsoidal/lmi_estimators.hpp"
+#include "setbound/estimators/ellipsoidal/improved_estimator.hpp"
+#include "setbound/estimators/point/kalman.hpp"
 
 using namespace setbound;
 using namespace setbound::capi;

@@ -5,10 +5,10 @@
 
 #include "c_api_handles.hpp"
 #include "setbound/core/linear_system.hpp"
-#include "setbound/estimators/exact_hull.hpp"
-#include "setbound/estimators/pradius.hpp"
-#include "setbound/estimators/volume_min.hpp"
-#include "setbound/estimators/zonotopic.hpp"
+#include "setbound/estimators/polytopic/exact_hull.hpp"
+#include "setbound/estimators/zonotopic/pradius.hpp"
+#include "setbound/estimators/zonotopic/volume_min.hpp"
+#include "setbound/estimators/zonotopic/gain_estimator.hpp"
 
 using namespace setbound;
 using namespace setbound::capi;

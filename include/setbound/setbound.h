@@ -281,7 +281,7 @@ int sb_check_detectability(int nx, int ny, const double* A, const double* C, int
                            double* mode_re, double* mode_im);
 /* ==== end models ==== */
 
-/* ==== zonotopic estimators (estimators/zonotopic.hpp) ==== */
+/* ==== zonotopic estimators (estimators/zonotopic/gain_estimator.hpp) ==== */
 /* The estimator structure of papers.md §3.1: prediction, strip-by-strip correction with a gain
  * rule, reduction to at most max_generators generators. Time indexing: step k takes y_k and
  * u_k and returns the set for x_k (after using y_k), then predicts x_{k+1} with u_k. */
@@ -459,7 +459,7 @@ int sb_czono_reduce(int n, int ng, int nc, const double* c, const double* G, con
 int sb_czono_projection_polygon(int n, int ng, int nc, const double* c, const double* G, const double* A,
                                 const double* b, const double* r, int i, int j, int* nv, double* vertices);
 
-/* The constrained-zonotope estimators CZN-A and CZN-B (estimators/constrained_zonotopic.hpp):
+/* The constrained-zonotope estimators CZN-A and CZN-B (estimators/constrained_zonotopic/estimator.hpp):
  * prediction X+ = A X + B u + E B^nw (exact); correction by the exact intersection with the output
  * set y - D u - F B^nw (SB_CZN_EXACT_OUTPUT, CORA's CZN-A) or by the output strips in the Wang
  * gain's representation (SB_CZN_WANG_STRIPS, CZN-B: the same set, another representation);
@@ -508,8 +508,8 @@ int sb_czonotopic_save_state(const sb_czonotopic* estimator, double* state, int 
 int sb_czonotopic_restore_state(sb_czonotopic* estimator, const double* state, int n);
 /* ==== end constrained zonotopes ==== */
 
-/* ==== ellipsoidal estimators (estimators/ellipsoidal.hpp, improved_correction.hpp,
- *      descriptor.hpp, kalman.hpp) ==== */
+/* ==== ellipsoidal estimators (estimators/ellipsoidal/lmi_estimators.hpp, improved_correction.hpp,
+ *      descriptor.hpp, estimators/point/kalman.hpp) ==== */
 /* Sets are E(P, c, rho) = {x : (x - c)^T P (x - c) <= rho} (papers.md §0.1). */
 typedef struct sb_ell_design sb_ell_design;
 typedef struct sb_descriptor_system sb_descriptor_system;

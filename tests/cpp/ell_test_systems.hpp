@@ -4,7 +4,7 @@
 #include <Eigen/Core>
 
 #include "setbound/core/linear_system.hpp"
-#include "setbound/estimators/descriptor.hpp"
+#include "setbound/estimators/ellipsoidal/descriptor.hpp"
 
 namespace setbound::testing {
 

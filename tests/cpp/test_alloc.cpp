@@ -24,7 +24,7 @@ std::atomic<long> g_eigen_assert_failures{0};
 #include <random>
 #include <vector>
 
-#include "setbound/estimators/zonotopic.hpp"
+#include "setbound/estimators/zonotopic/gain_estimator.hpp"
 #include "setbound/lmi/classes.hpp"
 #include "setbound/lmi/problem.hpp"
 #include "setbound/lmi/solver.hpp"

@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "setbound/estimators/constrained_zonotopic.hpp"
-#include "setbound/estimators/exact_hull.hpp"
+#include "setbound/estimators/constrained_zonotopic/estimator.hpp"
+#include "setbound/estimators/polytopic/exact_hull.hpp"
 #include "test_helpers.hpp"
 
 using setbound::ConstrainedZonotope;

@@ -11,8 +11,8 @@
 #include <limits>
 #include <random>
 
-#include "setbound/estimators/exact_hull.hpp"
-#include "setbound/estimators/kalman.hpp"
+#include "setbound/estimators/polytopic/exact_hull.hpp"
+#include "setbound/estimators/point/kalman.hpp"
 #include "setbound/estimators/point/rts_smoother.hpp"
 #include "setbound/estimators/zonotopic/parallelotope.hpp"
 #include "c_api_common.hpp"

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <random>
 
-#include "setbound/estimators/zonotopic.hpp"
+#include "setbound/estimators/zonotopic/gain_estimator.hpp"
 #include "setbound/estimators/zonotopic/observer.hpp"
 #include "c_api_common.hpp"
 #include "test_helpers.hpp"

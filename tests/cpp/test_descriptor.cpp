@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "setbound/estimators/descriptor.hpp"
+#include "setbound/estimators/ellipsoidal/descriptor.hpp"
 #include "ell_test_systems.hpp"
 #include "test_helpers.hpp"
 

@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "setbound/estimators/ellipsoidal.hpp"
+#include "setbound/estimators/ellipsoidal/lmi_estimators.hpp"
 #include "ell_test_systems.hpp"
 #include "test_helpers.hpp"
 

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "setbound/estimators/ellipsoidal_common.hpp"
-#include "setbound/estimators/improved_correction.hpp"
+#include "setbound/estimators/ellipsoidal/common.hpp"
+#include "setbound/estimators/ellipsoidal/improved_correction.hpp"
 #include "setbound/lmi/classes.hpp"
 #include "setbound/lmi/model.hpp"
 #include "ell_test_systems.hpp"

@@ -12,7 +12,7 @@
 #include <random>
 #include <vector>
 
-#include "setbound/estimators/kalman.hpp"
+#include "setbound/estimators/point/kalman.hpp"
 #include "ell_test_systems.hpp"
 #include "test_helpers.hpp"
 

@@ -11,10 +11,10 @@
 
 #include "c_api_common.hpp"
 #include "setbound/core/linear_system.hpp"
-#include "setbound/estimators/exact_hull.hpp"
+#include "setbound/estimators/polytopic/exact_hull.hpp"
 #include "setbound/estimators/measurement_check.hpp"
-#include "setbound/estimators/volume_min.hpp"
-#include "setbound/estimators/zonotopic.hpp"
+#include "setbound/estimators/zonotopic/volume_min.hpp"
+#include "setbound/estimators/zonotopic/gain_estimator.hpp"
 #include "measurement_test_data.hpp"
 #include "test_helpers.hpp"
 

@@ -4,7 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <random>
 
-#include "setbound/estimators/pradius.hpp"
+#include "setbound/estimators/zonotopic/pradius.hpp"
 #include "test_helpers.hpp"
 
 using namespace setbound;

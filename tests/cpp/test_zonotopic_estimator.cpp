@@ -7,7 +7,7 @@
 #include <random>
 
 #include "setbound/core/linear_system.hpp"
-#include "setbound/estimators/zonotopic.hpp"
+#include "setbound/estimators/zonotopic/gain_estimator.hpp"
 #include "test_helpers.hpp"
 
 using namespace setbound;

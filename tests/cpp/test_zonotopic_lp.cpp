@@ -6,9 +6,9 @@
 #include <random>
 #include <vector>
 
-#include "setbound/estimators/exact_hull.hpp"
-#include "setbound/estimators/pradius.hpp"
-#include "setbound/estimators/volume_min.hpp"
+#include "setbound/estimators/polytopic/exact_hull.hpp"
+#include "setbound/estimators/zonotopic/pradius.hpp"
+#include "setbound/estimators/zonotopic/volume_min.hpp"
 #include "setbound/lmi/l1.hpp"
 #include "setbound/lmi/lp.hpp"
 #include "test_helpers.hpp"

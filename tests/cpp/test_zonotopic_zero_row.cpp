@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "setbound/estimators/volume_min.hpp"
-#include "setbound/estimators/zonotopic.hpp"
+#include "setbound/estimators/zonotopic/volume_min.hpp"
+#include "setbound/estimators/zonotopic/gain_estimator.hpp"
 
 using namespace setbound;
 using Eigen::MatrixXd;

@@ -36,7 +36,7 @@
 #include "setbound/core/error.hpp"
 #include "setbound/core/symmetric.hpp"
 #include "setbound/core/validate.hpp"
-#include "setbound/estimators/ellipsoidal_common.hpp"
+#include "setbound/estimators/ellipsoidal/common.hpp"
 #include "setbound/lmi/classes.hpp"
 #include "setbound/lmi/model.hpp"
 #include "setbound/thesis/plant.hpp"

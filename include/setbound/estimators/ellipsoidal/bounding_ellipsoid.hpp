@@ -55,7 +55,7 @@
 #include "setbound/core/state.hpp"
 #include "setbound/core/symmetric.hpp"
 #include "setbound/core/validate.hpp"
-#include "setbound/estimators/ellipsoidal_common.hpp"
+#include "setbound/estimators/ellipsoidal/common.hpp"
 #include "setbound/sets/ellipsoid.hpp"
 
 namespace setbound {

@@ -6,7 +6,7 @@
 // P₁ = 0.33² G_R0 G_R0ᵀ, Σ_w = 0.33² G_W G_Wᵀ, Σ_v = 0.33² G_V G_Vᵀ: a zonotope's generators read
 // as 3-sigma, "5-sigma" in CORA's comment). The system's E and F are not used.
 //
-// Forward pass: the library's KalmanFilter (estimators/kalman.hpp) on the model with ω = [w; v]
+// Forward pass: the library's KalmanFilter (estimators/point/kalman.hpp) on the model with ω = [w; v]
 // (E = [I 0], F = [0 I], W = diag(Σ_w, Σ_v)), which is this textbook filter:
 //     x̄_k = A x̂_{k−1} + B u_{k−1},  M_k = A P_{k−1} Aᵀ + Σ_w,
 //     K_k = M_k Cᵀ (C M_k Cᵀ + Σ_v)⁻¹,  x̂_k = x̄_k + K_k (y_k − C x̄_k − D u_k),  P_k = (I − K_kC) M_k

@@ -14,7 +14,7 @@
 
 #include "setbound/core/error.hpp"
 #include "setbound/core/validate.hpp"
-#include "setbound/estimators/kalman.hpp"
+#include "setbound/estimators/point/kalman.hpp"
 
 namespace setbound {
 

@@ -12,7 +12,7 @@
 #include <optional>
 
 #include "setbound/core/symmetric.hpp"
-#include "setbound/estimators/pradius.hpp"
+#include "setbound/estimators/zonotopic/pradius.hpp"
 #include "setbound/lmi/classes.hpp"
 #include "setbound/lmi/model.hpp"
 #include "setbound/lmi/solver.hpp"

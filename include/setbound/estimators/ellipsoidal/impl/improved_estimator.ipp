@@ -1,9 +1,9 @@
-// setbound — definitions of the functions declared in setbound/estimators/improved_estimator.hpp.
+// setbound — definitions of the functions declared in setbound/estimators/ellipsoidal/improved_estimator.hpp.
 // Included by that header (header-only use) or compiled once into libsetbound
 // (SETBOUND_SEPARATE_COMPILATION); see setbound/core/config.hpp.
 #pragma once
 
-#include "setbound/estimators/improved_estimator.hpp"
+#include "setbound/estimators/ellipsoidal/improved_estimator.hpp"
 #include "setbound/core/config.hpp"
 
 #include <sstream>

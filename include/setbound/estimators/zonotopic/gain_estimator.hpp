@@ -332,5 +332,5 @@ class ZonotopicEstimator {
 
 // The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
 #if !defined(SETBOUND_SEPARATE_COMPILATION)
-#include "setbound/estimators/impl/zonotopic.ipp"
+#include "setbound/estimators/zonotopic/impl/gain_estimator.ipp"
 #endif

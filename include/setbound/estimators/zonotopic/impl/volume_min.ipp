@@ -1,9 +1,9 @@
-// setbound — definitions of the functions declared in setbound/estimators/volume_min.hpp.
+// setbound — definitions of the functions declared in setbound/estimators/zonotopic/volume_min.hpp.
 // Included by that header (header-only use) or compiled once into libsetbound
 // (SETBOUND_SEPARATE_COMPILATION); see setbound/core/config.hpp.
 #pragma once
 
-#include "setbound/estimators/volume_min.hpp"
+#include "setbound/estimators/zonotopic/volume_min.hpp"
 #include "setbound/core/config.hpp"
 
 namespace setbound {

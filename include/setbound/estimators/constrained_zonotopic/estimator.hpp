@@ -150,5 +150,5 @@ class ConstrainedZonotopicEstimator {
 
 // The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
 #if !defined(SETBOUND_SEPARATE_COMPILATION)
-#include "setbound/estimators/impl/constrained_zonotopic.ipp"
+#include "setbound/estimators/constrained_zonotopic/impl/estimator.ipp"
 #endif

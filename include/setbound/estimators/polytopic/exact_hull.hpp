@@ -32,5 +32,5 @@ ExactHull exact_hull(const LinearSystem& sys, const Zonotope& x0, const Eigen::M
 
 // The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
 #if !defined(SETBOUND_SEPARATE_COMPILATION)
-#include "setbound/estimators/impl/exact_hull.ipp"
+#include "setbound/estimators/polytopic/impl/exact_hull.ipp"
 #endif

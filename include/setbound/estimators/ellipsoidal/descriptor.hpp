@@ -37,8 +37,8 @@
 #include "setbound/core/linear_system.hpp"
 #include "setbound/core/state.hpp"
 #include "setbound/core/validate.hpp"
-#include "setbound/estimators/ellipsoidal.hpp"
-#include "setbound/estimators/ellipsoidal_common.hpp"
+#include "setbound/estimators/ellipsoidal/lmi_estimators.hpp"
+#include "setbound/estimators/ellipsoidal/common.hpp"
 #include "setbound/sets/ellipsoid.hpp"
 
 namespace setbound {
@@ -124,5 +124,5 @@ class DescriptorEstimator {
 
 // The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
 #if !defined(SETBOUND_SEPARATE_COMPILATION)
-#include "setbound/estimators/impl/descriptor.ipp"
+#include "setbound/estimators/ellipsoidal/impl/descriptor.ipp"
 #endif

@@ -1,4 +1,4 @@
-// setbound — definitions of the functions declared in setbound/estimators/constrained_zonotopic.hpp.
+// setbound — definitions of the functions declared in setbound/estimators/constrained_zonotopic/estimator.hpp.
 // Included by that header (header-only use) or compiled once into libsetbound
 // (SETBOUND_SEPARATE_COMPILATION); see setbound/core/config.hpp.
 #pragma once
@@ -12,7 +12,7 @@
 #include "setbound/core/config.hpp"
 #include "setbound/core/error.hpp"
 #include "setbound/core/validate.hpp"
-#include "setbound/estimators/constrained_zonotopic.hpp"
+#include "setbound/estimators/constrained_zonotopic/estimator.hpp"
 #include "setbound/sets/interval.hpp"
 #include "setbound/sets/zonotope_reduction.hpp"
 

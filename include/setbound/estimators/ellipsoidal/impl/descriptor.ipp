@@ -1,9 +1,9 @@
-// setbound — definitions of the functions declared in setbound/estimators/descriptor.hpp.
+// setbound — definitions of the functions declared in setbound/estimators/ellipsoidal/descriptor.hpp.
 // Included by that header (header-only use) or compiled once into libsetbound
 // (SETBOUND_SEPARATE_COMPILATION); see setbound/core/config.hpp.
 #pragma once
 
-#include "setbound/estimators/descriptor.hpp"
+#include "setbound/estimators/ellipsoidal/descriptor.hpp"
 #include "setbound/core/config.hpp"
 
 namespace setbound {

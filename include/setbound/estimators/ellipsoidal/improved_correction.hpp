@@ -106,7 +106,7 @@
 #include "setbound/core/error.hpp"
 #include "setbound/core/linear_system.hpp"
 #include "setbound/core/validate.hpp"
-#include "setbound/estimators/ellipsoidal_common.hpp"
+#include "setbound/estimators/ellipsoidal/common.hpp"
 #include "setbound/lmi/classes.hpp"
 #include "setbound/lmi/model.hpp"
 #include "setbound/lmi/solver.hpp"
@@ -272,5 +272,5 @@ CorrectionResult improved_correction(const Ellipsoid& predicted, const Eigen::Re
 
 // The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
 #if !defined(SETBOUND_SEPARATE_COMPILATION)
-#include "setbound/estimators/impl/improved_correction.ipp"
+#include "setbound/estimators/ellipsoidal/impl/improved_correction.ipp"
 #endif

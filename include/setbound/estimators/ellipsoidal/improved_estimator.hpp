@@ -34,8 +34,8 @@
 
 #include "setbound/core/error.hpp"
 #include "setbound/core/validate.hpp"
-#include "setbound/estimators/ellipsoidal.hpp"
-#include "setbound/estimators/improved_correction.hpp"
+#include "setbound/estimators/ellipsoidal/lmi_estimators.hpp"
+#include "setbound/estimators/ellipsoidal/improved_correction.hpp"
 
 namespace setbound {
 
@@ -114,5 +114,5 @@ class ImprovedEstimator {
 
 // The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
 #if !defined(SETBOUND_SEPARATE_COMPILATION)
-#include "setbound/estimators/impl/improved_estimator.ipp"
+#include "setbound/estimators/ellipsoidal/impl/improved_estimator.ipp"
 #endif

@@ -1,9 +1,9 @@
-// setbound — definitions of the functions declared in setbound/estimators/exact_hull.hpp.
+// setbound — definitions of the functions declared in setbound/estimators/polytopic/exact_hull.hpp.
 // Included by that header (header-only use) or compiled once into libsetbound
 // (SETBOUND_SEPARATE_COMPILATION); see setbound/core/config.hpp.
 #pragma once
 
-#include "setbound/estimators/exact_hull.hpp"
+#include "setbound/estimators/polytopic/exact_hull.hpp"
 #include "setbound/core/config.hpp"
 
 namespace setbound {

@@ -1,9 +1,9 @@
-// setbound — definitions of the functions declared in setbound/estimators/ellipsoidal_common.hpp.
+// setbound — definitions of the functions declared in setbound/estimators/ellipsoidal/common.hpp.
 // Included by that header (header-only use) or compiled once into libsetbound
 // (SETBOUND_SEPARATE_COMPILATION); see setbound/core/config.hpp.
 #pragma once
 
-#include "setbound/estimators/ellipsoidal_common.hpp"
+#include "setbound/estimators/ellipsoidal/common.hpp"
 #include "setbound/core/config.hpp"
 
 namespace setbound {

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "setbound/core/error.hpp"
-#include "setbound/estimators/zonotopic.hpp"
+#include "setbound/estimators/zonotopic/gain_estimator.hpp"
 #include "setbound/lmi/l1.hpp"
 #include "setbound/sets/zonotope.hpp"
 
@@ -45,5 +45,5 @@ Eigen::VectorXd volume_min_gain(const Zonotope& Z, const StripMeasurement& meas)
 
 // The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
 #if !defined(SETBOUND_SEPARATE_COMPILATION)
-#include "setbound/estimators/impl/volume_min.ipp"
+#include "setbound/estimators/zonotopic/impl/volume_min.ipp"
 #endif

@@ -115,5 +115,5 @@ class KalmanFilter {
 
 // The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
 #if !defined(SETBOUND_SEPARATE_COMPILATION)
-#include "setbound/estimators/impl/kalman.ipp"
+#include "setbound/estimators/point/impl/kalman.ipp"
 #endif

@@ -75,5 +75,5 @@ double level_with_center_error(double rho, double lambda_max_upper, const Eigen:
 
 // The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
 #if !defined(SETBOUND_SEPARATE_COMPILATION)
-#include "setbound/estimators/impl/ellipsoidal_common.ipp"
+#include "setbound/estimators/ellipsoidal/impl/common.ipp"
 #endif

@@ -38,7 +38,7 @@
 // contracting gain); the Offline *predictor* cannot be used with an interval A, because the
 // centre term has no a-priori bound.
 //
-// Guarantee in floating point (ellipsoidal_common.hpp): every (β, L, σ) that a step uses is
+// Guarantee in floating point (ellipsoidal/common.hpp): every (β, L, σ) that a step uses is
 // certified by certify_psd on the LMI blocks rebuilt from those exact values, with an absolute
 // slack that bounds the rounding made while forming them; the level is rounded up and
 // enlarged for the rounding of the centre. An online step whose solve fails or whose result
@@ -76,7 +76,7 @@
 #include "setbound/core/symmetric.hpp"
 #include "setbound/core/state.hpp"
 #include "setbound/core/validate.hpp"
-#include "setbound/estimators/ellipsoidal_common.hpp"
+#include "setbound/estimators/ellipsoidal/common.hpp"
 #include "setbound/estimators/measurement_check.hpp"
 #include "setbound/lmi/classes.hpp"
 #include "setbound/lmi/model.hpp"
@@ -438,5 +438,5 @@ class EllipsoidalPredictor {
 
 // The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
 #if !defined(SETBOUND_SEPARATE_COMPILATION)
-#include "setbound/estimators/impl/ellipsoidal.ipp"
+#include "setbound/estimators/ellipsoidal/impl/lmi_estimators.ipp"
 #endif

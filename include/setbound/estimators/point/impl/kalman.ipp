@@ -1,9 +1,9 @@
-// setbound — definitions of the functions declared in setbound/estimators/kalman.hpp.
+// setbound — definitions of the functions declared in setbound/estimators/point/kalman.hpp.
 // Included by that header (header-only use) or compiled once into libsetbound
 // (SETBOUND_SEPARATE_COMPILATION); see setbound/core/config.hpp.
 #pragma once
 
-#include "setbound/estimators/kalman.hpp"
+#include "setbound/estimators/point/kalman.hpp"
 #include "setbound/core/config.hpp"
 
 namespace setbound {

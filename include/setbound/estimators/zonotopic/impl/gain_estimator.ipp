@@ -1,9 +1,9 @@
-// setbound — definitions of the functions declared in setbound/estimators/zonotopic.hpp.
+// setbound — definitions of the functions declared in setbound/estimators/zonotopic/gain_estimator.hpp.
 // Included by that header (header-only use) or compiled once into libsetbound
 // (SETBOUND_SEPARATE_COMPILATION); see setbound/core/config.hpp.
 #pragma once
 
-#include "setbound/estimators/zonotopic.hpp"
+#include "setbound/estimators/zonotopic/gain_estimator.hpp"
 #include "setbound/core/config.hpp"
 
 namespace setbound {

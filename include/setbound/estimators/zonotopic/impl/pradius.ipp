@@ -1,9 +1,9 @@
-// setbound — definitions of the functions declared in setbound/estimators/pradius.hpp.
+// setbound — definitions of the functions declared in setbound/estimators/zonotopic/pradius.hpp.
 // Included by that header (header-only use) or compiled once into libsetbound
 // (SETBOUND_SEPARATE_COMPILATION); see setbound/core/config.hpp.
 #pragma once
 
-#include "setbound/estimators/pradius.hpp"
+#include "setbound/estimators/zonotopic/pradius.hpp"
 #include "setbound/core/config.hpp"
 
 namespace setbound {

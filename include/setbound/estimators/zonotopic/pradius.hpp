@@ -34,7 +34,7 @@
 
 #include "setbound/core/error.hpp"
 #include "setbound/core/linear_system.hpp"
-#include "setbound/estimators/zonotopic.hpp"
+#include "setbound/estimators/zonotopic/gain_estimator.hpp"
 #include "setbound/lmi/model.hpp"
 #include "setbound/lmi/scalar_search.hpp"
 #include "setbound/lmi/solver.hpp"
@@ -88,5 +88,5 @@ inline ZonotopeGain pradius_gain(const PRadiusDesign& design) { return ZonotopeG
 
 // The definitions: inline here, or compiled once into libsetbound (core/config.hpp).
 #if !defined(SETBOUND_SEPARATE_COMPILATION)
-#include "setbound/estimators/impl/pradius.ipp"
+#include "setbound/estimators/zonotopic/impl/pradius.ipp"
 #endif
