@@ -57,7 +57,9 @@ fi
 sonames=(libnlopt_cxx.so.0 libqhull_r.so.8.0 libgomp.so.1)
 files=()
 for so in "${sonames[@]}"; do
-  f=$(ldconfig -p | awk -v so="$so" '$1 == so {print $NF; exit}')
+  # awk reads to the end: an early `exit` closes the pipe while ldconfig still writes, and with
+  # pipefail its SIGPIPE (status 141) stopped this script (seen 2026-11-27).
+  f=$(ldconfig -p | awk -v so="$so" '$1 == so && !found {print $NF; found = 1}')
   [ -n "$f" ] || { echo "test-wheel: $so is not installed on this machine (nothing to hide)"; exit 1; }
   files+=("$(readlink -f "$f")")
 done
