@@ -1156,29 +1156,22 @@ class LPVEllipsoidalSMObserver(_Observer):
 
 # ---- CORA's names (setbound.cora.observe; issue 22) ---------------------------------------------
 
-def _eso_c_runner(model, *, convention, gain, **options):
-    """ESO-C = Loukkas, Martinez, Meslem, IFAC 2017 (Alg. 1): the thesis's Chapter 2 observer
-    (design_ellipsoidal_sm_observer + EllipsoidalSMObserver). CORA's own ESO-C cannot run (its gain
-    design reads an undefined variable; the unit tests comment it out as badly conditioned), so
-    there is no CORA convention to reproduce. Options: those of design_ellipsoidal_sm_observer
-    (lambda_route, passes)."""
+def _thesis_box_runner(model, name, allowed, design_fn, options):
+    """The runner shared by ESO-C and ESO-D: the thesis's EllipsoidalSMObserver with W's and V's
+    generators (|w_i| <= 1) as the plant's disturbances, ``design_fn(plant, **options)`` as its
+    design, and the interval hull of R0 as the initial box (guaranteed)."""
     from .ellipsoidal import _cora_noise_generators
-    from .interval import Box
 
-    if convention == "cora":
-        raise InvalidArgumentError("convention: CORA's ESO-C cannot run (priv_observe_gain_ESO_C reads an undefined "
-                                   "variable; its unit tests are commented out), so there is nothing to reproduce; "
-                                   'use convention="setbound" (Loukkas\' observer, guaranteed)')
     s = model.system
-    unknown = set(options) - {"lambda_route", "passes"}
+    unknown = set(options) - allowed
     if unknown:
-        raise InvalidArgumentError(f"{sorted(unknown)[0]}: not an option of ESO-C")
+        raise InvalidArgumentError(f"{sorted(unknown)[0]}: not an option of {name}")
     if np.any(s.D != 0.0):
-        raise InvalidArgumentError("model: an output offset (D u) is not supported by ESO-C")
+        raise InvalidArgumentError(f"model: an output offset (D u) is not supported by {name}")
     Gw, Gv = _cora_noise_generators(s)
     plant = Plant(s.A, s.C, B=s.B, Fd=Gw if Gw.shape[1] else np.zeros((s.nx, 1)),
                   Z=Gv if Gv.shape[1] else np.zeros((s.ny, 1)))
-    design = design_ellipsoidal_sm_observer(plant, **options)
+    design = design_fn(plant, **options)
     c = np.asarray(model.x0.center)
     r = np.abs(np.asarray(model.x0.generators)).sum(axis=1)
     obs = EllipsoidalSMObserver(design, Box(c - r, c + r))
@@ -1187,6 +1180,19 @@ def _eso_c_runner(model, *, convention, gain, **options):
         t = obs.run(model.y, model.u)
         return t.lower, t.upper, []
     return run
+
+
+def _eso_c_runner(model, *, convention, gain, **options):
+    """ESO-C = Loukkas, Martinez, Meslem, IFAC 2017 (Alg. 1): the thesis's Chapter 2 observer
+    (design_ellipsoidal_sm_observer + EllipsoidalSMObserver). CORA's own ESO-C cannot run (its gain
+    design reads an undefined variable; the unit tests comment it out as badly conditioned), so
+    there is no CORA convention to reproduce. Options: those of design_ellipsoidal_sm_observer
+    (lambda_route, passes)."""
+    if convention == "cora":
+        raise InvalidArgumentError("convention: CORA's ESO-C cannot run (priv_observe_gain_ESO_C reads an undefined "
+                                   "variable; its unit tests are commented out), so there is nothing to reproduce; "
+                                   'use convention="setbound" (Loukkas\' observer, guaranteed)')
+    return _thesis_box_runner(model, "ESO-C", {"lambda_route", "passes"}, design_ellipsoidal_sm_observer, options)
 
 
 def _eso_d_runner(model, *, convention, gain, **options):
@@ -1194,32 +1200,12 @@ def _eso_d_runner(model, *, convention, gain, **options):
     the thesis's EllipsoidalSMObserver, with W's and V's generators (|w_i| <= 1) and the initial
     box of R0 (guaranteed). CORA's own result depends on YALMIP's default solver (a feasibility
     problem with no objective), so the cora convention is refused. Options: gammas."""
-    from .ellipsoidal import _cora_noise_generators
-    from .interval import Box
-
     if convention == "cora":
         raise InvalidArgumentError("convention: CORA's ESO-D cannot be reproduced: its design solves feasibility "
                                    "problems with no objective (step (b) with YALMIP's default solver, not "
                                    "options.solver), so its gain and hull are whatever that solver stops at; "
                                    'use convention="setbound" (the same algorithm with defined choices, guaranteed)')
-    s = model.system
-    unknown = set(options) - {"gammas"}
-    if unknown:
-        raise InvalidArgumentError(f"{sorted(unknown)[0]}: not an option of ESO-D")
-    if np.any(s.D != 0.0):
-        raise InvalidArgumentError("model: an output offset (D u) is not supported by ESO-D")
-    Gw, Gv = _cora_noise_generators(s)
-    plant = Plant(s.A, s.C, B=s.B, Fd=Gw if Gw.shape[1] else np.zeros((s.nx, 1)),
-                  Z=Gv if Gv.shape[1] else np.zeros((s.ny, 1)))
-    design = design_eso_d(plant, **options)
-    c = np.asarray(model.x0.center)
-    r = np.abs(np.asarray(model.x0.generators)).sum(axis=1)
-    obs = EllipsoidalSMObserver(design, Box(c - r, c + r))
-
-    def run():
-        t = obs.run(model.y, model.u)
-        return t.lower, t.upper, []
-    return run
+    return _thesis_box_runner(model, "ESO-D", {"gammas"}, design_eso_d, options)
 
 
 def _register_cora_names():
