@@ -187,16 +187,7 @@ def run_method(model, alg: str, reps: int, gains: dict, exact: dict | None = Non
         try:
             r = cora.observe(model, alg, gain=gain)
         except Exception as e:  # noqa: BLE001 — every setbound error is a row, never a crash
-            if not runs and gain is None and alg in gains and model.name.startswith("vehicle2") \
-                    and str(e).startswith("gain"):
-                # setbound has no design for this name (spec §2.8/§2.9): CORA's saved gain exists here.
-                gain, note = gains[alg], "CORA's saved SDPT3 gain"
-                try:
-                    r = cora.observe(model, alg, gain=gain)
-                except Exception as e2:  # noqa: BLE001
-                    return {**row, "error": short_error(e2)}
-            else:
-                return {**row, "error": short_error(e)}
+            return {**row, "error": short_error(e)}
         runs.append(r)
     r = runs[-1]
     lower, upper = np.asarray(r.lower), np.asarray(r.upper)

@@ -126,26 +126,12 @@ Runnable zonotopic_observer(const Benchmark& b, ZonotopicRule rule, const Matrix
           [obs, &b](Index k) { obs->update(b.Y.row(k).transpose(), b.U.row(k).transpose()); }};
 }
 
-MatrixXd saved_gain(const std::string& dir, const Benchmark& b, const std::string& alg) {
-  // CORA's saved SDPT3 gains exist for vehicle2 only (spec §4.2, vehicle2_cora_saved_gains.json).
-  if (b.name.rfind("vehicle2", 0) != 0)
-    throw std::runtime_error("gain: " + alg + " has no design in setbound (spec §2.8/§2.9: CORA's SDP is "
-                             "unbounded/infeasible as coded) and CORA saved its gain for vehicle2 only");
-  std::ifstream f(dir + "/vehicle2_cora_saved_gains.json");
-  if (!f) throw std::runtime_error("gain: vehicle2_cora_saved_gains.json not found");
-  std::stringstream ss;
-  ss << f.rdbuf();
-  const std::string text = ss.str();
-  const Json d = JsonParser(text).parse();
-  return matrix(d["gains"][alg]["L"], b.system->nx());
-}
-
 struct Method {
   std::string name;
   std::function<Runnable(const Benchmark&, double& design_seconds)> build;
 };
 
-std::vector<Method> methods(const std::string& dir) {
+std::vector<Method> methods() {
   std::vector<Method> m;
   auto timed = [](double& t, auto&& f) {
     const auto t0 = Clock::now();
@@ -161,6 +147,8 @@ std::vector<Method> methods(const std::string& dir) {
   const std::pair<const char*, std::pair<ZonotopicGainMethod, ZonotopicRule>> designed[] = {
       {"PRad-A", {ZonotopicGainMethod::PRadA, ZonotopicRule::FixedStrips}},
       {"PRad-B", {ZonotopicGainMethod::PRadB, ZonotopicRule::FixedLambda}},
+      {"PRad-C", {ZonotopicGainMethod::PRadC, ZonotopicRule::FixedLambda}},
+      {"PRad-D", {ZonotopicGainMethod::PRadD, ZonotopicRule::FixedLambda}},
       {"PRad-E", {ZonotopicGainMethod::PRadE, ZonotopicRule::FixedGain}},
       {"Nom-G", {ZonotopicGainMethod::NomG, ZonotopicRule::FixedGain}}};
   for (const auto& [name, how] : designed) {
@@ -170,10 +158,6 @@ std::vector<Method> methods(const std::string& dir) {
                    return zonotopic_observer(b, rule, L);
                  }});
   }
-  for (const char* name : {"PRad-C", "PRad-D"})
-    m.push_back({name, [dir, name](const Benchmark& b, double&) {
-                   return zonotopic_observer(b, ZonotopicRule::FixedLambda, saved_gain(dir, b, name));
-                 }});
   m.push_back({"Hinf-G", [timed](const Benchmark& b, double& t) {
                  require_no_output_offset(b, "the interval observer");
                  const thesis::Plant plant = plant_of(b);
@@ -310,7 +294,7 @@ int main(int argc, char** argv) {
     loadavg = a + " " + b + " " + c;
   }
   std::vector<Row> rows;
-  const std::vector<Method> all = methods(dir);
+  const std::vector<Method> all = methods();
   for (const std::string& name : models) {
     const Benchmark b = load(dir + "/" + name + ".json", name);
     const Index N = b.Y.rows();

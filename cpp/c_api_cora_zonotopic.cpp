@@ -153,10 +153,10 @@ int sb_zono_gain_design(const sb_linear_system* system, int method, double* gain
   return guard("sb_zono_gain_design", [&] {
     const LinearSystem& sys = system_arg(system);
     require_pointer(gain, "gain");
-    if (method < SB_ZOBS_DESIGN_PRAD_E || method > SB_ZOBS_DESIGN_PRAD_A)
+    if (method < SB_ZOBS_DESIGN_PRAD_E || method > SB_ZOBS_DESIGN_PRAD_D)
       throw InvalidArgumentError("method: unknown gain design " + std::to_string(method) +
                                  " (SB_ZOBS_DESIGN_PRAD_E = 1, SB_ZOBS_DESIGN_NOM_G = 2, SB_ZOBS_DESIGN_PRAD_B = 3, "
-                                 "SB_ZOBS_DESIGN_PRAD_A = 4)");
+                                 "SB_ZOBS_DESIGN_PRAD_A = 4, SB_ZOBS_DESIGN_PRAD_C = 5, SB_ZOBS_DESIGN_PRAD_D = 6)");
     const ZonotopicGainDesign d = design_zonotopic_gain(sys, static_cast<ZonotopicGainMethod>(method));
     write_matrix(d.gain, gain);
     write_matrix(d.P, P);

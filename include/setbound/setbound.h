@@ -1083,6 +1083,13 @@ int sb_zono_observer_restore_state(sb_zono_observer* observer, const double* sta
  * each output alone: the columns for SB_ZOBS_FIXED_STRIPS); *beta, P, Y: of the last output. */
 #define SB_ZOBS_DESIGN_PRAD_B 3
 #define SB_ZOBS_DESIGN_PRAD_A 4
+/* ... and SB_ZOBS_DESIGN_PRAD_C / SB_ZOBS_DESIGN_PRAD_D (Wang et al. CDC 2018 / TAC 2019: CORA's
+ * SDPs are unbounded / infeasible as coded; setbound maximises lambda_min(P) under the papers'
+ * P-radius condition, PRad-C with diagonal multipliers and the budget trace G + trace O <= 1 - beta,
+ * PRad-D with CORA's identity multipliers; beta chosen by a scalar search): the weight for
+ * SB_ZOBS_FIXED_LAMBDA; *beta is the chosen contraction. */
+#define SB_ZOBS_DESIGN_PRAD_C 5
+#define SB_ZOBS_DESIGN_PRAD_D 6
 int sb_zono_gain_design(const sb_linear_system* system, int method, double* gain, double* P, double* Y,
                         double* beta);
 /* ==== end CORA's zonotopic observers ==== */

@@ -878,17 +878,18 @@ del _cls
 
 #: Offline gain designs of :func:`design_zonotopic_gain` (CORA's names).
 GAIN_DESIGNS = {"PRad-A": lib.SB_ZOBS_DESIGN_PRAD_A, "PRad-B": lib.SB_ZOBS_DESIGN_PRAD_B,
+                "PRad-C": lib.SB_ZOBS_DESIGN_PRAD_C, "PRad-D": lib.SB_ZOBS_DESIGN_PRAD_D,
                 "PRad-E": lib.SB_ZOBS_DESIGN_PRAD_E, "Nom-G": lib.SB_ZOBS_DESIGN_NOM_G}
 
 
 @dataclass(frozen=True)
 class ZonotopicGainDesign:
-    """An offline weight (PRad-A, PRad-B: for :class:`StripGainEstimator`) or gain (PRad-E, Nom-G: for :class:`PropagationObserver`) and its LMI certificate.
+    """An offline weight (PRad-A..D: for :class:`StripGainEstimator`) or gain (PRad-E, Nom-G: for :class:`PropagationObserver`) and its LMI certificate.
 
     Parameters
     ----------
     method : str
-        ``"PRad-A"``, ``"PRad-B"``, ``"PRad-E"`` or ``"Nom-G"``.
+        ``"PRad-A"``, ``"PRad-B"``, ``"PRad-C"``, ``"PRad-D"``, ``"PRad-E"`` or ``"Nom-G"``.
     gain : ndarray, shape (n_x, n_y)
         ``P⁻¹ Y`` (PRad-A: column ``i`` from output ``i``'s own design).
     P : ndarray, shape (n_x, n_x)
@@ -896,7 +897,7 @@ class ZonotopicGainDesign:
     Y : ndarray, shape (n_x, n_y) or (n_x, 1)
         ``P`` times the gain (PRad-A: of the last output).
     beta : float
-        PRad-A/B/E: the contraction ``β``; Nom-G: 1 (CORA's ``μ``).
+        PRad-A/B/C/D/E: the contraction ``β``; Nom-G: 1 (CORA's ``μ``).
     """
 
     method: str
@@ -907,12 +908,20 @@ class ZonotopicGainDesign:
 
 
 def design_zonotopic_gain(system: LinearSystem, method: str = "PRad-E") -> ZonotopicGainDesign:
-    """Offline weight or gain of CORA's P-radius and nominal zonotopic observers (PRad-A, PRad-B, PRad-E, Nom-G), on the bundled LMI solver.
+    """Offline weight or gain of CORA's P-radius and nominal zonotopic observers (PRad-A..E, Nom-G), on the bundled LMI solver.
 
     ``"PRad-B"`` (Le, Stoica, Alamo, Camacho, Dumur, ISIC 2013, eq. 17): the weight ``Λ`` of all
     strips at once maximising ``τ`` with ``(1 − β)P/ε ⪰ τI`` under the P-radius LMI,
     ``ε = ‖rad W‖₂ + σᵀσ``, ``β`` by CORA's bisection (the last feasible solve kept). ``"PRad-A"``:
     that design for each output alone (Le et al., Automatica 2013); column ``i`` is ``λ_i``.
+
+    ``"PRad-C"`` (Wang, Alamo, Puig, Cembrano, CDC 2018) and ``"PRad-D"`` (Wang, Wang, Puig,
+    Cembrano, IEEE TAC 2019): CORA's SDPs are unbounded / infeasible as coded, so these solve the
+    papers' P-radius condition ``‖e⁺‖²_P ≤ β‖e‖²_P + wᵀD_w w + vᵀD_v v`` (``w``, ``v`` the unit-box
+    coordinates of ``E``, ``F``) for the weight of largest ``λ_min(P)``, i.e. of least certified
+    asymptotic radius: PRad-C with diagonal ``D_w``, ``D_v`` and the budget
+    ``trace D_w + trace D_v ≤ 1 − β`` (the unit P-ball is invariant), PRad-D with CORA's
+    ``D_w = D_v = (1 − β)/2·I``; ``β`` by a scalar search on (0, 1) instead of CORA's bisection.
 
     ``"PRad-E"`` (Wang, Zhou, Puig, Cembrano, Wang, CCC 2017): ``‖x⁺‖²_P ≤ β‖x‖²_P + ‖E_w w‖² + ‖F_v v‖²``
     for the error dynamics ``A − LC``, maximal ``trace P``, ``β`` by CORA's bisection on (0, 1) (the
@@ -926,7 +935,7 @@ def design_zonotopic_gain(system: LinearSystem, method: str = "PRad-E") -> Zonot
     ----------
     system : LinearSystem
         The model (a known ``A``).
-    method : {"PRad-A", "PRad-B", "PRad-E", "Nom-G"}, optional
+    method : {"PRad-A", "PRad-B", "PRad-C", "PRad-D", "PRad-E", "Nom-G"}, optional
         The design.
 
     Returns
@@ -988,15 +997,17 @@ def _refuse_cora_quirk(model, alg: str, convention: str, intersection_free: bool
             "does not reproduce that; use convention='setbound'")
 
 
-def _observer_runner(make, alg: str, intersection_free: bool, gain_required: bool = False):
+def _observer_runner(make, alg: str, intersection_free: bool, gain_required_under: tuple = ()):
     """A runner of the shared skeleton: ``make(model, gain, **kw)`` builds the observer with
-    CORA's zonotope order and reduction technique (overridable) and the convention."""
+    CORA's zonotope order and reduction technique (overridable) and the convention;
+    ``gain_required_under``: the conventions under which CORA's own gain must be given."""
     def runner(model, *, convention, gain, **options):
         _refuse_cora_quirk(model, alg, convention, intersection_free)
-        if gain_required and gain is None:
+        if convention in gain_required_under and gain is None:
             raise InvalidArgumentError(
-                f"gain: {alg} runs with a given gain here (gain=L, n_x x n_y); its offline design is "
-                "documented in docs/methods.md")
+                f"gain: CORA's {alg} design cannot be reproduced (its SDP is unbounded or infeasible as coded), so "
+                f"convention='cora' runs {alg} with CORA's gain only (gain=L, n_x x n_y); convention='setbound' "
+                "uses setbound's design of the paper's condition (design_zonotopic_gain)")
         est = make(model, gain, **{**model.estimator_options(), "convention": convention, **options})
 
         def run():
@@ -1037,9 +1048,9 @@ def _register_cora_names():
                        summary="fixed P-radius weight on all strips [Le 2013 ISIC] = StripGainEstimator + "
                                "design_zonotopic_gain", accepts_gain=True)
     for name, paper in (("PRad-C", "Wang 2018 CDC"), ("PRad-D", "Wang 2019 TAC")):
-        register_algorithm(name, _observer_runner(
-            lambda m, g, **kw: StripGainEstimator(m.system, m.x0, g, all_strips=True, **kw), name, False, True),
-            summary=f"fixed P-radius weight on all strips [{paper}] = StripGainEstimator", accepts_gain=True)
+        register_algorithm(name, _observer_runner(_strip_gain(name, True), name, False, ("cora",)),
+                           summary=f"fixed P-radius weight on all strips [{paper}] = StripGainEstimator + "
+                                   "design_zonotopic_gain (convention='cora': CORA's gain only)", accepts_gain=True)
     for name, paper in (("PRad-E", "Wang 2017 CCC"), ("Nom-G", "Wang 2018")):
         def make(m, g, _name=name, **kw):
             # Without a gain: setbound's design (design_zonotopic_gain), timed as CORA's offline part.

@@ -159,7 +159,7 @@ def _check(tmp_path, doc) -> tuple[int, str]:
     ({"method": "PRad-E", "gain": 0.4}, "estimator[0].gain", "expected shape"),
     ({"method": "FRad-B", "convention": "CORA"}, "estimator[0].convention", "'setbound', 'cora'"),
     ({"method": "FRad-B", "convention": 1}, "estimator[0].convention", "setbound"),
-    ({"method": "PRad-C"}, "estimator[0].gain", "PRad-C needs a given gain"),
+    ({"method": "PRad-C", "convention": "cora"}, "estimator[0].gain", "PRad-C needs a given gain"),
     ({"method": "Hinf-G", "convention": "cora"}, "estimator[0].gain", "Hinf-G needs a given gain"),
     ({"method": "Hinf-G", "convention": "cora", "gain": GAIN, "variant": "wrapped"}, "estimator[0].variant",
      "CORA's recursion"),
@@ -379,10 +379,12 @@ def test_compare_with_cora_names_in_the_file_and_on_the_command_line(tmp_path, c
     code = cli.main(["--quiet", "compare", str(EXAMPLE), "--estimators", "FRad-A,Frad-B", "--out", str(out)])
     err = capsys.readouterr().err.strip()
     assert code == 2 and "--estimators: Frad-B not among" in err and "FRad-B" in err
-    # a name needing a gain cannot be added with defaults: a job-file error naming it
-    code = cli.main(["--quiet", "compare", str(EXAMPLE), "--estimators", "PRad-C", "--out", str(out)])
-    err = capsys.readouterr().err.strip()
-    assert code == 2 and "--estimators PRad-C.gain: PRad-C needs a given gain" in err
+    # PRad-C added with defaults runs setbound's design of the paper's condition (convention
+    # "setbound"); its sets contain the simulated truth
+    code = cli.main(["--quiet", "compare", str(EXAMPLE), "--estimators", "PRad-C", "--out", str(out), "--no-plots"])
+    assert code == 0, capsys.readouterr().err
+    rows = {e["name"]: e for e in json.loads((out / "summary.json").read_text())["estimators"]}
+    assert rows["PRad-C"]["ok"] and rows["PRad-C"]["contains_truth"] is True
 
 
 def test_compare_two_files_with_cora_names(tmp_path, capsys):

@@ -35,6 +35,32 @@
 //     the same bisection as PRad-E (the last feasible solve kept);
 //   PRad-A (Le et al., Automatica 2013, single output): the PRad-B design for each output i alone
 //     (C ← C_i, F_v ← σ_i, ε with σ_i²); column i of the result is λ_i.
+//
+// PRad-C and PRad-D: CORA's SDPs are unbounded / infeasible as coded (spec §2.8, §2.9); setbound
+// solves the conditions of the papers with a bounded size criterion. E_w, F_v are here the
+// non-zero columns of E, F themselves (the unit-box coordinates), e = x − x̂ the error, and the
+// LMI (strip_weight_lmi in impl/designs.ipp)
+//     [[sP, 0, 0, ·], [0, D_w, 0, ·], [0, 0, D_v, ·], [(P − YC)A, (P − YC)E_w, YF_v, P]] ⪰ 0
+// says ‖(I − ΛC)(Ae + E_w w) − ΛF_v v‖²_P ≤ s‖e‖²_P + wᵀD_w w + vᵀD_v v. Applied to the
+// generators of the estimate, its P-radius R obeys R²_{k+1} ≤ s R²_k + (bound of the last two terms
+// on the unit box), so the estimate's P-radius tends to at most that bound over 1 − s and, with
+// P ⪰ τI, its Euclidean radius to at most √(bound / ((1 − s) τ)).
+//   PRad-C (Wang, Alamo, Puig, Cembrano, CDC 2018, eq. 18 with T = I, N = 0; spec §2.8):
+//     D_w = Γ, D_v = Ω diagonal variables (wᵀΓw ≤ trace Γ on the box). CORA maximises trace P
+//     over a cone (every constraint homogeneous: unbounded). setbound adds the budget
+//     trace Γ + trace Ω ≤ 1 − s, which makes the unit P-ball invariant (R ≤ 1 ⇒ R⁺ ≤ 1), and
+//     maximises τ with P ⪰ τI: the weight of least certified asymptotic radius 1/√τ.
+//   PRad-D (Wang, Wang, Puig, Cembrano, IEEE TAC 2019, eq. 33 with T = I, N = 0; spec §2.9):
+//     D_w = (1 − s)β I, D_v = (1 − s)(1 − β) I with β = 1/2 as CORA, i.e.
+//     ‖e⁺‖²_P ≤ s‖e‖²_P + (1 − s)(β‖w‖² + (1 − β)‖v‖²), so R² tends to at most
+//     β n_w + (1 − β) n_v. CORA's second condition (eq. 20 as coded, [[I, γP], [γP, P]] ⪯ 0)
+//     can never hold (its (1,1) block is I); setbound maximises τ with P ⪰ τI in its place (the
+//     same radius criterion as PRad-C; the asymptotic radius is √((β n_w + (1 − β) n_v)/τ)).
+//     CORA fixes s (its α) = 1/2, which is infeasible whenever the error cannot contract by √½
+//     per step; setbound chooses it.
+//   Both: s ∈ (0, 1) by a scalar search of the largest τ (lmi/scalar_search.hpp), not CORA's
+//   bisection on feasibility, which ends where τ vanishes (papers.md §0.4). ZonotopicGainDesign::beta
+//   is s, ::objective is τ.
 #pragma once
 
 #include <Eigen/Core>
@@ -49,14 +75,14 @@ namespace setbound {
 struct ZonotopicGainDesign {
   Eigen::MatrixXd gain;  ///< n_x × n_y, L = P⁻¹Y
   Eigen::MatrixXd P, Y;  ///< the LMI variables at the solution
-  double beta = 0.0;     ///< PRad-B/E: the contraction β (PRad-A: of the last output); Nom-G: μ = 1
-  double objective = 0;  ///< PRad-E, Nom-G: trace P; PRad-A/B: τ (PRad-A: of the last output)
+  double beta = 0.0;     ///< PRad-B/C/D/E: the contraction β (PRad-A: of the last output); Nom-G: μ = 1
+  double objective = 0;  ///< PRad-E, Nom-G: trace P; PRad-A/B/C/D: τ (PRad-A: of the last output)
   Eigen::MatrixXd lmi;   ///< the design's main LMI matrix at the solution (⪰ 0 up to the solver's accuracy)
 };
 
-enum class ZonotopicGainMethod { PRadE = 1, NomG = 2, PRadB = 3, PRadA = 4 };
+enum class ZonotopicGainMethod { PRadE = 1, NomG = 2, PRadB = 3, PRadA = 4, PRadC = 5, PRadD = 6 };
 
-/// The PRad-A, PRad-B, PRad-E or Nom-G design (see designs.hpp). PRad-A returns the P and Y of its last output. Throws InfeasibleError with the reason when no
+/// The PRad-A, PRad-B, PRad-C, PRad-D, PRad-E or Nom-G design (see designs.hpp). PRad-A returns the P and Y of its last output. Throws InfeasibleError with the reason when no
 /// gain exists (no β / μ feasible, unbounded trace P), DimensionError / InvalidArgumentError for
 /// an unsuitable system (an interval A).
 ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sys, ZonotopicGainMethod method);

@@ -9,17 +9,54 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <limits>
 #include <optional>
+#include <vector>
 
 #include "setbound/core/symmetric.hpp"
 #include "setbound/estimators/zonotopic/pradius.hpp"
 #include "setbound/lmi/classes.hpp"
 #include "setbound/lmi/model.hpp"
+#include "setbound/lmi/scalar_search.hpp"
 #include "setbound/lmi/solver.hpp"
 
 namespace setbound {
 
 namespace detail {
+
+/// The P-radius LMI of a strip weight Λ = P⁻¹Y applied to all strips at once (designs.hpp;
+/// spec §2.7–§2.9), with the multipliers Dw, Dv of the disturbance and noise coordinates:
+///   [ sP          0            0      ·  ]
+///   [ 0           Dw           0      ·  ]  ⪰ 0   ⇔   ‖(I − ΛC)(Ae + E_w w) − ΛF_v v‖²_P
+///   [ 0           0            Dv     ·  ]             ≤ s‖e‖²_P + wᵀDw w + vᵀDv v  for all e, w, v.
+///   [ (P − YC)A   (P − YC)E_w  YF_v   P  ]
+/// PRad-B: Dw = E_wᵀE_w, Dv = F_vᵀF_v; PRad-C: diagonal variables Γ, Ω; PRad-D: multiples of I.
+/// Empty E_w or F_v drop their block row.
+SETBOUND_INLINE lmi::AffineExpr strip_weight_lmi(const lmi::Var& P, const lmi::Var& Y, const Eigen::MatrixXd& A,
+                                                 const Eigen::MatrixXd& Cs, const Eigen::MatrixXd& Ew,
+                                                 const lmi::AffineExpr& Dw, const Eigen::MatrixXd& Fv,
+                                                 const lmi::AffineExpr& Dv, double s) {
+  using lmi::AffineExpr;
+  const Eigen::Index n = A.rows();
+  const AffineExpr K = P - Y * Cs;  // P(I − ΛC)
+  std::vector<std::vector<AffineExpr>> rows;
+  rows.push_back({s * P});
+  std::vector<AffineExpr> last{K * A};
+  if (Ew.cols() > 0) {
+    rows.push_back({AffineExpr::zero(Ew.cols(), n), Dw});
+    last.push_back(K * Ew);
+  }
+  if (Fv.cols() > 0) {
+    std::vector<AffineExpr> r{AffineExpr::zero(Fv.cols(), n)};
+    if (Ew.cols() > 0) r.push_back(AffineExpr::zero(Fv.cols(), Ew.cols()));
+    r.push_back(Dv);
+    rows.push_back(r);
+    last.push_back(Y * Fv);
+  }
+  last.push_back(P);
+  rows.push_back(last);
+  return lmi::sym_block(rows);
+}
 
 /// CORA's PRad-B LMI (designs.hpp) for the outputs rows Cs (q × n), output noise Fv (q × r) and
 /// ε; β by bisection on (0, 1) to 0.01, the last feasible solve kept.
@@ -36,26 +73,8 @@ SETBOUND_INLINE ZonotopicGainDesign prad_b_design(const LinearSystem& sys, const
   const lmi::Var P = model.symmetric(static_cast<int>(n));
   const lmi::Var Y = model.full(static_cast<int>(n), static_cast<int>(q));
   const lmi::Var tau = model.scalar();
-  const AffineExpr K = P - Y * Cs;  // P(I − ΛC)
-  auto main_lmi = [&](double beta) -> AffineExpr {
-    std::vector<std::vector<AffineExpr>> rows;
-    rows.push_back({beta * P});
-    std::vector<AffineExpr> last{K * A};
-    if (Ew.cols() > 0) {
-      rows.push_back({AffineExpr::zero(Ew.cols(), n), AffineExpr(Eigen::MatrixXd(Ew.transpose() * Ew))});
-      last.push_back(K * Ew);
-    }
-    if (Fv.cols() > 0) {
-      std::vector<AffineExpr> r{AffineExpr::zero(Fv.cols(), n)};
-      if (Ew.cols() > 0) r.push_back(AffineExpr::zero(Fv.cols(), Ew.cols()));
-      r.push_back(AffineExpr(Eigen::MatrixXd(Fv.transpose() * Fv)));
-      rows.push_back(r);
-      last.push_back(Y * Fv);
-    }
-    last.push_back(P);
-    rows.push_back(last);
-    return lmi::sym_block(rows);
-  };
+  const AffineExpr EwEw(Eigen::MatrixXd(Ew.transpose() * Ew)), FvFv(Eigen::MatrixXd(Fv.transpose() * Fv));
+  auto main_lmi = [&](double beta) { return strip_weight_lmi(P, Y, A, Cs, Ew, EwEw, Fv, FvFv, beta); };
   auto build = [&](double beta) {
     model.clear_constraints();
     model.add_lmi(main_lmi(beta));
@@ -94,25 +113,8 @@ SETBOUND_INLINE ZonotopicGainDesign prad_b_design(const LinearSystem& sys, const
     const lmi::Var Y2 = second.full(static_cast<int>(n), static_cast<int>(q));
     const lmi::Var tau2 = second.scalar();
     const lmi::Var t = second.scalar();
-    // the same LMIs on the new variables: rebuild main_lmi's blocks by substitution
-    const AffineExpr K2 = P2 - Y2 * Cs;
-    std::vector<std::vector<AffineExpr>> rows;
-    rows.push_back({best_beta * P2});
-    std::vector<AffineExpr> last{K2 * A};
-    if (Ew.cols() > 0) {
-      rows.push_back({AffineExpr::zero(Ew.cols(), n), AffineExpr(Eigen::MatrixXd(Ew.transpose() * Ew))});
-      last.push_back(K2 * Ew);
-    }
-    if (Fv.cols() > 0) {
-      std::vector<AffineExpr> r{AffineExpr::zero(Fv.cols(), n)};
-      if (Ew.cols() > 0) r.push_back(AffineExpr::zero(Fv.cols(), Ew.cols()));
-      r.push_back(AffineExpr(Eigen::MatrixXd(Fv.transpose() * Fv)));
-      rows.push_back(r);
-      last.push_back(Y2 * Fv);
-    }
-    last.push_back(P2);
-    rows.push_back(last);
-    second.add_lmi(lmi::sym_block(rows));
+    const AffineExpr second_lmi = strip_weight_lmi(P2, Y2, A, Cs, Ew, EwEw, Fv, FvFv, best_beta);
+    second.add_lmi(second_lmi);
     second.add_lmi(P2);
     second.add_lmi(((1.0 - best_beta) / eps) * P2 - tau2 * Eigen::MatrixXd::Identity(n, n));
     second.add_lmi(tau2 - AffineExpr(Eigen::MatrixXd::Constant(1, 1, (1.0 - 1e-3) * tau_best)));
@@ -133,7 +135,7 @@ SETBOUND_INLINE ZonotopicGainDesign prad_b_design(const LinearSystem& sys, const
       if (llt.info() == Eigen::Success && d.P.allFinite()) {
         d.gain = llt.solve(d.Y);
         if (d.gain.allFinite()) {
-          d.lmi = lmi::sym_block(rows).evaluate(r2.x);
+          d.lmi = second_lmi.evaluate(r2.x);
           return d;
         }
       }
@@ -155,22 +157,137 @@ SETBOUND_INLINE ZonotopicGainDesign prad_b_design(const LinearSystem& sys, const
   return d;
 }
 
+/// The columns of a generator matrix that are not zero: the unit-box coordinates the diagonal
+/// multipliers of PRad-C / PRad-D weigh one by one (compress_disturbance would mix them, and
+/// wᵀΓw ≤ trace Γ holds only in the coordinates of the box).
+SETBOUND_INLINE Eigen::MatrixXd nonzero_columns(const Eigen::MatrixXd& G) {
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index j = 0; j < G.cols(); ++j)
+    if (G.col(j).cwiseAbs().maxCoeff() > 0) keep.push_back(j);
+  Eigen::MatrixXd out(G.rows(), static_cast<Eigen::Index>(keep.size()));
+  for (std::size_t j = 0; j < keep.size(); ++j) out.col(static_cast<Eigen::Index>(j)) = G.col(keep[j]);
+  return out;
+}
+
+/// The spectral radius of the error map (I − ΛC)A of a weight applied to all strips at once. The
+/// non-strict LMIs admit a P singular along a direction no output sees, with λ_min(P) ≈ 0 and a
+/// gain that cannot make that direction contract; a strict certificate implies ρ ≤ √β < 1.
+SETBOUND_INLINE void require_contracting_error_map(const LinearSystem& sys, const Eigen::MatrixXd& gain,
+                                                   const std::string& who) {
+  const Eigen::MatrixXd M = sys.A() - gain * (sys.C() * sys.A());
+  const double rho = M.eigenvalues().cwiseAbs().maxCoeff();
+  if (!(rho < 1.0))
+    throw InfeasibleError("design " + who + ": the best weight leaves the error map (I - Lambda C) A with spectral radius " +
+                          std::to_string(rho) + " >= 1, so no weight makes the error contract (is (C, A) detectable?)");
+}
+
+/// PRad-C and PRad-D (designs.hpp): the weight of largest λ_min(P) under strip_weight_lmi with
+/// the invariance budget of the unit P-ball, the contraction s chosen by a scalar search.
+SETBOUND_INLINE ZonotopicGainDesign wang_strip_weight_design(const LinearSystem& sys, bool prad_d) {
+  using lmi::AffineExpr;
+  const std::string who = prad_d ? "PRad-D" : "PRad-C";
+  const Eigen::Index n = sys.nx(), p = sys.ny();
+  const Eigen::MatrixXd& A = sys.A();
+  const Eigen::MatrixXd Ew = nonzero_columns(sys.E()), Fv = nonzero_columns(sys.F());
+  const Eigen::Index k = Ew.cols(), q = Fv.cols();
+  if (k + q == 0)
+    throw InvalidArgumentError("system: " + who + " needs a non-zero disturbance or noise bound (E = 0 and F = 0)");
+  lmi::Model model;
+  const lmi::Var P = model.symmetric(static_cast<int>(n));
+  const lmi::Var Y = model.full(static_cast<int>(n), static_cast<int>(p));
+  const lmi::Var tau = model.scalar();
+  // PRad-C: Γ (k × k), Ω (q × q) diagonal, the paper's multipliers (CORA's G, O).
+  const lmi::Var Gamma = !prad_d && k > 0 ? model.diagonal(static_cast<int>(k)) : lmi::Var();
+  const lmi::Var Omega = !prad_d && q > 0 ? model.diagonal(static_cast<int>(q)) : lmi::Var();
+  AffineExpr budget_used(0.0);
+  for (Eigen::Index i = 0; i < k && !prad_d; ++i) budget_used += Gamma.block(i, i, 1, 1);
+  for (Eigen::Index i = 0; i < q && !prad_d; ++i) budget_used += Omega.block(i, i, 1, 1);
+  constexpr double kNoiseShare = 0.5;  // PRad-D: CORA's (and the paper's example) β = 1/2
+  auto main_lmi = [&](double s) {
+    if (!prad_d) return strip_weight_lmi(P, Y, A, sys.C(), Ew, Gamma, Fv, Omega, s);
+    const AffineExpr Dw((1.0 - s) * kNoiseShare * Eigen::MatrixXd::Identity(k, k));
+    const AffineExpr Dv((1.0 - s) * (1.0 - kNoiseShare) * Eigen::MatrixXd::Identity(q, q));
+    return strip_weight_lmi(P, Y, A, sys.C(), Ew, Dw, Fv, Dv, s);
+  };
+  auto build = [&](double s) {
+    model.clear_constraints();
+    model.add_lmi(main_lmi(s));
+    model.add_lmi(P - tau * Eigen::MatrixXd::Identity(n, n));
+    // PRad-C: ‖e⁺‖²_P ≤ s‖e‖²_P + trace Γ + trace Ω ≤ 1 on the unit P-ball (|w_i|, |v_i| ≤ 1).
+    if (!prad_d) model.add_lmi(AffineExpr(1.0 - s) - budget_used);
+    model.maximize(tau);
+  };
+  build(0.5);
+  lmi::LmiProblem problem = model.build();
+  lmi::InteriorPointSolver solver(problem);
+  bool unbounded = false;
+  auto solve_at = [&](double s) -> std::optional<Eigen::VectorXd> {
+    build(s);
+    model.update(problem);
+    const lmi::SolveResult& res = solver.solve();
+    if (res.status == lmi::SolveStatus::Unbounded) unbounded = true;
+    if (res.status != lmi::SolveStatus::Optimal && res.status != lmi::SolveStatus::Inaccurate) return std::nullopt;
+    return res.x;
+  };
+  // The criterion is not monotone in s (papers.md §0.4): a larger s relaxes the decay but leaves
+  // less budget (PRad-C) or noise weight (PRad-D) — CORA's bisection on feasibility would end
+  // where λ_min(P) vanishes. Coarse grid on (0, 1), then NLopt in the best cell.
+  lmi::ScalarSearchOptions search;
+  search.grid_points = 9;
+  search.max_evaluations = 16;
+  search.xtol_rel = 1e-3;
+  search.ftol_rel = 1e-6;
+  const lmi::ScalarSearchResult found = lmi::minimize_scalar(
+      [&](double s) {
+        const std::optional<Eigen::VectorXd> x = solve_at(s);
+        if (!x) return std::numeric_limits<double>::infinity();
+        const double t = model.scalar_value(tau, *x);
+        return t > 0 && std::isfinite(t) ? -t : std::numeric_limits<double>::infinity();
+      },
+      0.0, 1.0, search);
+  if (!found.found())
+    throw InfeasibleError("design " + who + ": the LMI has no solution with lambda_min(P) > 0 for any contraction in (0, 1)" +
+                          (unbounded ? std::string(" (the solver reports it unbounded)") : std::string()) +
+                          " (is (C, A) detectable?)");
+  const std::optional<Eigen::VectorXd> x = solve_at(found.argmin);
+  if (!x) throw NumericalError("design " + who + ": the LMI at the chosen contraction could not be solved again");
+  ZonotopicGainDesign d;
+  d.beta = found.argmin;
+  d.P = model.value(P, *x);
+  symmetrize(d.P);
+  d.Y = model.value(Y, *x);
+  d.objective = model.scalar_value(tau, *x);
+  Eigen::LLT<Eigen::MatrixXd> llt(d.P);
+  if (llt.info() != Eigen::Success || !d.P.allFinite())
+    throw NumericalError("design " + who + ": P is not positive definite at the solution");
+  d.gain = llt.solve(d.Y);
+  if (!d.gain.allFinite()) throw NumericalError("design " + who + ": the gain is not finite");
+  require_contracting_error_map(sys, d.gain, who);
+  d.lmi = main_lmi(d.beta).evaluate(*x);
+  return d;
+}
+
 }  // namespace detail
 
 SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sys, ZonotopicGainMethod method) {
   using lmi::AffineExpr;
   const int m = static_cast<int>(method);
-  if (m < 1 || m > 4) throw InvalidArgumentError("method: unknown zonotopic gain design " + std::to_string(m));
+  if (m < 1 || m > 6) throw InvalidArgumentError("method: unknown zonotopic gain design " + std::to_string(m));
   if (sys.uncertain_A()) throw InvalidArgumentError("system: the gain designs need a known A");
+  if (method == ZonotopicGainMethod::PRadC || method == ZonotopicGainMethod::PRadD)
+    return detail::wang_strip_weight_design(sys, method == ZonotopicGainMethod::PRadD);
   if (method == ZonotopicGainMethod::PRadB || method == ZonotopicGainMethod::PRadA) {
     // ε = ‖rs|E|‖₂ + σᵀσ with σ_i = Σ_j |F_ij| (spec §2.7: W's interval radius, not squared).
     const Eigen::VectorXd radW = sys.nw() > 0 ? Eigen::VectorXd(sys.E().cwiseAbs().rowwise().sum())
                                               : Eigen::VectorXd(Eigen::VectorXd::Zero(sys.nx()));
     const Eigen::VectorXd sigma = sys.nw() > 0 ? Eigen::VectorXd(sys.F().cwiseAbs().rowwise().sum())
                                                : Eigen::VectorXd(Eigen::VectorXd::Zero(sys.ny()));
-    if (method == ZonotopicGainMethod::PRadB)
-      return detail::prad_b_design(sys, sys.C(), detail::compress_disturbance(sys.F()),
-                                   radW.norm() + sigma.squaredNorm(), "PRad-B", false);
+    if (method == ZonotopicGainMethod::PRadB) {
+      ZonotopicGainDesign d = detail::prad_b_design(sys, sys.C(), detail::compress_disturbance(sys.F()),
+                                                    radW.norm() + sigma.squaredNorm(), "PRad-B", false);
+      detail::require_contracting_error_map(sys, d.gain, "PRad-B");
+      return d;
+    }
     // Each output's design alone (spec §2.6). The strips are applied one after the other, so the
     // error map of a step is Π_i (I − λ_i c_iᵀ) A; the single-output LMIs bound each factor's
     // P_i-radius but not the product. When the solver's end points compose to a map with a
