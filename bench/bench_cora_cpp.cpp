@@ -51,6 +51,7 @@
 #include "setbound/estimators/zonotopic/parallelotope.hpp"
 #include "setbound/sets/box.hpp"
 #include "setbound/sets/constrained_zonotope.hpp"
+#include "setbound/thesis/eso_d.hpp"
 #include "setbound/thesis/hinf_gain.hpp"
 #include "setbound/thesis/hinf_observer.hpp"
 #include "setbound/thesis/interval_observer.hpp"
@@ -187,18 +188,22 @@ std::vector<Method> methods() {
                    return Runnable{[est] { est->reset(); },
                                    [est, &b](Index k) { est->step(b.Y.row(k).transpose(), b.U.row(k).transpose()); }};
                  }});
-  m.push_back({"ESO-C", [timed](const Benchmark& b, double& t) {
-                 require_no_output_offset(b, "ESO-C");
-                 const thesis::Plant plant = plant_of(b);
-                 const VectorXd wbar = VectorXd::Ones(plant.nd() + plant.nv());
-                 const thesis::EllipsoidalSMDesign d =
-                     timed(t, [&] { return thesis::design_ellipsoidal_sm_observer(plant, wbar); });
-                 const VectorXd r = b.H0.cwiseAbs().rowwise().sum();
-                 const double mu0 = thesis::hinf_detail::mu_from_box(d, b.p0 - r, b.p0 + r, b.p0);
-                 auto obs = std::make_shared<thesis::EllipsoidalSMObserver>(plant, d, b.p0, mu0);
-                 return Runnable{[obs, &b, mu0] { obs->reset(b.p0, mu0); },
-                                 [obs, &b](Index k) { obs->step(b.Y.row(k).transpose(), b.U.row(k).transpose()); }};
-               }});
+  // ESO-C and ESO-D: the thesis's ellipsoidal set-membership observer, two offline designs.
+  for (const char* name : {"ESO-C", "ESO-D"})
+    m.push_back({name, [timed, name](const Benchmark& b, double& t) {
+                   require_no_output_offset(b, name);
+                   const thesis::Plant plant = plant_of(b);
+                   const VectorXd wbar = VectorXd::Ones(plant.nd() + plant.nv());
+                   const thesis::EllipsoidalSMDesign d = timed(t, [&] {
+                     return std::string(name) == "ESO-C" ? thesis::design_ellipsoidal_sm_observer(plant, wbar)
+                                                         : thesis::design_eso_d(plant, wbar).sm;
+                   });
+                   const VectorXd r = b.H0.cwiseAbs().rowwise().sum();
+                   const double mu0 = thesis::hinf_detail::mu_from_box(d, b.p0 - r, b.p0 + r, b.p0);
+                   auto obs = std::make_shared<thesis::EllipsoidalSMObserver>(plant, d, b.p0, mu0);
+                   return Runnable{[obs, &b, mu0] { obs->reset(b.p0, mu0); },
+                                   [obs, &b](Index k) { obs->step(b.Y.row(k).transpose(), b.U.row(k).transpose()); }};
+                 }});
   for (const auto& [name, corr] :
        {std::pair{"CZN-A", CZCorrection::ExactOutput}, std::pair{"CZN-B", CZCorrection::WangStrips}})
     m.push_back({name, [corr = corr](const Benchmark& b, double&) {
