@@ -40,6 +40,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_stats.hpp"
 #include "cora_data.hpp"
 #include "setbound/core/convention.hpp"
 #include "setbound/estimators/constrained_zonotopic/estimator.hpp"
@@ -72,13 +73,6 @@ struct Runnable {
 using Builder = std::function<Runnable(const Benchmark&)>;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  const std::size_t k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
-}
 
 ZonotopeReduction reduction_of(const std::string& cora) {
   if (cora.rfind("pca", 0) == 0) return ZonotopeReduction::Pca;

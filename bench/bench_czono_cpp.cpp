@@ -34,6 +34,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_stats.hpp"
 #include "setbound/core/linear_system.hpp"
 #include "setbound/estimators/constrained_zonotopic/estimator.hpp"
 #include "setbound/estimators/polytopic/exact_hull.hpp"
@@ -145,12 +146,6 @@ Record random_system(Index n, Index ny, Index N, unsigned seed) {
 }
 
 VectorXd urow(const Record& r, Index k) { return r.U.cols() ? VectorXd(r.U.row(k).transpose()) : VectorXd(0); }
-
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_stats.hpp"
 #include "setbound/estimators/ellipsoidal/lmi_estimators.hpp"
 #include "setbound/estimators/ellipsoidal/improved_estimator.hpp"
 #include "setbound/estimators/point/kalman.hpp"
@@ -25,15 +26,12 @@
 using namespace setbound;
 using Clock = std::chrono::steady_clock;
 
+using setbound_bench::median;
+
 namespace {
 
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
 }
 
 LinearSystem bc14() {

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_stats.hpp"
 #include "setbound/thesis/lpv.hpp"
 
 using namespace setbound;
@@ -22,12 +23,9 @@ using Eigen::MatrixXd;
 using Eigen::VectorXd;
 using Clock = std::chrono::steady_clock;
 
-namespace {
+using setbound_bench::median;
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
+namespace {
 
 double time_ms(const std::function<void()>& f, int reps) {
   std::vector<double> t;

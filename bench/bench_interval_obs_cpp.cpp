@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_stats.hpp"
 #include "setbound/thesis/interval_observer.hpp"
 
 using namespace setbound;
@@ -23,14 +24,11 @@ using Clock = std::chrono::steady_clock;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
+using setbound_bench::median;
+
 namespace {
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 
 Box sym(Eigen::Index n, double r) { return Box(VectorXd::Constant(n, -r), VectorXd::Constant(n, r)); }
 

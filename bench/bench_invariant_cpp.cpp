@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_stats.hpp"
 #include "setbound/thesis/invariant.hpp"
 
 using namespace setbound;
@@ -26,8 +27,7 @@ double median_seconds(const std::function<void()>& f, int repeats) {
     const auto b = std::chrono::steady_clock::now();
     t.push_back(std::chrono::duration<double>(b - a).count());
   }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
+  return setbound_bench::median(std::move(t));
 }
 
 void row(const std::string& what, const std::string& detail, double s) {

@@ -24,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_stats.hpp"
 #include "setbound/core/linear_system.hpp"
 #include "setbound/estimators/zonotopic/pradius.hpp"
 #include "setbound/estimators/zonotopic/gain_estimator.hpp"
@@ -36,13 +37,6 @@ using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
 namespace {
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  const std::size_t k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
-}
 
 struct Row {
   std::string data, method, reduction;

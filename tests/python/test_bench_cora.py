@@ -9,7 +9,6 @@ marks reproducible (cora_observers.md §4.3, golden_final_interval_hull of
 alamo2005_2d_cora_unittest.json) are all reproduced with convention="cora".
 """
 import importlib.util
-import os
 from pathlib import Path
 
 import numpy as np
@@ -17,10 +16,9 @@ import pytest
 
 import setbound.cora as cora
 
+from cora_support import DATA, needs_data
+
 ROOT = Path(__file__).resolve().parents[2]
-DATA = Path(os.environ.get("SETBOUND_CORA_DATA",
-                           Path(__file__).resolve().parents[3] / "shared" / "benchmarks" / "cora_linearSysDT_observe"))
-needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=f"benchmark data not found at {DATA}")
 
 
 def _bench():

@@ -6,9 +6,7 @@ testLong_linearSysDT_observe_01_vehicle.m and test_linearSysDT_observe_02_2dim.m
 |a − b| <= 1e-6. Everything else is a property: equality with the exact consistent set without
 reduction, containment of the exact hull and of the true state with reduction (random and vertex
 disturbances), bit-for-bit continuation after save/restore."""
-import os
 import pickle
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,10 +21,8 @@ from setbound.sets import ConstrainedZonotope
 from setbound.zonotopic import SegmentMinEstimator, exact_hull
 
 from zono_examples import ex_le13, record
+from cora_support import DATA, needs_data
 
-DATA = Path(os.environ.get("SETBOUND_CORA_DATA",
-                           Path(__file__).resolve().parents[3] / "shared" / "benchmarks" / "cora_linearSysDT_observe"))
-needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=f"benchmark data not found at {DATA}")
 CORA_TOL = 1e-6
 
 

@@ -7,8 +7,6 @@ The data live next to the repository (../shared/benchmarks/cora_linearSysDT_obse
 CI) or where $SETBOUND_CORA_DATA points. docs/zonotopic.md explains the rows that are not
 reproducible (tank30's full horizon, and VolMin-B, which is Bravo's rule, not this library's
 exact volume minimisation)."""
-import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,11 +14,10 @@ import pytest
 from setbound.benchmarks import load_cora
 from setbound.zonotopic import SegmentMinEstimator, VolumeMinEstimator
 
-DATA = Path(os.environ.get("SETBOUND_CORA_DATA",
-                           Path(__file__).resolve().parents[3] / "shared" / "benchmarks" / "cora_linearSysDT_observe"))
+from cora_support import DATA, TRUTH_TOL
+
 pytestmark = pytest.mark.skipif(not DATA.is_dir(), reason=f"benchmark data not found at {DATA}")
 
-TRUTH_TOL = 5e-4  # the true trajectories are printed to 3 decimals
 CORA_TOL = 1e-6   # CORA's unit-test tolerance for the saved hulls
 
 

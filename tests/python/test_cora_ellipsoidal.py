@@ -8,9 +8,7 @@ EllipsoidalStateBoundingEstimator; spec cora_observers.md §2.13, §2.14).
   so do simulated states of seeded random systems with random and vertex disturbances.
 """
 import copy
-import os
 import pickle
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,11 +20,9 @@ from setbound.ellipsoidal import (EllipsoidalStateBoundingEstimator, OptimalBoun
                                   enclosing_ellipsoid_shape)
 from setbound.errors import DimensionError, InvalidArgumentError, NotFiniteError, NotPositiveDefiniteError
 
-DATA = Path(os.environ.get("SETBOUND_CORA_DATA",
-                           Path(__file__).resolve().parents[3] / "shared" / "benchmarks" / "cora_linearSysDT_observe"))
-needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=f"benchmark data not found at {DATA}")
+from cora_support import DATA, needs_data, assert_truth_inside
 
-TRUTH_TOL = 5e-4  # the true trajectories are printed to 3 decimals
+
 
 
 def _within_cora_tol(a, b, tol=1e-6):
@@ -89,12 +85,7 @@ def test_cora_conversions_of_the_tests():
 def test_default_convention_contains_the_true_trajectories(name, alg):
     m = load_cora(DATA / f"{name}.json")
     r = observe(m, alg)
-    tol = np.full(len(m.y), TRUTH_TOL)
-    if name == "pedestrian4":
-        # The data's README: the printed truth of step 217 lies 0.00295 outside the noise bound.
-        tol[217:] = 3e-3
-    inside = np.all((r.lower - tol[:, None] <= m.truth) & (m.truth <= r.upper + tol[:, None]), axis=1)
-    assert inside.all(), f"{name}: outside at steps {np.flatnonzero(~inside)[:10]}"
+    assert_truth_inside(name, m.truth, r.lower, r.upper)
     assert np.all(np.isfinite(r.upper - r.lower))
     assert r.iradius.shape == (m.system.nx,)
 
@@ -240,11 +231,7 @@ def test_hinf_g_with_coras_saved_gain_reproduces_the_vehicle2_hull():
 def test_hinf_g_default_convention_contains_the_true_trajectories(name):
     m = load_cora(DATA / f"{name}.json")
     r = observe(m, "Hinf-G")
-    tol = np.full(len(m.y), TRUTH_TOL)
-    if name == "pedestrian4":
-        tol[217:] = 3e-3  # the README's misprinted truth at step 217
-    inside = np.all((r.lower - tol[:, None] <= m.truth) & (m.truth <= r.upper + tol[:, None]), axis=1)
-    assert inside.all(), f"{name}: outside at steps {np.flatnonzero(~inside)[:10]}"
+    assert_truth_inside(name, m.truth, r.lower, r.upper)
 
 
 @pytest.mark.parametrize("vertex", [False, True], ids=["random", "vertex"])
@@ -315,11 +302,7 @@ def test_cora_interval_observer_state_and_errors():
 def test_eso_c_maps_to_the_thesis_observer_and_contains_the_truth(name):
     m = load_cora(DATA / f"{name}.json")
     r = observe(m, "ESO-C")
-    tol = np.full(len(m.y), TRUTH_TOL)
-    if name == "pedestrian4":
-        tol[217:] = 3e-3  # the README's misprinted truth at step 217
-    inside = np.all((r.lower - tol[:, None] <= m.truth) & (m.truth <= r.upper + tol[:, None]), axis=1)
-    assert inside.all(), f"{name}: outside at steps {np.flatnonzero(~inside)[:10]}"
+    assert_truth_inside(name, m.truth, r.lower, r.upper)
     with pytest.raises(InvalidArgumentError, match="convention: CORA's ESO-C cannot run"):
         observe(m, "ESO-C", convention="cora")
     with pytest.raises(InvalidArgumentError, match="^gain"):

@@ -3,8 +3,6 @@
 The saved final hulls are CORA's (../shared/benchmarks/cora_linearSysDT_observe, the
 `golden_final_interval_hull` of each file, CORA v2026.0.1 unit tests); CORA's rule is
 |a − b| <= 1e-6."""
-import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,9 +11,8 @@ import setbound.cora as cora
 from setbound.benchmarks import load_cora
 from setbound.errors import InvalidArgumentError
 
-DATA = Path(os.environ.get("SETBOUND_CORA_DATA",
-                           Path(__file__).resolve().parents[3] / "shared" / "benchmarks" / "cora_linearSysDT_observe"))
-needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=f"benchmark data not found at {DATA}")
+from cora_support import DATA, needs_data
+
 CORA_TOL = 1e-6
 
 

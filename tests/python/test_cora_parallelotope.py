@@ -5,9 +5,7 @@ No saved CORA values exist for either (spec §4.4 class 5): ROPO is checked by p
 exact consistent-set hull, the cora convention's S' indexing), RTS against the Kalman filter and a
 hand-computed scalar smoother.
 """
-import os
 import pickle
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,10 +18,8 @@ from setbound.errors import (DimensionError, InconsistentMeasurementError, Inval
 from setbound.parallelotope import ParallelotopeEstimator
 from setbound.point import rts_smooth
 
-DATA = Path(os.environ.get("SETBOUND_CORA_DATA",
-                           Path(__file__).resolve().parents[3] / "shared" / "benchmarks" / "cora_linearSysDT_observe"))
-needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=f"benchmark data not found at {DATA}")
-TRUTH_TOL = 5e-4  # the true trajectories are printed to 3 decimals
+from cora_support import DATA, needs_data, assert_truth_inside
+
 
 
 def _random_system(rng, trial):
@@ -170,13 +166,7 @@ def test_ropo_bad_input_is_named():
 def test_ropo_true_trajectories_stay_inside(name, reduction):
     b = load_cora(DATA / f"{name}.json")
     t = ParallelotopeEstimator(b.system, b.x0, reduction=reduction).run(b.y, b.u)
-    tol = np.full(len(b.y), TRUTH_TOL)
-    if name == "pedestrian4":
-        # The data's README: the printed truth leaves the noise bound of output 2 at step 217.
-        tol[217:] = 3e-3
-    inside = np.array([np.all(t.lower[k] - tol[k] <= b.truth[k]) and np.all(b.truth[k] <= t.upper[k] + tol[k])
-                       for k in range(len(b.y))])
-    assert inside.all(), f"{name}: truth outside at steps {np.flatnonzero(~inside)[:10]}"
+    assert_truth_inside(name, b.truth, t.lower, t.upper)
 
 
 @needs_data

@@ -8,9 +8,7 @@ saved SDPT3 gains of ``vehicle2_cora_saved_gains.json`` for the fixed-gain recur
 import functools
 import itertools
 import json
-import os
 import pickle
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,10 +20,8 @@ from setbound.errors import DimensionError, InvalidArgumentError, SetboundError
 from setbound.zonotopic import (BravoEstimator, CombastelObserver, PropagationObserver, StripGainEstimator,
                                 WangEstimator)
 
-DATA = Path(os.environ.get("SETBOUND_CORA_DATA",
-                           Path(__file__).resolve().parents[3] / "shared" / "benchmarks" / "cora_linearSysDT_observe"))
-needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=f"benchmark data not found at {DATA}")
-TRUTH_TOL = 5e-4  # the true trajectories are printed to 3 decimals
+from cora_support import DATA, needs_data, TRUTH_TOL, assert_truth_inside
+
 
 
 def _within_tol(a, b, tol=1e-6):
@@ -111,13 +107,7 @@ def test_true_trajectories_stay_inside(name, cls):
         pytest.skip("VolMin-B costs O(n² m²) per strip; tank30 is out of its range")
     n = b.system.nx
     t = cls(b.system, b.x0, max_generators=4 * n, reduction="girard").run(b.y, b.u)
-    tol = np.full(len(b.y), TRUTH_TOL)
-    if name == "pedestrian4":
-        # The data's README: the printed truth leaves the noise bound of output 2 at step 217.
-        tol[217:] = 3e-3
-    inside = np.array([np.all(t.lower[k] - tol[k] <= b.truth[k]) and np.all(b.truth[k] <= t.upper[k] + tol[k])
-                       for k in range(len(b.y))])
-    assert inside.all(), f"{name}: truth outside at steps {np.flatnonzero(~inside)[:10]}"
+    assert_truth_inside(name, b.truth, t.lower, t.upper)
 
 
 def _random_system(rng, trial):
@@ -461,10 +451,7 @@ def test_prad_c_d_designs_certify_their_p_radius_bound(name, method):
     r = cora.observe(b, method)
     assert np.isfinite(r.upper).all() and len(r.lower) == len(b.y)
     if b.truth is not None:
-        tol = np.full((len(b.y), 1), TRUTH_TOL)
-        if name == "pedestrian4":
-            tol[217:] = 3e-3  # the data's README: the printed truth leaves output 2's noise bound at step 217
-        assert np.all((r.lower - tol <= b.truth) & (b.truth <= r.upper + tol))
+        assert_truth_inside(name, b.truth, r.lower, r.upper)
 
 
 @needs_data

@@ -9,9 +9,7 @@ random and vertex disturbances), an independent CVXPY formulation of the design'
 comparison with CORA's saved hulls.
 """
 import functools
-import os
 import pickle
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -24,10 +22,8 @@ from setbound.cora import observe
 from setbound.errors import (DimensionError, InfeasibleError, InvalidArgumentError, NotDetectableError,
                              NotFiniteError)
 
-DATA = Path(os.environ.get("SETBOUND_CORA_DATA",
-                           Path(__file__).resolve().parents[3] / "shared" / "benchmarks" / "cora_linearSysDT_observe"))
-needs_data = pytest.mark.skipif(not DATA.is_dir(), reason=f"benchmark data not found at {DATA}")
-TRUTH_TOL = 5e-4  # the true trajectories are printed to 3 decimals
+from cora_support import DATA, needs_data, assert_truth_inside
+
 
 
 def _plant():
@@ -138,11 +134,7 @@ def test_box_recursion_against_a_hand_computation():
 def test_cora_name_contains_the_printed_truth(name):
     m = load_cora(DATA / f"{name}.json")
     r = observe(m, "ESO-D")
-    tol = np.full(len(m.y), TRUTH_TOL)
-    if name == "pedestrian4":
-        tol[217:] = 3e-3  # the data's README: the printed truth leaves the noise bound at step 217
-    inside = np.all((r.lower - tol[:, None] <= m.truth) & (m.truth <= r.upper + tol[:, None]), axis=1)
-    assert inside.all(), f"{name}: outside at steps {np.flatnonzero(~inside)[:10]}"
+    assert_truth_inside(name, m.truth, r.lower, r.upper)
 
 
 @functools.cache
