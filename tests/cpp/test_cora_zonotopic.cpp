@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "setbound/estimators/zonotopic/designs.hpp"
 #include "setbound/estimators/zonotopic/gain_estimator.hpp"
 #include "setbound/estimators/zonotopic/observer.hpp"
 #include "c_api_common.hpp"
@@ -257,4 +258,35 @@ TEST(ZonotopicObserver, CAbiNamesBadArguments) {
   EXPECT_EQ(cap, m);
   sb_zono_observer_free(obs);
   sb_linear_system_free(sys);
+}
+
+// The offline designs tell an LMI the solver did not decide from an infeasible one: with the
+// solver stopped after 2 iterations nothing is solved, and the error is a NumericalError that
+// says so (an InfeasibleError would claim a certificate there is none of); with the default
+// options every design of this detectable system succeeds and makes the error contract.
+TEST(ZonotopicGainDesign, UndecidedSolvesAreNotReportedInfeasible) {
+  MatrixXd A(2, 2), C(1, 2), E(2, 3), F(1, 3);
+  A << 0.9, 0.2, 0.0, 0.7;
+  C << 1.0, 0.0;
+  E << 0.1, 0.0, 0.0, 0.0, 0.1, 0.0;
+  F << 0.0, 0.0, 0.05;
+  const LinearSystem sys(A, C, E, F);
+  lmi::SolverOptions stopped;
+  stopped.max_iterations = 2;
+  for (const ZonotopicGainMethod m : {ZonotopicGainMethod::PRadA, ZonotopicGainMethod::PRadB, ZonotopicGainMethod::PRadC,
+                                      ZonotopicGainMethod::PRadD, ZonotopicGainMethod::PRadE, ZonotopicGainMethod::NomG}) {
+    SCOPED_TRACE(static_cast<int>(m));
+    try {
+      design_zonotopic_gain(sys, m, stopped);
+      ADD_FAILURE() << "expected NumericalError";
+    } catch (const NumericalError& e) {
+      const std::string what = e.what();
+      EXPECT_TRUE(what.find("max_iterations") != std::string::npos) << what;
+      EXPECT_EQ(what.find("infeasible for every"), std::string::npos) << what;
+    }
+    const ZonotopicGainDesign d = design_zonotopic_gain(sys, m);
+    const bool strips = m != ZonotopicGainMethod::PRadE && m != ZonotopicGainMethod::NomG;
+    const MatrixXd M = strips ? MatrixXd(A - d.gain * (C * A)) : MatrixXd(A - d.gain * C);
+    EXPECT_LT(M.eigenvalues().cwiseAbs().maxCoeff(), 1.0);
+  }
 }

@@ -116,3 +116,16 @@ def test_truth_inside_on_a_model_with_a_printed_trajectory():
         assert exact["mean_iradius"] <= r["mean_iradius"] * (1 + 1e-9), r["alg"]
     # VolMin-A is out of range at n_x = 6: skipped with the reason, not run
     assert "exponential" in next(r for r in rows if r["alg"] == "VolMin-A")["skipped"]
+
+
+def test_cpp_rows_are_the_median_over_the_runs_of_the_program():
+    # bench_cora_cpp runs --cpp-runs times: on the shared VM a run's medians jump between levels
+    # (vehicle6 FRad-A: 19 and 31 µs in consecutive runs), the median over the runs does not.
+    bench = _bench()
+    base = {"model": "vehicle6", "alg": "FRad-A", "error": None}
+    rows = [{**base, "median_us": m, "p90_us": 2 * m, "design_ms": 0.0} for m in (31.2, 19.1, 19.0, 31.6, 19.2)]
+    rows.append({**base, "median_us": None, "p90_us": None, "design_ms": None, "error": "a failed run"})
+    r = bench.median_row(rows)
+    assert r["median_us"] == 19.2 and r["p90_us"] == 38.4 and r["runs_us"] == [31.2, 19.1, 19.0, 31.6, 19.2]
+    with pytest.raises(SystemExit):
+        bench.main(["--cpp-runs", "0", "--no-cpp"])

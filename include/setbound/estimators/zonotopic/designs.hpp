@@ -68,6 +68,7 @@
 
 #include "setbound/core/error.hpp"
 #include "setbound/core/linear_system.hpp"
+#include "setbound/lmi/solver.hpp"
 
 namespace setbound {
 
@@ -82,10 +83,15 @@ struct ZonotopicGainDesign {
 
 enum class ZonotopicGainMethod { PRadE = 1, NomG = 2, PRadB = 3, PRadA = 4, PRadC = 5, PRadD = 6 };
 
-/// The PRad-A, PRad-B, PRad-C, PRad-D, PRad-E or Nom-G design (see designs.hpp). PRad-A returns the P and Y of its last output. Throws InfeasibleError with the reason when no
-/// gain exists (no β / μ feasible, unbounded trace P), DimensionError / InvalidArgumentError for
-/// an unsuitable system (an interval A).
-ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sys, ZonotopicGainMethod method);
+/// The PRad-A, PRad-B, PRad-C, PRad-D, PRad-E or Nom-G design (see designs.hpp). PRad-A returns
+/// the P and Y of its last output. `solver`: the options of every LMI solve (the defaults stop a
+/// solve after 100 iterations or 30 s; tank30's designs, with about a thousand unknowns, need
+/// more). Throws InfeasibleError with the reason when no gain exists (no β / μ feasible, every
+/// solve with a certificate; unbounded trace P), NumericalError when no solve gave a solution
+/// and some stopped undecided (iteration or time limit, numerical trouble: the message counts
+/// them), DimensionError / InvalidArgumentError for an unsuitable system (an interval A).
+ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sys, ZonotopicGainMethod method,
+                                          const lmi::SolverOptions& solver = {});
 
 }  // namespace setbound
 

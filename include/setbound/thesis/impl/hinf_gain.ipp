@@ -145,7 +145,12 @@ SETBOUND_INLINE VertexGainResult hinf_vertex_gains_once(const std::vector<Eigen:
     // The class stays InfeasibleError for callers that skip infeasible systems; the message
     // says whether the solver proved infeasibility or stopped (iteration limit, numerics).
     throw InfeasibleError(what + ": the H-infinity LMI is " + solve_verdict(res.status) + " (solver status: " +
-                          lmi::status_name(res.status) + ", " + std::to_string(res.iterations) + " iterations)");
+                          lmi::status_name(res.status) + ", " + std::to_string(res.iterations) + " iterations" +
+                          (res.status == lmi::SolveStatus::MaxIterations && res.iterations < opt.solver.max_iterations
+                               ? ": the time limit of " + std::to_string(static_cast<int>(opt.solver.time_limit)) +
+                                     " s per solve stopped it (HinfOptions::solver.time_limit in C++)"
+                               : std::string()) +
+                          ")");
   out.P = model.value(P, res.x);
   symmetrize(out.P);  // not 0.5 * (P + Pᵀ) into P: that aliases (core/symmetric.hpp)
   out.g_solver = fixed ? fixed_g : model.scalar_value(g, res.x);

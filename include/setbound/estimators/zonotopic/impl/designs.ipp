@@ -58,11 +58,38 @@ SETBOUND_INLINE lmi::AffineExpr strip_weight_lmi(const lmi::Var& P, const lmi::V
   return lmi::sym_block(rows);
 }
 
+/// The verdicts of a design's LMI solves: a design that found no solution says whether the LMI
+/// was shown infeasible or the solver stopped undecided (its iteration or time limit, numerical
+/// trouble) — "infeasible" only with a certificate for every solve.
+struct SolveTally {
+  int solved = 0, infeasible = 0, undecided = 0;
+  lmi::SolveStatus last_undecided = lmi::SolveStatus::Optimal;
+  /// Records one solve; true when it gave a usable point (optimal or inaccurate).
+  bool count(lmi::SolveStatus s) {
+    if (s == lmi::SolveStatus::Optimal || s == lmi::SolveStatus::Inaccurate) return ++solved, true;
+    if (s == lmi::SolveStatus::Infeasible) return ++infeasible, false;
+    ++undecided;
+    last_undecided = s;
+    return false;
+  }
+  /// Throws the error of a search over `what` (beta, the contraction) that found no solution.
+  [[noreturn]] void fail(const std::string& who, const std::string& what) const {
+    if (undecided == 0)
+      throw InfeasibleError(who + ": the LMI is infeasible for every " + what + " in (0, 1)");
+    throw NumericalError(who + ": no " + what + " in (0, 1) gave a solution: the LMI solver stopped undecided at " +
+                         std::to_string(undecided) + " of " + std::to_string(undecided + infeasible) + " values (" +
+                         lmi::status_name(last_undecided) +
+                         ": its iteration or time limit, or numerical trouble; the solver options of "
+                         "design_zonotopic_gain raise the limits) and proved infeasibility at " +
+                         std::to_string(infeasible));
+  }
+};
+
 /// CORA's PRad-B LMI (designs.hpp) for the outputs rows Cs (q × n), output noise Fv (q × r) and
 /// ε; β by bisection on (0, 1) to 0.01, the last feasible solve kept.
 SETBOUND_INLINE ZonotopicGainDesign prad_b_design(const LinearSystem& sys, const Eigen::MatrixXd& Cs,
                                                   const Eigen::MatrixXd& Fv, double eps, const std::string& who,
-                                                  bool least_norm) {
+                                                  bool least_norm, const lmi::SolverOptions& solver_options) {
   using lmi::AffineExpr;
   const Eigen::Index n = sys.nx(), q = Cs.rows();
   const Eigen::MatrixXd& A = sys.A();
@@ -85,23 +112,24 @@ SETBOUND_INLINE ZonotopicGainDesign prad_b_design(const LinearSystem& sys, const
   };
   build(0.5);
   lmi::LmiProblem problem = model.build();
-  lmi::InteriorPointSolver solver(problem);
+  lmi::InteriorPointSolver solver(problem, solver_options);
   double lo = 0.0, up = 1.0, best_beta = -1.0;
   Eigen::VectorXd best_x;
+  SolveTally tally;
   while (up - lo > 0.01) {
     const double beta = 0.5 * (lo + up);
     build(beta);
     model.update(problem);
     const lmi::SolveResult& res = solver.solve();
-    if (res.status == lmi::SolveStatus::Optimal || res.status == lmi::SolveStatus::Inaccurate) {
+    if (tally.count(res.status)) {
       best_beta = beta;
       best_x = res.x;
       lo = beta;
     } else {
-      up = beta;
+      up = beta;  // infeasible, or not decided: CORA's bisection moves down either way
     }
   }
-  if (best_beta < 0) throw InfeasibleError("design " + who + ": the LMI is infeasible for every beta in (0, 1)");
+  if (best_beta < 0) tally.fail("design " + who, "beta");
   if (least_norm) {
     // Only τ (a bound on λ_min(P)) is maximised, so the optimum is a face, and the gain components
     // of states the outputs cannot see are whatever the solver's end point says (spec §2.6: SDPT3
@@ -122,7 +150,7 @@ SETBOUND_INLINE ZonotopicGainDesign prad_b_design(const LinearSystem& sys, const
                                    {AffineExpr(Y2).transpose(), t * Eigen::MatrixXd::Identity(q, q)}}));
     second.minimize(t);
     lmi::LmiProblem p2 = second.build();
-    lmi::InteriorPointSolver s2(p2);
+    lmi::InteriorPointSolver s2(p2, solver_options);
     const lmi::SolveResult& r2 = s2.solve();
     if (r2.status == lmi::SolveStatus::Optimal || r2.status == lmi::SolveStatus::Inaccurate) {
       ZonotopicGainDesign d;
@@ -183,7 +211,8 @@ SETBOUND_INLINE void require_contracting_error_map(const LinearSystem& sys, cons
 
 /// PRad-C and PRad-D (designs.hpp): the weight of largest λ_min(P) under strip_weight_lmi with
 /// the invariance budget of the unit P-ball, the contraction s chosen by a scalar search.
-SETBOUND_INLINE ZonotopicGainDesign wang_strip_weight_design(const LinearSystem& sys, bool prad_d) {
+SETBOUND_INLINE ZonotopicGainDesign wang_strip_weight_design(const LinearSystem& sys, bool prad_d,
+                                                             const lmi::SolverOptions& solver_options) {
   using lmi::AffineExpr;
   const std::string who = prad_d ? "PRad-D" : "PRad-C";
   const Eigen::Index n = sys.nx(), p = sys.ny();
@@ -219,14 +248,13 @@ SETBOUND_INLINE ZonotopicGainDesign wang_strip_weight_design(const LinearSystem&
   };
   build(0.5);
   lmi::LmiProblem problem = model.build();
-  lmi::InteriorPointSolver solver(problem);
-  bool unbounded = false;
+  lmi::InteriorPointSolver solver(problem, solver_options);
+  SolveTally tally;
   auto solve_at = [&](double s) -> std::optional<Eigen::VectorXd> {
     build(s);
     model.update(problem);
     const lmi::SolveResult& res = solver.solve();
-    if (res.status == lmi::SolveStatus::Unbounded) unbounded = true;
-    if (res.status != lmi::SolveStatus::Optimal && res.status != lmi::SolveStatus::Inaccurate) return std::nullopt;
+    if (!tally.count(res.status)) return std::nullopt;
     return res.x;
   };
   // The criterion is not monotone in s (papers.md §0.4): a larger s relaxes the decay but leaves
@@ -245,10 +273,11 @@ SETBOUND_INLINE ZonotopicGainDesign wang_strip_weight_design(const LinearSystem&
         return t > 0 && std::isfinite(t) ? -t : std::numeric_limits<double>::infinity();
       },
       0.0, 1.0, search);
-  if (!found.found())
-    throw InfeasibleError("design " + who + ": the LMI has no solution with lambda_min(P) > 0 for any contraction in (0, 1)" +
-                          (unbounded ? std::string(" (the solver reports it unbounded)") : std::string()) +
-                          " (is (C, A) detectable?)");
+  if (!found.found()) {
+    if (tally.solved == 0) tally.fail("design " + who, "contraction");
+    throw InfeasibleError("design " + who + ": the LMI has no solution with lambda_min(P) > 0 for any contraction in "
+                          "(0, 1) (is (C, A) detectable?)");
+  }
   const std::optional<Eigen::VectorXd> x = solve_at(found.argmin);
   if (!x) throw NumericalError("design " + who + ": the LMI at the chosen contraction could not be solved again");
   ZonotopicGainDesign d;
@@ -269,13 +298,14 @@ SETBOUND_INLINE ZonotopicGainDesign wang_strip_weight_design(const LinearSystem&
 
 }  // namespace detail
 
-SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sys, ZonotopicGainMethod method) {
+SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sys, ZonotopicGainMethod method,
+                                                          const lmi::SolverOptions& solver_options) {
   using lmi::AffineExpr;
   const int m = static_cast<int>(method);
   if (m < 1 || m > 6) throw InvalidArgumentError("method: unknown zonotopic gain design " + std::to_string(m));
   if (sys.uncertain_A()) throw InvalidArgumentError("system: the gain designs need a known A");
   if (method == ZonotopicGainMethod::PRadC || method == ZonotopicGainMethod::PRadD)
-    return detail::wang_strip_weight_design(sys, method == ZonotopicGainMethod::PRadD);
+    return detail::wang_strip_weight_design(sys, method == ZonotopicGainMethod::PRadD, solver_options);
   if (method == ZonotopicGainMethod::PRadB || method == ZonotopicGainMethod::PRadA) {
     // ε = ‖rs|E|‖₂ + σᵀσ with σ_i = Σ_j |F_ij| (spec §2.7: W's interval radius, not squared).
     const Eigen::VectorXd radW = sys.nw() > 0 ? Eigen::VectorXd(sys.E().cwiseAbs().rowwise().sum())
@@ -284,7 +314,7 @@ SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sy
                                                : Eigen::VectorXd(Eigen::VectorXd::Zero(sys.ny()));
     if (method == ZonotopicGainMethod::PRadB) {
       ZonotopicGainDesign d = detail::prad_b_design(sys, sys.C(), detail::compress_disturbance(sys.F()),
-                                                    radW.norm() + sigma.squaredNorm(), "PRad-B", false);
+                                                    radW.norm() + sigma.squaredNorm(), "PRad-B", false, solver_options);
       detail::require_contracting_error_map(sys, d.gain, "PRad-B");
       return d;
     }
@@ -300,7 +330,8 @@ SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sy
         // Output i alone, its noise the 1-D box of half-width σ_i (spec §2.6).
         const Eigen::MatrixXd Fi = Eigen::MatrixXd::Constant(1, sigma(i) > 0 ? 1 : 0, sigma(i));
         ZonotopicGainDesign d = detail::prad_b_design(sys, sys.C().row(i), Fi, radW.norm() + sigma(i) * sigma(i),
-                                                      "PRad-A (output " + std::to_string(i) + ")", least_norm);
+                                                      "PRad-A (output " + std::to_string(i) + ")", least_norm,
+                                                      solver_options);
         all.gain.col(i) = d.gain;
         all.P = d.P;
         all.Y = d.Y;
@@ -368,18 +399,19 @@ SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sy
   };
   build(0.5);
   lmi::LmiProblem problem = model.build();
-  lmi::InteriorPointSolver solver(problem);
+  lmi::InteriorPointSolver solver(problem, solver_options);
   struct Found {
     double s;
     Eigen::VectorXd x;
   };
   bool unbounded = false;
+  detail::SolveTally tally;
   auto feasible = [&](double s) -> std::optional<Found> {
     build(s);
     model.update(problem);
     const lmi::SolveResult& res = solver.solve();
     if (res.status == lmi::SolveStatus::Unbounded) unbounded = true;
-    if (res.status != lmi::SolveStatus::Optimal && res.status != lmi::SolveStatus::Inaccurate) return std::nullopt;
+    if (!tally.count(res.status)) return std::nullopt;
     return Found{s, res.x};
   };
   std::optional<Found> best;
@@ -396,15 +428,20 @@ SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sy
         up = beta;
       }
     }
-    if (!best)
-      throw InfeasibleError(std::string("design PRad-E: the LMI is infeasible for every beta in (0, 1)") +
-                            (unbounded ? " (trace P unbounded)" : ""));
+    if (!best && unbounded)
+      throw InfeasibleError("design PRad-E: the LMI has no bounded solution for any beta in (0, 1) (trace P unbounded)");
+    if (!best) tally.fail("design PRad-E", "beta");
   } else {
     // Nom-G: CORA's condition (μ = 1) defines a cone containing P = 0 (spec §2.11). setbound takes
     // the analytic centre of its slice P ⪰ I, trace P ≤ 10 t* (t* the least trace P in the slice,
     // found first): the maximiser of log det N + log det(P − I) + log(10 t* − trace P), a
     // deterministic point strictly inside.
     const std::optional<Found> least = feasible(1.0);  // build(): min trace P, P ⪰ I
+    if (!least && tally.undecided > 0)
+      throw NumericalError(std::string("design Nom-G: the least-trace LMI was not solved (") +
+                           lmi::status_name(tally.last_undecided) +
+                           ": the solver's iteration or time limit, or numerical trouble; the solver options of "
+                           "design_zonotopic_gain raise the limits)");
     if (!least)
       throw InfeasibleError("design Nom-G: no gain L with (A − LC)ᵀP(A − LC) ⪯ P, P ⪰ I (is (C, A) detectable?)");
     const double cap = 10.0 * model.value(P, least->x).trace();
@@ -418,9 +455,11 @@ SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sy
     model.add_logdet(
         lmi::sym_block({{N}, {AffineExpr::zero(n, 2 * n), PI}, {AffineExpr::zero(1, 2 * n), AffineExpr::zero(1, n), room}}));
     lmi::LmiProblem centre = model.build();
-    const lmi::SolveResult res = lmi::solve_maxdet(centre);
+    const lmi::SolveResult res = lmi::solve_maxdet(centre, solver_options);
     if (res.status != lmi::SolveStatus::Optimal && res.status != lmi::SolveStatus::Inaccurate)
-      throw NumericalError("design Nom-G: the analytic centre could not be computed");
+      throw NumericalError(std::string("design Nom-G: the analytic centre could not be computed (") +
+                           lmi::status_name(res.status) + ", " + std::to_string(res.iterations) +
+                           " iterations: the solver's iteration or time limit, or numerical trouble)");
     best = Found{1.0, res.x};
   }
   ZonotopicGainDesign d;
