@@ -126,7 +126,7 @@ SETBOUND_INLINE ZonotopicGainDesign prad_b_design(const LinearSystem& sys, const
       best_x = res.x;
       lo = beta;
     } else {
-      up = beta;  // infeasible, or not decided: CORA's bisection moves down either way
+      up = beta;  // infeasible or undecided (CORA counts undecided as feasible, spec §1.7; there is no point to keep)
     }
   }
   if (best_beta < 0) tally.fail("design " + who, "beta");
