@@ -83,6 +83,37 @@ struct ZonotopicGainDesign {
 
 enum class ZonotopicGainMethod { PRadE = 1, NomG = 2, PRadB = 3, PRadA = 4, PRadC = 5, PRadD = 6 };
 
+namespace detail {
+
+/// The verdicts of a design's LMI solves: a design that found no solution says whether the LMI
+/// was shown infeasible or the solver stopped undecided (its iteration or time limit, numerical
+/// trouble) — "infeasible" only with a certificate for every solve.
+struct SolveTally {
+  int solved = 0, infeasible = 0, undecided = 0;
+  lmi::SolveStatus last_undecided = lmi::SolveStatus::Optimal;
+  /// Records one solve; true when it gave a usable point (optimal or inaccurate).
+  bool count(lmi::SolveStatus s) {
+    if (s == lmi::SolveStatus::Optimal || s == lmi::SolveStatus::Inaccurate) return ++solved, true;
+    if (s == lmi::SolveStatus::Infeasible) return ++infeasible, false;
+    ++undecided;
+    last_undecided = s;
+    return false;
+  }
+  /// Throws the error of a search over `what` (beta, the contraction) that found no solution.
+  [[noreturn]] void fail(const std::string& who, const std::string& what) const {
+    if (undecided == 0)
+      throw InfeasibleError(who + ": the LMI is infeasible for every " + what + " in (0, 1)");
+    throw NumericalError(who + ": no " + what + " in (0, 1) gave a solution: the LMI solver stopped undecided at " +
+                         std::to_string(undecided) + " of " + std::to_string(undecided + infeasible) + " values (" +
+                         lmi::status_name(last_undecided) +
+                         ": its iteration or time limit, or numerical trouble; the solver options of "
+                         "design_zonotopic_gain raise the limits) and proved infeasibility at " +
+                         std::to_string(infeasible));
+  }
+};
+
+}  // namespace detail
+
 /// The PRad-A, PRad-B, PRad-C, PRad-D, PRad-E or Nom-G design (see designs.hpp). PRad-A returns
 /// the P and Y of its last output. `solver`: the options of every LMI solve (the defaults stop a
 /// solve after 100 iterations or 30 s; tank30's designs, with about a thousand unknowns, need

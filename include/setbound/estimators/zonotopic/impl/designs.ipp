@@ -58,33 +58,6 @@ SETBOUND_INLINE lmi::AffineExpr strip_weight_lmi(const lmi::Var& P, const lmi::V
   return lmi::sym_block(rows);
 }
 
-/// The verdicts of a design's LMI solves: a design that found no solution says whether the LMI
-/// was shown infeasible or the solver stopped undecided (its iteration or time limit, numerical
-/// trouble) — "infeasible" only with a certificate for every solve.
-struct SolveTally {
-  int solved = 0, infeasible = 0, undecided = 0;
-  lmi::SolveStatus last_undecided = lmi::SolveStatus::Optimal;
-  /// Records one solve; true when it gave a usable point (optimal or inaccurate).
-  bool count(lmi::SolveStatus s) {
-    if (s == lmi::SolveStatus::Optimal || s == lmi::SolveStatus::Inaccurate) return ++solved, true;
-    if (s == lmi::SolveStatus::Infeasible) return ++infeasible, false;
-    ++undecided;
-    last_undecided = s;
-    return false;
-  }
-  /// Throws the error of a search over `what` (beta, the contraction) that found no solution.
-  [[noreturn]] void fail(const std::string& who, const std::string& what) const {
-    if (undecided == 0)
-      throw InfeasibleError(who + ": the LMI is infeasible for every " + what + " in (0, 1)");
-    throw NumericalError(who + ": no " + what + " in (0, 1) gave a solution: the LMI solver stopped undecided at " +
-                         std::to_string(undecided) + " of " + std::to_string(undecided + infeasible) + " values (" +
-                         lmi::status_name(last_undecided) +
-                         ": its iteration or time limit, or numerical trouble; the solver options of "
-                         "design_zonotopic_gain raise the limits) and proved infeasibility at " +
-                         std::to_string(infeasible));
-  }
-};
-
 /// CORA's PRad-B LMI (designs.hpp) for the outputs rows Cs (q × n), output noise Fv (q × r) and
 /// ε; β by bisection on (0, 1) to 0.01, the last feasible solve kept.
 SETBOUND_INLINE ZonotopicGainDesign prad_b_design(const LinearSystem& sys, const Eigen::MatrixXd& Cs,
