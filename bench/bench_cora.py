@@ -172,12 +172,12 @@ def with_timeout(fn, timeout: float | None, what: str) -> dict:
 
 # ---- one method on one model -----------------------------------------------------------------
 
-def run_method(model, alg: str, reps: int, gains: dict, exact: dict | None = None, rep_budget: float = 15.0) -> dict:
+def run_method(model, alg: str, reps: int, exact: dict | None = None, rep_budget: float = 15.0) -> dict:
     row = {"alg": alg, "n": model.system.nx}
     reason = skip_reason(alg, model.system.nx)
     if reason:
         return {**row, "skipped": reason}
-    gain, note = None, ""
+    note = ""
     runs = []
     t_start = time.perf_counter()
     for _ in range(reps):
@@ -185,7 +185,7 @@ def run_method(model, alg: str, reps: int, gains: dict, exact: dict | None = Non
             note = (note + "; " if note else "") + f"{len(runs)} Python run(s): each above {rep_budget:g} s"
             break
         try:
-            r = cora.observe(model, alg, gain=gain)
+            r = cora.observe(model, alg)
         except Exception as e:  # noqa: BLE001 — every setbound error is a row, never a crash
             return {**row, "error": short_error(e)}
         runs.append(r)
@@ -533,7 +533,7 @@ def main(argv=None) -> dict:
         rows = []
         for alg in algs:
             t0 = time.perf_counter()
-            row = with_timeout(lambda: run_method(model, alg, args.reps, gains, exact, args.rep_budget),
+            row = with_timeout(lambda: run_method(model, alg, args.reps, exact, args.rep_budget),
                                args.method_timeout, "design and run")
             rows.append({"alg": alg, "n": model.system.nx, **row})
             r = rows[-1]

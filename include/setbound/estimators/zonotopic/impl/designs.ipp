@@ -19,6 +19,7 @@
 #include "setbound/lmi/model.hpp"
 #include "setbound/lmi/scalar_search.hpp"
 #include "setbound/lmi/solver.hpp"
+#include "setbound/sets/zonotope.hpp"
 
 namespace setbound {
 
@@ -56,6 +57,20 @@ SETBOUND_INLINE lmi::AffineExpr strip_weight_lmi(const lmi::Var& P, const lmi::V
   last.push_back(P);
   rows.push_back(last);
   return lmi::sym_block(rows);
+}
+
+/// d.P (symmetrised), d.Y and d.gain = P⁻¹Y of a design's solution x; the reason when that fails
+/// (P not positive definite, a gain that is not finite), nullptr when it does not.
+SETBOUND_INLINE const char* read_gain(const lmi::Model& model, const lmi::Var& P, const lmi::Var& Y,
+                                      const Eigen::VectorXd& x, ZonotopicGainDesign& d) {
+  d.P = model.value(P, x);
+  symmetrize(d.P);
+  d.Y = model.value(Y, x);
+  Eigen::LLT<Eigen::MatrixXd> llt(d.P);
+  if (llt.info() != Eigen::Success || !d.P.allFinite()) return "P is not positive definite at the solution";
+  d.gain = llt.solve(d.Y);
+  if (!d.gain.allFinite()) return "the gain is not finite";
+  return nullptr;
 }
 
 /// CORA's PRad-B LMI (designs.hpp) for the outputs rows Cs (q × n), output noise Fv (q × r) and
@@ -128,46 +143,20 @@ SETBOUND_INLINE ZonotopicGainDesign prad_b_design(const LinearSystem& sys, const
     if (r2.status == lmi::SolveStatus::Optimal || r2.status == lmi::SolveStatus::Inaccurate) {
       ZonotopicGainDesign d;
       d.beta = best_beta;
-      d.P = second.value(P2, r2.x);
-      symmetrize(d.P);
-      d.Y = second.value(Y2, r2.x);
       d.objective = second.scalar_value(tau2, r2.x);
-      Eigen::LLT<Eigen::MatrixXd> llt(d.P);
-      if (llt.info() == Eigen::Success && d.P.allFinite()) {
-        d.gain = llt.solve(d.Y);
-        if (d.gain.allFinite()) {
-          d.lmi = second_lmi.evaluate(r2.x);
-          return d;
-        }
+      if (read_gain(second, P2, Y2, r2.x, d) == nullptr) {
+        d.lmi = second_lmi.evaluate(r2.x);
+        return d;
       }
     }
     // the second solve failed: keep the first one's end point (below)
   }
   ZonotopicGainDesign d;
   d.beta = best_beta;
-  d.P = model.value(P, best_x);
-  symmetrize(d.P);
-  d.Y = model.value(Y, best_x);
   d.objective = model.scalar_value(tau, best_x);
-  Eigen::LLT<Eigen::MatrixXd> llt(d.P);
-  if (llt.info() != Eigen::Success || !d.P.allFinite())
-    throw NumericalError("design " + who + ": P is not positive definite at the solution");
-  d.gain = llt.solve(d.Y);
-  if (!d.gain.allFinite()) throw NumericalError("design " + who + ": the gain is not finite");
+  if (const char* why = read_gain(model, P, Y, best_x, d)) throw NumericalError("design " + who + ": " + why);
   d.lmi = main_lmi(best_beta).evaluate(best_x);
   return d;
-}
-
-/// The columns of a generator matrix that are not zero: the unit-box coordinates the diagonal
-/// multipliers of PRad-C / PRad-D weigh one by one (compress_disturbance would mix them, and
-/// wᵀΓw ≤ trace Γ holds only in the coordinates of the box).
-SETBOUND_INLINE Eigen::MatrixXd nonzero_columns(const Eigen::MatrixXd& G) {
-  std::vector<Eigen::Index> keep;
-  for (Eigen::Index j = 0; j < G.cols(); ++j)
-    if (G.col(j).cwiseAbs().maxCoeff() > 0) keep.push_back(j);
-  Eigen::MatrixXd out(G.rows(), static_cast<Eigen::Index>(keep.size()));
-  for (std::size_t j = 0; j < keep.size(); ++j) out.col(static_cast<Eigen::Index>(j)) = G.col(keep[j]);
-  return out;
 }
 
 /// The spectral radius of the error map (I − ΛC)A of a weight applied to all strips at once. The
@@ -190,7 +179,11 @@ SETBOUND_INLINE ZonotopicGainDesign wang_strip_weight_design(const LinearSystem&
   const std::string who = prad_d ? "PRad-D" : "PRad-C";
   const Eigen::Index n = sys.nx(), p = sys.ny();
   const Eigen::MatrixXd& A = sys.A();
-  const Eigen::MatrixXd Ew = nonzero_columns(sys.E()), Fv = nonzero_columns(sys.F());
+  // The non-zero columns of E and F themselves: the unit-box coordinates the diagonal multipliers
+  // weigh one by one (compress_disturbance would mix them, and wᵀΓw ≤ trace Γ holds only in the
+  // coordinates of the box).
+  const Eigen::MatrixXd Ew = Zonotope(Eigen::VectorXd::Zero(sys.nx()), sys.E()).remove_zero_generators().generators();
+  const Eigen::MatrixXd Fv = Zonotope(Eigen::VectorXd::Zero(sys.ny()), sys.F()).remove_zero_generators().generators();
   const Eigen::Index k = Ew.cols(), q = Fv.cols();
   if (k + q == 0)
     throw InvalidArgumentError("system: " + who + " needs a non-zero disturbance or noise bound (E = 0 and F = 0)");
@@ -238,12 +231,18 @@ SETBOUND_INLINE ZonotopicGainDesign wang_strip_weight_design(const LinearSystem&
   search.max_evaluations = 16;
   search.xtol_rel = 1e-3;
   search.ftol_rel = 1e-6;
+  // The solution of the best τ seen is kept (minimize_scalar's argmin is that point), so the
+  // chosen contraction is not solved a second time.
+  double best_tau = 0;
+  Eigen::VectorXd best_x;
   const lmi::ScalarSearchResult found = lmi::minimize_scalar(
       [&](double s) {
         const std::optional<Eigen::VectorXd> x = solve_at(s);
         if (!x) return std::numeric_limits<double>::infinity();
         const double t = model.scalar_value(tau, *x);
-        return t > 0 && std::isfinite(t) ? -t : std::numeric_limits<double>::infinity();
+        if (!(t > 0 && std::isfinite(t))) return std::numeric_limits<double>::infinity();
+        if (t > best_tau) best_tau = t, best_x = *x;
+        return -t;
       },
       0.0, 1.0, search);
   if (!found.found()) {
@@ -251,21 +250,12 @@ SETBOUND_INLINE ZonotopicGainDesign wang_strip_weight_design(const LinearSystem&
     throw InfeasibleError("design " + who + ": the LMI has no solution with lambda_min(P) > 0 for any contraction in "
                           "(0, 1) (is (C, A) detectable?)");
   }
-  const std::optional<Eigen::VectorXd> x = solve_at(found.argmin);
-  if (!x) throw NumericalError("design " + who + ": the LMI at the chosen contraction could not be solved again");
   ZonotopicGainDesign d;
   d.beta = found.argmin;
-  d.P = model.value(P, *x);
-  symmetrize(d.P);
-  d.Y = model.value(Y, *x);
-  d.objective = model.scalar_value(tau, *x);
-  Eigen::LLT<Eigen::MatrixXd> llt(d.P);
-  if (llt.info() != Eigen::Success || !d.P.allFinite())
-    throw NumericalError("design " + who + ": P is not positive definite at the solution");
-  d.gain = llt.solve(d.Y);
-  if (!d.gain.allFinite()) throw NumericalError("design " + who + ": the gain is not finite");
+  d.objective = best_tau;
+  if (const char* why = read_gain(model, P, Y, best_x, d)) throw NumericalError("design " + who + ": " + why);
   require_contracting_error_map(sys, d.gain, who);
-  d.lmi = main_lmi(d.beta).evaluate(*x);
+  d.lmi = main_lmi(d.beta).evaluate(best_x);
   return d;
 }
 
@@ -437,14 +427,8 @@ SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sy
   }
   ZonotopicGainDesign d;
   d.beta = best->s;
-  d.P = model.value(P, best->x);
-  symmetrize(d.P);
-  d.Y = model.value(Y, best->x);
-  Eigen::LLT<Eigen::MatrixXd> llt(d.P);
-  if (llt.info() != Eigen::Success || !d.P.allFinite())
-    throw NumericalError(std::string("design ") + who + ": P is not positive definite at the solution");
-  d.gain = llt.solve(d.Y);
-  if (!d.gain.allFinite()) throw NumericalError(std::string("design ") + who + ": the gain is not finite");
+  if (const char* why = detail::read_gain(model, P, Y, best->x, d))
+    throw NumericalError(std::string("design ") + who + ": " + why);
   d.objective = d.P.trace();
   d.lmi = main_lmi(d.beta).evaluate(best->x);
   return d;
