@@ -10,8 +10,10 @@ the returned set at every step. A design the library refuses (``SetboundError``:
 detectable, LMI infeasible, ...) is counted as *design failed* with the library's message; it
 is not a violation. A violation is a step whose true state is outside the set by more than
 the documented allowance (:func:`ellipsoid_excess`, :func:`box_excess`,
-:func:`zonotope_excess`); it is reported with its seed and a one-line reproduction command
-(``python -m setbound.campaign --estimator NAME --seed SEED``).
+:func:`zonotope_excess`, :func:`parallelotope_excess`); it is reported with its seed and a one-line
+reproduction command (``python -m setbound.campaign --estimator NAME --seed SEED``). A step whose
+membership test cannot decide is counted as *undecided* (``CaseResult.undecided``), never as
+contained nor as a violation.
 
 Command line: ``python -m setbound.campaign [--steps N] [--processes 2] [--json FILE]
 [--estimator NAME ...] [--seed SEED] [--max-nx 8] [--scheduler ADDR | --scheduler-file PATH]``.
@@ -42,7 +44,8 @@ from .simulation import simulate
 from .system import DescriptorSystem, LinearSystem
 
 __all__ = ["ESTIMATORS", "TAU", "LOOSE", "Case", "CaseResult", "RandomSystem", "random_system", "random_case", "run_case",
-           "run_campaign", "campaign_case", "format_table", "ellipsoid_excess", "box_excess", "zonotope_excess", "czono_excess",
+           "run_campaign", "campaign_case", "format_table", "ellipsoid_excess", "box_excess", "zonotope_excess",
+           "parallelotope_excess", "czono_excess",
            "simulation_error_bound", "main"]
 
 #: Relative allowance of the containment checks: a point counts as contained when it lies in the
@@ -241,6 +244,195 @@ def zonotope_excess(c, G, x, delta) -> float:
             if bool(Zonotope(c, Gd).contains(x, rel_tol=TAU)):
                 return -TAU
     return excess
+
+
+def _exact_inverse(T):
+    """The exact inverse of the float matrix ``T`` (its entries taken as the rationals they are), as
+    rows of :class:`fractions.Fraction`; None when ``T`` is singular."""
+    from fractions import Fraction
+
+    n = T.shape[0]
+    M = [[Fraction(float(T[i, j])) for j in range(n)] + [Fraction(int(i == j)) for j in range(n)] for i in range(n)]
+    for col in range(n):
+        piv = max(range(col, n), key=lambda i: abs(M[i][col]))
+        if M[piv][col] == 0:
+            return None
+        M[col], M[piv] = M[piv], M[col]
+        inv = 1 / M[col][col]
+        M[col] = [v * inv for v in M[col]]
+        for i in range(n):
+            f = M[i][col]
+            if i != col and f:
+                Mc = M[col]
+                M[i] = [a - f * b for a, b in zip(M[i], Mc)]
+    return [row[n:] for row in M]
+
+
+def parallelotope_excess(c, T, r, x, delta) -> float:
+    """``t* − (1 + TAU)`` for the parallelotope ``c + T [−1, 1]^n`` (``T`` square) plus the axis box
+    ``[−r, r]``, decided in exact rational arithmetic: ``t*`` is the smallest ``t`` with
+    ``x ∈ c + t (T B^n ⊕ [−r, r]) ⊕ [−δ, δ]``. Positive means a violation, ``nan`` that the test
+    could not decide (never counted as contained nor as a violation).
+
+    A general LP or a least-squares residual cannot decide membership when ``T`` is
+    ill-conditioned (the campaign met cond(T) ≈ 1e17: ROPO's parallelotope of a diverging
+    interval-hull recursion). Here every answer carries a certificate evaluated exactly:
+
+    * *inside*: a point ``ξ`` with ``T ξ + η + e = x − c`` (``|η_i| ≤ t r_i``, ``|e_i| ≤ δ_i``) gives
+      ``t* ≤ max(‖ξ‖∞, max_i |η_i| / r_i)``; ``ξ`` is the floating-point solve with its residual bounded
+      rigorously (Higham's γ), or else the exact ``T⁻¹(x − c)`` (rationals), or else the point of a
+      linear program in the coordinates ``T⁻¹ x``, re-evaluated exactly;
+    * *outside*: a direction ``h`` gives ``t* ≥ (|hᵀ(x − c)| − |h|ᵀδ) / (Σ_j |hᵀt_j| + |h|ᵀ r)``, evaluated
+      exactly; the directions tried are the facet normals (rows of the exact ``T⁻¹``) and the dual
+      direction of that linear program.
+
+    The returned excess is the certified upper bound when it is ≤ 0, the certified lower bound
+    when that is > 0, and ``nan`` when neither decides. A singular ``T`` (a flat parallelotope) is
+    handed to :func:`zonotope_excess` with the box as generators.
+
+    Parameters
+    ----------
+    c : ndarray, shape (n,)
+        Centre.
+    T : ndarray, shape (n, n)
+        Generators of the parallelotope.
+    r : ndarray, shape (n,)
+        Radii of the axis box (zeros when there is none).
+    x : ndarray, shape (n,)
+        The true state.
+    delta : ndarray, shape (n,)
+        Bound of the simulation error (:func:`simulation_error_bound`).
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from setbound.campaign import parallelotope_excess
+    >>> T = np.array([[1.0, 1.0], [0.0, 1e-12]])
+    >>> z = np.zeros(2)
+    >>> parallelotope_excess(z, T, z, np.array([2.0, 1e-12]), z) <= 0
+    True
+    >>> parallelotope_excess(z, T, z, np.array([2.0, 1.1e-12]), z) > 0
+    True
+    """
+    from fractions import Fraction
+
+    c, T, x = np.asarray(c, float), np.asarray(T, float), np.asarray(x, float)
+    n = c.size
+    r = np.broadcast_to(np.asarray(r, float), (n,))
+    delta = np.broadcast_to(np.asarray(delta, float), (n,))
+    if T.shape != (n, n) or x.shape != (n,):
+        raise ValueError(f"T: expected shape ({n}, {n}) and x of length {n}, got {T.shape} and {x.shape}")
+    if np.isnan(c).any() or np.isnan(T).any() or np.isnan(r).any():
+        return math.inf  # a NaN set is never an answer
+    if not (np.all(np.isfinite(c)) and np.all(np.isfinite(T)) and np.all(np.isfinite(r))):
+        return math.nan  # an overflowed set: not decided here
+    if np.any(r < 0) or np.any(delta < 0) or not np.all(np.isfinite(delta)):
+        raise ValueError("r, delta: expected finite non-negative radii")
+    lim = 1 + TAU
+    fuzz = 1 + 16 * _U  # the float evaluation of the bound of step 1 itself
+
+    def bound_from(xi, res_abs):
+        # t with |ξ|∞ <= t and |residual| <= t r + δ (inf when a row without box is not covered)
+        need = res_abs - delta
+        t = float(np.max(np.abs(xi)))
+        for i in np.flatnonzero(need > 0):
+            t = max(t, need[i] / r[i]) if r[i] > 0 else math.inf
+        return t
+
+    # 1. the floating-point solve, its residual bounded rigorously (γ of the dot products and the
+    #    subtractions; any summation order).
+    d = x - c
+    with np.errstate(all="ignore"):
+        try:
+            xi = np.linalg.solve(T, d)
+        except np.linalg.LinAlgError:
+            xi = None
+        if xi is not None and np.all(np.isfinite(xi)):
+            res = d - T @ xi
+            err = _gamma(n + 3) * (np.abs(x) + np.abs(c) + np.abs(T) @ np.abs(xi) + np.abs(res))
+            t = bound_from(xi, (np.abs(res) + err) * (1 + 4 * _U)) * fuzz
+            if t <= lim:
+                return t - lim
+    # 2. exact: z = T⁻¹(x − c) and the facet normals.
+    M = _exact_inverse(T)
+    if M is None:  # a flat parallelotope (ROPO pads T with zero columns): the general zonotope test
+        keep = np.any(T != 0, axis=0)
+        return zonotope_excess(c, np.hstack([T[:, keep], np.diag(r)[:, r > 0]]), x, delta)
+    F = Fraction
+    limq = 1 + F(TAU)
+
+    def inside(t):  # t <= limq exactly: the excess as a float <= 0
+        return float(t - limq)
+
+    def outside(t):  # t > limq exactly: the excess as a float > 0
+        return max(float(t - limq), 5e-324)
+
+    dq = [F(float(a)) - F(float(b)) for a, b in zip(x, c)]
+    rq = [F(float(v)) for v in r]
+    deltaq = [F(float(v)) for v in delta]
+    z = [sum((m * e for m, e in zip(row, dq)), F(0)) for row in M]
+    U = max(abs(v) for v in z)  # ξ = z, η = e = 0
+    if U <= limq:
+        return inside(U)
+    if any(v > 0 for v in rq):
+        # ξ = s z, η = (1 − s)(x − c) with s = B / (U + B), B = max_i |x_i − c_i| / r_i: the box takes
+        # a share of the residual (t* <= U B / (U + B)); a row without box must have x_i = c_i.
+        if all(v > 0 or di == 0 for v, di in zip(rq, dq)):
+            B = max(abs(di) / v for v, di in zip(rq, dq) if v > 0)
+            tq = U * B / (U + B)
+            if tq <= limq:
+                return inside(tq)
+
+    L = F(0)
+    for i in range(n):
+        # the facet normal m_i (row i of T⁻¹): hᵀt_j = [i = j], so the denominator is 1 + |m_i|ᵀ r
+        m = M[i]
+        num = abs(z[i]) - sum((abs(a) * b for a, b in zip(m, deltaq)), F(0))
+        L = max(L, num / (1 + sum((abs(a) * b for a, b in zip(m, rq)), F(0))))
+    if L > limq:
+        return outside(L)
+    # 3. undecided by the facets: an LP in the coordinates z (ξ = z − M(η + e)), its point and its
+    #    dual direction re-evaluated exactly.
+    from scipy.optimize import linprog
+
+    Mf = np.array([[float(v) for v in row] for row in M])
+    zf = np.array([float(v) for v in z])
+    # variables (η, e, t): min t s.t. |zf − Mf(η + e)| <= t, |η_i| <= t r_i, |e_i| <= δ_i
+    cost = np.zeros(2 * n + 1)
+    cost[-1] = 1.0
+    one = np.ones((n, 1))
+    I, Z0 = np.eye(n), np.zeros((n, n))
+    A_ub = np.block([[-Mf, -Mf, -one], [Mf, Mf, -one], [I, Z0, -r[:, None]], [-I, Z0, -r[:, None]]])
+    b_ub = np.concatenate([-zf, zf, np.zeros(2 * n)])
+    bounds = [(None, None)] * n + [(-float(v), float(v)) for v in delta] + [(0, None)]
+    sol = linprog(cost, A_ub=A_ub, b_ub=b_ub, bounds=bounds, method="highs")
+    if sol.status == 0:
+        eta = np.where(r > 0, sol.x[:n], 0.0)
+        e = np.clip(sol.x[n:2 * n], -delta, delta)
+        w = [F(float(a)) + F(float(b)) for a, b in zip(eta, e)]
+        xi_q = [zi - sum((m * v for m, v in zip(row, w)), F(0)) for zi, row in zip(z, M)]
+        tq = max(abs(v) for v in xi_q)
+        for i in range(n):
+            if r[i] > 0:
+                tq = max(tq, abs(F(float(eta[i]))) / rq[i])
+        if tq <= limq:
+            return inside(tq)
+        # the dual of the first two blocks: a direction g in z-space, h = Mᵀ g in x-space
+        g = sol.ineqlin.marginals[n:2 * n] - sol.ineqlin.marginals[:n]
+        if np.all(np.isfinite(g)) and np.any(g != 0):
+            gq = [F(float(v)) for v in g]
+            h = [sum((gq[k] * M[k][i] for k in range(n)), F(0)) for i in range(n)]
+            # the support of t (T B ⊕ [−r, r]) ⊕ [−δ, δ] in the direction h, exactly
+            ht = [sum((h[i] * F(float(T[i, j])) for i in range(n)), F(0)) for j in range(n)]
+            den = sum((abs(v) for v in ht), F(0)) + sum((abs(a) * b for a, b in zip(h, rq)), F(0))
+            num = abs(sum((a * b for a, b in zip(h, dq)), F(0))) - sum((abs(a) * b for a, b in zip(h, deltaq)), F(0))
+            if den > 0 and num / den > limq:
+                return outside(num / den)
+    return math.nan
 
 
 def czono_excess(Z: ConstrainedZonotope, x, delta) -> float:
@@ -566,6 +758,8 @@ class CaseResult:
         Steps not counted.
     false_alarms : int, optional
         Readings flagged as impossible on fault-free data (must stay 0).
+    undecided : int, optional
+        Steps the membership test could not decide (not counted in ``steps``).
     step_offset : int, optional
         ``r · (N + 1)`` while run ``r`` of a multi-run case is checked.
     command_options : str, optional
@@ -587,6 +781,9 @@ class CaseResult:
     #: Verified steps at which the estimator reported an impossible reading (setbound.measurement)
     #: although the data are fault-free: a false alarm is a bug in the guarantee.
     false_alarms: int = 0
+    #: Steps whose membership test could not decide (:func:`parallelotope_excess` returned nan):
+    #: not counted in ``steps``, never counted as contained.
+    undecided: int = 0
     step_offset: int = 0  # r · (N + 1) while run r of a multi-run case is checked
 
     command_options: str = ""
@@ -662,6 +859,9 @@ def _check_boxes(lo, hi, x, delta, res: CaseResult, flagged=None):
 
 
 def _record(res: CaseResult, k: int, e: float):
+    if math.isnan(e):  # the membership test could not decide: neither contained nor a violation
+        res.undecided += 1
+        return
     res.steps += 1
     if e > res.max_excess:
         res.max_excess = e
@@ -797,13 +997,37 @@ def _run_zonotopic(case: Case, res: CaseResult, rng):
     delta = _delta(A_abs, sim.x, system.E, sim.omega, s.A)
     traj = est.run(sim.y)
     flagged = traj.flagged
+    n = s.nx
     for k, Z in enumerate(traj.sets):
         d = delta[k]
         if not (np.all(np.isfinite(d)) and np.all(d <= LOOSE * np.abs(Z.generators).sum(axis=1))):
             res.unverified += 1
             continue
-        _record(res, k, zonotope_excess(Z.center, Z.generators, sim.x[k], d))
+        split = _parallelotope_and_box(Z.generators, n) if case.estimator == "ropo" else None
+        if split is not None:
+            # ROPO's set: its n × n parallelotope (ill-conditioned when the interval-hull recursion
+            # diverges) and the rounding box after it; decided exactly.
+            e = parallelotope_excess(Z.center, split[0], split[1], sim.x[k], d)
+        else:
+            e = zonotope_excess(Z.center, Z.generators, sim.x[k], d)
+        _record(res, k, e)
         res.false_alarms += int(flagged[k])
+
+
+def _parallelotope_and_box(G, n: int):
+    """``(T, r)`` when ``G = [T, axis-aligned columns]`` with ``T`` n × n (ROPO's
+    :meth:`~setbound.parallelotope.ParallelotopeEstimator.current_set`), ``r`` the box radii
+    rounded up; None otherwise."""
+    G = np.asarray(G, float)
+    if G.shape[0] != n or G.shape[1] < n:
+        return None
+    B = G[:, n:]
+    if np.any(np.count_nonzero(B, axis=0) > 1):
+        return None
+    k = np.count_nonzero(B, axis=1)
+    r = np.abs(B).sum(axis=1)
+    r = np.where(k > 1, r * (1 + (k + 1) * _U), r)  # several columns in a row: their sum rounded up
+    return G[:, :n], r
 
 
 def _run_constrained_zonotopic(case: Case, res: CaseResult, rng):
@@ -1127,7 +1351,7 @@ def run_campaign(estimators=None, steps: int = 100_000, *, processes: int = 2, s
             t0 = time.monotonic()
             summ = {"systems": 0, "design_failed": 0, "step_failed": 0, "reasons": {}, "steps": 0, "violations": [],
                     "max_excess": -math.inf, "nx_max": 0, "families": {}, "seeds": [seed0, seed0], "unverified": 0,
-                    "false_alarms": 0, "crashed": [], "resumed_cases": 0}
+                    "undecided": 0, "false_alarms": 0, "crashed": [], "resumed_cases": 0}
             done = set()
             for r in previous.get(name, ()):
                 _accumulate(summ, r)
@@ -1209,6 +1433,7 @@ def _accumulate(summ: dict, r: dict) -> None:
         summ["reasons"][key] = summ["reasons"].get(key, 0) + 1
     summ["steps"] += r["steps"]
     summ["unverified"] += r["unverified"]
+    summ["undecided"] = summ.get("undecided", 0) + r.get("undecided", 0)  # records before it had no field
     summ["false_alarms"] += r["false_alarms"]
     summ["nx_max"] = max(summ["nx_max"], r["nx"] if r["steps"] else 0)
     if r["steps"]:
@@ -1279,7 +1504,7 @@ def main(argv=None) -> int:
         for name in a.estimator or list(ESTIMATORS):
             r = run_case(name, a.seed, a.max_nx, a.max_steps)
             print(f"{name} seed={a.seed} nx={r.nx} family={r.family} disturbance={r.disturbance} "
-                  f"options={r.options} status={r.status} steps={r.steps} unverified={r.unverified} "
+                  f"options={r.options} status={r.status} steps={r.steps} unverified={r.unverified} undecided={r.undecided} "
                   f"max_excess={r.max_excess:.3e} false_alarms={r.false_alarms}"
                   + (f" reason={r.reason}" if r.reason else ""))
             for k, e in r.violations:
@@ -1290,7 +1515,7 @@ def main(argv=None) -> int:
 
     def progress(name, s):
         print(f"{name}: {s['steps']} steps, {s['systems']} systems ({s['design_failed']} designs failed), "
-              f"{len(s['violations'])} violations, max excess {s['max_excess']:.2e}, {s['unverified']} unverified "
+              f"{len(s['violations'])} violations, max excess {s['max_excess']:.2e}, {s['unverified']} unverified, {s.get('undecided', 0)} undecided "
               f"({s['seconds']} s)",
               file=sys.stderr, flush=True)
 
@@ -1306,7 +1531,8 @@ def main(argv=None) -> int:
     total = time.monotonic() - t0
     print(f"total {total:.0f} s, {sum(s['steps'] for s in summary.values())} steps, "
           f"{sum(len(s['violations']) for s in summary.values())} violations, "
-          f"{sum(s['false_alarms'] for s in summary.values())} false alarms")
+          f"{sum(s['false_alarms'] for s in summary.values())} false alarms, "
+          f"{sum(s.get('undecided', 0) for s in summary.values())} undecided steps")
     for name, s in summary.items():
         for v in s["violations"][:5]:
             print(f"VIOLATION {name} seed={v['seed']} step={v['step']} excess={v['excess']:.3e}: {v['reproduce']}")

@@ -28,6 +28,7 @@ def test_no_containment_violation(short_campaign, name):
     assert s["max_excess"] <= 0.0
     # fault-free data: an impossible reading reported by an estimator would be a false alarm
     assert s["false_alarms"] == 0
+    assert s["undecided"] == 0  # every checked step was decided (parallelotope_excess)
 
 
 def test_the_checks_detect_a_point_outside():
@@ -138,3 +139,83 @@ def test_regression_design_certified_by_raising_beta():
     r = campaign.run_case("ell_online_vertex", 1, max_steps=60)
     assert r.status == "ok" and r.steps > 0, r.reason
     assert not r.violations, r.reproduce()
+
+
+def _ropo_case_sets(seed):
+    # the sets, true states and simulation-error bounds of run_case("ropo", seed), as _run_zonotopic
+    # builds them
+    from setbound import parallelotope
+    from setbound.sets import Zonotope
+    from setbound.simulation import simulate
+
+    case = campaign.random_case("ropo", seed)
+    s = case.system
+    rng = np.random.default_rng([seed, 1000 + campaign.ESTIMATORS["ropo"].index])
+    system = s.linear_system()
+    lo, hi = campaign._x0_box(s, rng)
+    x0 = Zonotope(0.5 * (lo + hi), np.diag(0.5 * (hi - lo)))
+    est = parallelotope.ParallelotopeEstimator(system, x0, reduction=case.options["reduction"])
+    sim = simulate(system, x0, case.N, disturbance=case.disturbance, rng=rng)
+    delta = campaign._delta(np.abs(s.A), sim.x, system.E, sim.omega, s.A)
+    return s.nx, est.run(sim.y).sets, sim.x, delta
+
+
+def test_regression_ropo_ill_conditioned_parallelotope_is_decided_exactly():
+    # ROPO seed 22045 (n_x = 8, ill_stable, girard, vertex noise): the interval-hull recursion
+    # diverges (rho(|A|) = 1.31 > 1 with one output; CORA's recursion in 60 digits does the same),
+    # the parallelotope reaches 1e53 with cond(T) ~ 1e17-1e18. The general LP check failed from
+    # step 204 on and reported 594 "violations" (excess inf). The exact parallelotope test decides
+    # every step: the true state is inside at all 798 steps.
+    r = campaign.run_case("ropo", 22045)
+    assert r.status == "ok" and r.nx == 8 and r.family == "ill_stable"
+    assert r.steps == 798 and r.unverified == 0 and r.undecided == 0
+    assert not r.violations and r.max_excess <= 0, r.reproduce()
+    n, sets, x, delta = _ropo_case_sets(22045)
+
+    def excess(k, center_shift=0.0, scale=1.0):
+        T, rad = campaign._parallelotope_and_box(sets[k].generators, n)
+        assert np.linalg.cond(T) > (1e15 if k >= 150 else 1e3)
+        return campaign.parallelotope_excess(sets[k].center + center_shift, T * scale, rad * scale, x[k], delta[k])
+
+    for k in (150, 190, 204, 500, 797):
+        assert excess(k) <= 0
+    # The check stays honest on the same ill-conditioned sets: a set moved off the truth by 1.5
+    # times its interval hull is flagged, and so are sets shrunk about their centre where the
+    # truth lies near the boundary (vertex noise).
+    for k in (150, 204, 797):
+        T, rad = campaign._parallelotope_and_box(sets[k].generators, n)
+        shift = 1.5 * (np.abs(T).sum(axis=1) + rad) * np.where(np.arange(n) % 2, 1.0, -1.0)
+        assert excess(k, center_shift=shift) > 0
+    assert excess(0, scale=1 - 1e-6) > 0
+    assert excess(150, scale=0.9) > 0.09  # t* >= 1/0.9 up to δ
+    assert excess(190, scale=0.1) > 0
+    # and ROPO itself: the set with its rounding box contains the truth at every step
+    assert all(excess(k) <= 0 for k in range(0, len(sets), 13))
+
+
+def test_parallelotope_check_decides_each_way():
+    z = np.zeros(2)
+    # cond 1e12, no box: the float solve's residual cannot be certified, the exact solve decides
+    T = np.array([[1.0, 1.0], [0.0, 1e-12]])
+    assert campaign.parallelotope_excess(z, T, z, np.array([2.0, 1e-12]), z) <= 0
+    assert campaign.parallelotope_excess(z, T, z, np.array([2.0, 1e-12 * (1 + 1e-6)]), z) > 0
+    assert campaign.parallelotope_excess(z, T, z, np.array([2.0 + 1e-6, 1e-12]), z) > 0
+    # a diamond plus a box (an octagon: |x1|, |x2| <= 1.5, |x1| + |x2| <= 2): points the diamond's
+    # facet normals do not decide need the LP's point (inside) or its dual direction (outside)
+    D = np.array([[0.5, 0.5], [-0.5, 0.5]])
+    rad = np.array([0.5, 0.5])
+    assert campaign.parallelotope_excess(z, D, rad, np.array([1.45, 0.5]), z) <= 0  # t* = 0.975
+    assert campaign.parallelotope_excess(z, D, rad, np.array([1.6, 0.0]), z) == pytest.approx(1.6 / 1.5 - 1, rel=1e-6)
+    assert campaign.parallelotope_excess(z, D, rad, np.array([1.2, 0.9]), z) > 0  # beyond |x1| + |x2| <= 2
+    # the simulation-error box widens the set by exactly δ
+    assert campaign.parallelotope_excess(z, D, rad, np.array([1.6, 0.0]), np.array([0.1, 0.0])) <= 0
+    # a NaN set is never an answer; a flat parallelotope goes to the general zonotope test
+    assert campaign.parallelotope_excess(z, np.full((2, 2), np.nan), z, z, z) == np.inf
+    flat = np.array([[1.0, 0.0], [1.0, 0.0]])
+    assert campaign.parallelotope_excess(z, flat, z, np.array([0.5, 0.5]), z) <= 0
+    assert campaign.parallelotope_excess(z, flat, z, np.array([0.5, 0.0]), z) > 0
+    # an undecided step (nan) is counted apart: neither contained nor a violation
+    res = campaign.CaseResult("ropo", 0, 2, "stable", "uniform", "ok")
+    campaign._record(res, 0, float("nan"))
+    campaign._record(res, 1, -0.5)
+    assert (res.steps, res.undecided, res.violations) == (1, 1, [])

@@ -279,3 +279,89 @@ def test_rts_by_coras_name_returns_points(alg):
     assert np.sqrt(np.mean((r.lower - b.truth[:50]) ** 2)) < 1.0
     with pytest.raises(InvalidArgumentError, match="takes no options"):
         cora.observe(b, alg, steps=5, reduction="pca")
+
+
+def _ropo_case_22045():
+    # the system, initial set and readings of the guarantee campaign's ROPO case seed 22045
+    # (n_x = 8, ill-conditioned stable, one output, vertex noise; python -m setbound.campaign
+    # --estimator ropo --seed 22045)
+    from setbound import campaign
+    from setbound.simulation import simulate
+
+    case = campaign.random_case("ropo", 22045)
+    s = case.system
+    rng = np.random.default_rng([22045, 1000 + campaign.ESTIMATORS["ropo"].index])
+    system = s.linear_system()
+    lo, hi = campaign._x0_box(s, rng)
+    x0 = setbound.Zonotope(0.5 * (lo + hi), np.diag(0.5 * (hi - lo)))
+    sim = simulate(system, x0, case.N, disturbance=case.disturbance, rng=rng)
+    return s, system, x0, sim
+
+
+def test_ropo_girard_divergence_on_a_stable_system_is_the_method():
+    """Campaign case seed 22045: A is Schur stable (ρ(A) = 0.92) but ρ(|A|) = 1.31 (a diagonal
+    similarity spreads the entries over 1e-4 … 1e4) and one output. Girard's order-1 reduction
+    replaces the predicted set by its interval hull at every step, so the one strip per step cannot
+    stop the box from growing: the parallelotope grows by ≈ 1.17 per step to 1e53 (cond(T) ~ 1e17).
+    This is CORA's recursion itself, not its rounding: the Cora convention (CORA's arithmetic) and
+    the guaranteed one grow alike, and CORA's recursion in 60-digit arithmetic gives the same
+    widths. PCA's oriented box keeps the set bounded on the same data. (Containment at every step:
+    tests/python/test_campaign.py, decided exactly.)"""
+    import mpmath as mp
+
+    s, system, x0, sim = _ropo_case_22045()
+    assert max(abs(np.linalg.eigvals(s.A))) < 0.95 < 1.3 < max(abs(np.linalg.eigvals(np.abs(s.A))))
+    width = {}
+    for red in ("girard", "pca"):
+        for conv in ("setbound", "cora"):
+            t = ParallelotopeEstimator(system, x0, reduction=red, convention=conv).run(sim.y)
+            width[red, conv] = np.array([np.abs(Z.generators).sum(axis=1).max() for Z in t.sets])
+    g, gc = width["girard", "setbound"], width["girard", "cora"]
+    assert g[200] > 1e14 and g[-1] > 1e50
+    rate = (g[300] / g[100]) ** (1 / 200)
+    assert 1.1 < rate < 1.25 and abs((gc[300] / gc[100]) ** (1 / 200) / rate - 1) < 1e-3
+    assert np.all(np.abs(g[100:] / gc[100:] - 1) < 0.05)
+    for conv in ("setbound", "cora"):
+        assert width["pca", conv][100:].max() < 1e3
+
+    # CORA's priv_observe_ROPO recursion (S' indexing, girard) in 60 digits
+    mp.mp.dps = 60
+    n = s.nx
+    A, E = mp.matrix(s.A.tolist()), mp.matrix(system.E.tolist())
+    sig = mp.mpf(float(np.abs(system.F).sum()))
+    p = mp.matrix([mp.mpf(float(v)) / sig for v in system.C[0]])
+    th, G = mp.matrix(x0.center.tolist()), mp.matrix(x0.generators.tolist())
+    for k in range(1, 121):
+        th, Gp = A * th, A * G
+        T = mp.zeros(n, n)
+        for i in range(n):  # reduce(·, 'girard', 1): the interval hull
+            T[i, i] = sum(abs(Gp[i, j]) for j in range(Gp.cols)) + sum(abs(E[i, j]) for j in range(E.cols))
+        c = mp.mpf(float(sim.y[k, 0])) / sig
+        dots = []
+        for j in range(n):
+            if (p.T * T[:, j])[0] < 0:
+                T[:, j] = -T[:, j]
+            dots.append((p.T * T[:, j])[0])
+        d = (p.T * th)[0] - c
+        E0p, E0n = d + sum(dots), d - sum(dots)
+        rop, ron = min(1, E0p), min(1, -E0n)
+        pn, cn = 2 * p / (rop + ron), 2 / (rop + ron) * (c + (rop - ron) / 2)
+        for j in range(n):
+            rp, rn = (1, 1) if dots[j] == 0 else (min(1, (1 - E0n) / dots[j] - 1), min(1, (1 + E0p) / dots[j] - 1))
+            th += (rp - rn) / 2 * T[:, j]
+            T[:, j] *= (rp + rn) / 2
+        vals = [(pn.T * (p / (p.T * p)[0]))[0]] + [(pn.T * T[:, j])[0] for j in range(n)]
+        best = max(range(n + 1), key=lambda i: (vals[i], -i))  # the first maximiser
+        if best > 0:
+            tj = T[:, best - 1]
+            kap = 1 / (pn.T * tj)[0]
+            th = th + kap * tj * (cn - (pn.T * th)[0])
+            G = mp.zeros(n, n)
+            for j in range(n):
+                G[:, j] = kap * tj if j == best - 1 else T[:, j] - kap * (pn.T * T[:, j])[0] * tj
+        else:
+            G = T
+        if k in (60, 120):
+            w = max(sum(abs(G[i, j]) for j in range(n)) for i in range(n))
+            assert abs(float(w) / gc[k] - 1) < 1e-6, (k, float(w), gc[k])
+    assert gc[120] > 1e9
