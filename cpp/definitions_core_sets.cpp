@@ -12,6 +12,7 @@
 #include "setbound/sets/impl/ellipsoid.ipp"
 #include "setbound/sets/impl/strip.ipp"
 #include "setbound/sets/impl/zonotope_reduction.ipp"
+#include "setbound/sets/impl/generator_kernels.ipp"
 #include "setbound/sets/impl/zonotope.ipp"
 #include "setbound/sets/impl/box_lp.ipp"
 #include "setbound/sets/impl/constrained_zonotope.ipp"

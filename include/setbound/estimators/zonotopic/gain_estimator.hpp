@@ -48,6 +48,7 @@
 #include "setbound/core/state.hpp"
 #include "setbound/core/validate.hpp"
 #include "setbound/estimators/measurement_check.hpp"
+#include "setbound/sets/generator_kernels.hpp"
 #include "setbound/sets/strip.hpp"
 #include "setbound/sets/zonotope.hpp"
 
@@ -247,47 +248,6 @@ class ZonotopicEstimator {
   /// Strip by strip on the explicit generator matrix, for gain rules that need the set.
   Eigen::Index explicit_strips(Mat& W, Eigen::Index m, const Eigen::Ref<const Vec>& y,
                                const Eigen::Ref<const Vec>& u);
-
-  /// Removes exactly-zero columns of W (keeping the order) when `drop_zeros`, and sets
-  /// w = rs|W|, rounded up. Fixed-size column kernels for n <= 8.
-  Eigen::Index compact_and_sum(Mat& W, Eigen::Index m, Vec& w, bool drop_zeros = true) const;
-  template <int N>
-  Eigen::Index compact_and_sum_impl(Mat& W, Eigen::Index m, Vec& w, bool drop_zeros) const {
-    using Col = Eigen::Matrix<double, N, 1>;
-    const Eigen::Index n = n_;
-    // A fixed-size accumulator lives in registers; a dynamic one is w itself (no allocation).
-    Col acc_fixed;
-    if constexpr (N != Eigen::Dynamic) acc_fixed.setZero();
-    else w.setZero();
-    auto& acc = [&]() -> auto& {
-      if constexpr (N != Eigen::Dynamic) return acc_fixed;
-      else return w;
-    }();
-    double* const base = W.data();
-    Eigen::Index k = 0;
-    for (Eigen::Index j = 0; j < m; ++j) {
-      const Eigen::Map<const Col> col(base + j * n, n);
-      acc += col.cwiseAbs();
-      if (drop_zeros && (col.array() == 0.0).all()) continue;
-      if (k != j) Eigen::Map<Col>(base + k * n, n) = col;  // k < j: no overlap
-      ++k;
-    }
-    const double infl = 1.0 + static_cast<double>(k + 2) * std::numeric_limits<double>::epsilon();
-    if constexpr (N != Eigen::Dynamic) w = acc_fixed * infl;
-    else w *= infl;
-    return k;
-  }
-
-  /// W.leftCols(m) = T G.leftCols(m); fixed-size kernels for n <= 8 (Eigen's blocked product
-  /// packs its operands, which costs more than the product for a few rows).
-  static void product(const Mat& T, const Mat& G, Mat& W, Eigen::Index m);
-  template <int N>
-  static void small_product(const Mat& T, const Mat& G, Mat& W, Eigen::Index m) {
-    const Eigen::Matrix<double, N, N> Tf = T;
-    Eigen::Map<const Eigen::Matrix<double, N, Eigen::Dynamic>> Gm(G.data(), N, m);
-    Eigen::Map<Eigen::Matrix<double, N, Eigen::Dynamic>> Wm(W.data(), N, m);
-    Wm.noalias() = Tf.lazyProduct(Gm);
-  }
 
   // ---- prediction of the next prior from the current set ----------------------------------
   void predict_prior(const Eigen::Ref<const Vec>& u);

@@ -27,6 +27,14 @@
 // (zonotope_reduction.hpp), and a box above 1e-6 of the set's largest radius becomes
 // generators. CORA's generator counts and choices are therefore unchanged.
 //
+// Cost: one n × n map per step. A filter keeps its prior implicit (A·X̂_{k−1} ⊕ B u ⊕ E) and
+// composes the prediction and the strips into one map T (K A for S-II, K_q…K_1 A for S-I) and
+// the new columns N, so the n × m generators are touched once (T G) instead of four times;
+// the gains come from the n × n Gram matrix S = G Gᵀ kept with the current set (R̄ = A S Aᵀ +
+// E Eᵀ), never from products with G. The rounding of T, N and the centre are carried as bounds
+// dT, dN, e and land in the box: |T_exact − T| <= dT gives dT (rs|G| + r) + |T| (γ rs|G| + r).
+// Bravo's candidates need the prior's columns: it keeps the explicit prior.
+//
 // Conventions (Convention): Setbound (default) runs the papers' algorithms; Cora
 // reproduces CORA's behaviour where it differs and stays guaranteed:
 //   * FRad-B (§2.4): Cora builds the gain from A P Aᵀ + G_W G_Wᵀ with P = G Gᵀ of the
@@ -50,6 +58,7 @@
 #include "setbound/core/linear_system.hpp"
 #include "setbound/core/state.hpp"
 #include "setbound/estimators/measurement_check.hpp"
+#include "setbound/sets/generator_kernels.hpp"
 #include "setbound/sets/zonotope.hpp"
 #include "setbound/sets/zonotope_reduction.hpp"
 
@@ -142,9 +151,14 @@ class ZonotopicObserver {
 
   void setup();
   void load_initial();
+  /// Whether the filter keeps its prior implicit (A·X̂ ⊕ E, composed with the strips into one
+  /// map per step): every strip-based rule but Bravo, whose candidates need the prior's columns.
+  bool lazy_prior() const { return is_filter() && opt_.rule != ZonotopicRule::Bravo; }
   /// y_i − D_i u for the present outputs and their half-widths (widened by that rounding).
   void shifted(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, std::vector<Eigen::Index>& rows,
                Vec& ys, Vec& sig) const;
+
+  // ---- explicit sets (the filter's first step from x0, and Bravo) --------------------------
   /// The strip update of X with weight Lam (n × q) on rows `rows` (values ys, half-widths sig);
   /// with `replace` >= 0 the new column (q = 1) takes the place of that column of G (Bravo).
   static void strip_update(Set& X, const Mat& Lam, const Mat& CS, const Vec& ys, const Vec& sig,
@@ -155,31 +169,59 @@ class ZonotopicObserver {
                      const Vec& dN);
   /// The Bravo candidate for one strip: λ (zero: Z itself) and the column it replaces (−1).
   Eigen::Index bravo_choice(const Set& X, const Eigen::Ref<const Vec>& c, double y, double sig, Vec& lam) const;
-  /// Drops zero columns, turns a large box into generators, reduces when above the limit.
-  void finish_set(Set& X, bool reduce);
-  void hull(const Set& X);
   /// The strip-based correction of X with y_k; the weight used goes to `gain` (n × n_y).
   void correct(Set& X, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, Mat& gain) const;
   void predict(Set& X, const Eigen::Ref<const Vec>& u) const;
-  /// The intersection-free step of X with y_k, u_k; the gain used goes to `gain`.
-  void propagate(Set& X, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, Mat& gain) const;
+
+  // ---- one map per step from the current set (no copy, no allocation in the steady state) --
+  /// Filter, k >= 1: the corrected set for x_k straight from the one for x_{k−1}: the prediction
+  /// A and the strips compose into one n × n map T (and the columns N of E and of the strips),
+  /// applied to the generators once. Writes the new set (map_current); returns its column count.
+  Eigen::Index correct_from_current(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, Mat& gain);
+  /// Predictor: the set for x_{k+1} from the current one; returns its column count.
+  Eigen::Index propagate(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, Mat& gain);
+  /// The new set pw_ ⊕ [T G, N_] B ⊕ box(rw_) from the current set p ⊕ G B ⊕ box(r), given the
+  /// computed centre pc_ and the bound ec_ of its error, T with |T − T_exact| <= dT and the
+  /// columns N_ with row sums of their error <= dN_. Returns the column count of W_.
+  Eigen::Index map_current(const Mat& T, const Mat& dT, Eigen::Index nN, double g);
+  /// R = A S Aᵀ + E Eᵀ: the Gram matrix of the (implicit) prior from the current set's.
+  void prior_gram(Mat& R);
+  /// Drops zero columns of the first m of W, turns a large box r into generators, reduces when
+  /// above the limit; w = rs|W| rounded up. W needs room for m + n columns. Returns the count.
+  Eigen::Index finish_set(Mat& W, Eigen::Index m, Vec& r, Vec& w, bool reduce);
+  /// The current set's row sums, Gram matrix (when the rule needs it) and hull.
+  void refresh_current(bool row_sums);
+  void ensure_columns(Mat& M, Eigen::Index cols) const;
   static Mat solve_gain(const Mat& num, const Mat& S);
 
   LinearSystem sys_;
   ZonotopicObserverOptions opt_;
   Zonotope x0_;
   Eigen::Index n_ = 0;
+  bool needs_gram_ = false;
   Mat Enz_;           // non-zero columns of E (strip-based prediction)
   Vec sigma_;         // Σ_j |F_ij| rounded up
   Mat FFt_, EEt_;     // F Fᵀ, E Eᵀ (Wang, Combastel)
+  Mat absA_, absB_, absC_;
+  Vec rsE_;           // rs|Enz|
   std::vector<Eigen::Index> fcols_, ecols_;  // ω columns with F ≠ 0, then those with F = 0, E ≠ 0
 
-  Set prior_, cur_;  // filter: prior = set for x_k before y_k; predictor: cur_ only
+  // filter: prior_ = the set for x_0 before y_0 (and, for Bravo, for x_k before y_k); with a
+  // lazy prior it is A·cur_ ⊕ E after the first step and prior_ is empty. Predictor: cur_ only.
+  Set prior_, cur_;
+  Vec w_cur_;          // rs|cur_.G| rounded up
+  Mat S_cur_;          // cur_.G cur_.Gᵀ (Wang, segment minimisation, Combastel)
   bool has_current_ = false;
   Eigen::Index k_ = 0;
   Vec lo_, hi_;
   Mat gain_last_;
   detail::ReductionWorkspace rws_;
+
+  // Scratch of one step (sized once; the steady state does not allocate).
+  Mat W_, N_, T_, dT_, absT_, R_, RC_, Sq_, CS_, CSA_, CSE_, Lam_, absL_, absCS_, K_, dK_, gainw_;
+  Vec pw_, rw_, ww_, pc_, pn_, ec_, dN_, lam_, al_, t_, v_, sc_, cN_, innov_, yfull_, yabs_, tmp_;
+  std::vector<Eigen::Index> rows_;
+  Vec ys_, sig_;
 };
 
 }  // namespace setbound

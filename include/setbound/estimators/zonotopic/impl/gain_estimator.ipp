@@ -500,7 +500,7 @@ SETBOUND_INLINE void ZonotopicEstimator::correct_and_reduce(const Eigen::Ref<con
       if (mG_ > 0) W.leftCols(mG_) = G().leftCols(mG_);
       rc_ += rA_;
     } else {
-      if (mG_ > 0) product(Tc_, G(), W, mG_);
+      if (mG_ > 0) detail::transform_generators(Tc_, G(), W, mG_);
       absT_ = Tc_.cwiseAbs();
       v_.noalias() = absT_ * rA_;
       t_.noalias() = absT_ * wGA_;
@@ -514,7 +514,7 @@ SETBOUND_INLINE void ZonotopicEstimator::correct_and_reduce(const Eigen::Ref<con
     if (want_S_) Sc_.noalias() = W.leftCols(mW) * W.leftCols(mW).transpose();
   }
   // Drop zero columns (CORA never counts them) and take the row sums of |W|.
-  mW = compact_and_sum(W, mW, wH_);
+  mW = detail::compact_and_sum(W, mW, wH_);
   // A pending box that is no longer negligible becomes generators (counted). On CORA's data
   // it stays below 2e-10 of the largest radius; the threshold only stops a long growth
   // without reductions.
@@ -541,7 +541,7 @@ SETBOUND_INLINE void ZonotopicEstimator::correct_and_reduce(const Eigen::Ref<con
         Sc_ -= rws_.gram;
         Sc_.noalias() += W.middleCols(mW - boxed, boxed) * W.middleCols(mW - boxed, boxed).transpose();
       }
-      mW = compact_and_sum(W, mW, wH_, false);  // no zero columns left; the new row sums
+      mW = detail::compact_and_sum(W, mW, wH_, false);  // no zero columns left; the new row sums
     }
   }
   // Commit the current set (nothing below throws).
@@ -590,7 +590,7 @@ SETBOUND_INLINE Eigen::Index ZonotopicEstimator::materialize_prior(Mat& W, Vec& 
     if (mG_ > 0) W.leftCols(mG_) = G().leftCols(mG_);
     r += rA_;
   } else {
-    if (mG_ > 0) product(T_, G(), W, mG_);
+    if (mG_ > 0) detail::transform_generators(T_, G(), W, mG_);
     const Mat absT = T_.cwiseAbs();
     r = (1.0 + gamma(n_)) * (r + absT * rA_ + gamma(n_) * (absT * (wG_ + rA_)));
   }
@@ -646,34 +646,6 @@ SETBOUND_INLINE Eigen::Index ZonotopicEstimator::explicit_strips(Mat& W, Eigen::
     if (phi > 0 && lambda.cwiseAbs().maxCoeff() > 0) W.col(m++) = phi * lambda;
   }
   return m;
-}
-
-SETBOUND_INLINE Eigen::Index ZonotopicEstimator::compact_and_sum(Mat& W, Eigen::Index m, Vec& w, bool drop_zeros) const {
-  switch (n_) {
-    case 1: return compact_and_sum_impl<1>(W, m, w, drop_zeros);
-    case 2: return compact_and_sum_impl<2>(W, m, w, drop_zeros);
-    case 3: return compact_and_sum_impl<3>(W, m, w, drop_zeros);
-    case 4: return compact_and_sum_impl<4>(W, m, w, drop_zeros);
-    case 5: return compact_and_sum_impl<5>(W, m, w, drop_zeros);
-    case 6: return compact_and_sum_impl<6>(W, m, w, drop_zeros);
-    case 7: return compact_and_sum_impl<7>(W, m, w, drop_zeros);
-    case 8: return compact_and_sum_impl<8>(W, m, w, drop_zeros);
-    default: return compact_and_sum_impl<Eigen::Dynamic>(W, m, w, drop_zeros);
-  }
-}
-
-SETBOUND_INLINE void ZonotopicEstimator::product(const Mat& T, const Mat& G, Mat& W, Eigen::Index m) {
-  switch (T.rows()) {
-    case 1: W.leftCols(m).noalias() = T(0, 0) * G.leftCols(m); return;
-    case 2: return small_product<2>(T, G, W, m);
-    case 3: return small_product<3>(T, G, W, m);
-    case 4: return small_product<4>(T, G, W, m);
-    case 5: return small_product<5>(T, G, W, m);
-    case 6: return small_product<6>(T, G, W, m);
-    case 7: return small_product<7>(T, G, W, m);
-    case 8: return small_product<8>(T, G, W, m);
-    default: W.leftCols(m).noalias() = T * G.leftCols(m);
-  }
 }
 
 SETBOUND_INLINE void ZonotopicEstimator::predict_prior(const Eigen::Ref<const Vec>& u) {

@@ -5,6 +5,7 @@
 
 #include "setbound/estimators/zonotopic/observer.hpp"
 #include "setbound/core/config.hpp"
+#include "setbound/core/symmetric.hpp"
 
 #include <Eigen/LU>
 #include <Eigen/QR>
@@ -69,8 +70,21 @@ SETBOUND_INLINE void ZonotopicObserver::setup() {
   if (nw == 0) sigma_ = Vec::Zero(ny);
   FFt_.noalias() = sys_.F() * sys_.F().transpose();
   EEt_.noalias() = sys_.E() * sys_.E().transpose();
+  absA_ = sys_.A().cwiseAbs();
+  absB_ = sys_.B().cwiseAbs();
+  absC_ = sys_.C().cwiseAbs();
+  rsE_ = Enz_.cols() > 0 ? Vec(Enz_.cwiseAbs().rowwise().sum()) : Vec(Vec::Zero(n_));
+  needs_gram_ = opt_.rule == ZonotopicRule::Wang || opt_.rule == ZonotopicRule::SegmentMin ||
+                opt_.rule == ZonotopicRule::Combastel;
   gain_last_ = Mat::Zero(n_, ny);
+  gainw_ = Mat::Zero(n_, ny);
   lo_ = hi_ = Vec::Zero(n_);
+  // The step's buffers at their steady-state size: the reduction limit, the columns one step
+  // adds (E, one per output) and room for a rounding box turned into generators.
+  const Eigen::Index cap = opt_.max_generators + Enz_.cols() + nw + ny + 2 * n_;
+  W_.resize(n_, cap);
+  N_.resize(n_, Enz_.cols() + nw + ny);
+  detail::reserve_reduction_workspace(rws_, n_, cap);
 }
 
 SETBOUND_INLINE void ZonotopicObserver::load_initial() {
@@ -82,13 +96,15 @@ SETBOUND_INLINE void ZonotopicObserver::load_initial() {
     prior_ = s;
     cur_ = Set{Vec::Zero(n_), Vec::Zero(n_), Mat::Zero(n_, 0)};
     has_current_ = false;
+    w_cur_ = Vec::Zero(n_);
+    S_cur_ = Mat::Zero(n_, n_);
     lo_.setZero();
     hi_.setZero();
   } else {
     prior_ = Set{Vec::Zero(n_), Vec::Zero(n_), Mat::Zero(n_, 0)};
     cur_ = s;
     has_current_ = true;
-    hull(cur_);
+    refresh_current(true);
   }
 }
 
@@ -116,31 +132,59 @@ SETBOUND_INLINE void ZonotopicObserver::update(const Eigen::Ref<const Eigen::Vec
     throw DimensionError("u: expected length " + std::to_string(sys_.nu()) + ", got " + std::to_string(u.size()));
   require_no_infinity(y, "y");
   require_finite(u, "u");
-  Mat gain = Mat::Zero(n_, sys_.ny());
-  if (is_filter()) {
-    Set X = prior_;
-    correct(X, y, u, gain);
-    // CORA's strip-based loop does not reduce the first corrected set (spec §1.3).
-    finish_set(X, !(opt_.convention == Convention::Cora && k_ == 0));
-    Set P = X;
-    predict(P, u);
-    if (!X.p.allFinite() || !X.G.allFinite() || !X.r.allFinite() || !P.p.allFinite() || !P.G.allFinite() ||
-        !P.r.allFinite())
-      throw NumericalError("observer: the set overflowed (non-finite values) at step " + std::to_string(k_));
-    // Commit (nothing below throws but memory).
-    cur_ = std::move(X);
-    prior_ = std::move(P);
+  gainw_.setZero();
+  // The new set is built in pw_ ⊕ W_.leftCols(m) B ⊕ box(rw_); the observer's state is only
+  // written at the end (nothing after the commit throws).
+  Eigen::Index m = 0;
+  if (is_filter() && lazy_prior() && k_ > 0) {
+    m = correct_from_current(y, u, gainw_);
+  } else if (is_filter()) {
+    Set X = prior_;  // explicit: x0 before the first step, and every prior of Bravo
+    correct(X, y, u, gainw_);
+    m = X.G.cols();
+    ensure_columns(W_, m + n_);
+    W_.leftCols(m) = X.G;
+    pw_.swap(X.p);
+    rw_.swap(X.r);
   } else {
-    Set X = cur_;
-    propagate(X, y, u, gain);
-    finish_set(X, true);
-    if (!X.p.allFinite() || !X.G.allFinite() || !X.r.allFinite())
-      throw NumericalError("observer: the set overflowed (non-finite values) at step " + std::to_string(k_));
-    cur_ = std::move(X);
+    m = propagate(y, u, gainw_);
   }
-  gain_last_ = std::move(gain);
+  // CORA's strip-based loop does not reduce the first corrected set (spec §1.3).
+  const bool reduce = !(is_filter() && opt_.convention == Convention::Cora && k_ == 0);
+  m = finish_set(W_, m, rw_, ww_, reduce);
+  // ww_ = rs|W| is finite exactly when every generator is.
+  if (!pw_.allFinite() || !rw_.allFinite() || !ww_.allFinite())
+    throw NumericalError("observer: the set overflowed (non-finite values) at step " + std::to_string(k_));
+  Set P;
+  if (is_filter() && !lazy_prior()) {
+    P = Set{pw_, rw_, W_.leftCols(m)};
+    predict(P, u);
+    if (!P.p.allFinite() || !P.G.allFinite() || !P.r.allFinite())
+      throw NumericalError("observer: the set overflowed (non-finite values) at step " + std::to_string(k_));
+  }
+  // Commit (nothing below throws but memory; same sizes as the last step: no allocation).
+  cur_.p.swap(pw_);
+  cur_.r.swap(rw_);
+  cur_.G = W_.leftCols(m);
+  w_cur_.swap(ww_);
+  if (is_filter() && !lazy_prior()) {
+    prior_ = std::move(P);
+  } else if (is_filter()) {
+    // The implicit prior A·X̂ ⊕ B u_k ⊕ E: its centre and the bound of that centre's error
+    // (the generators are cur_'s through A, composed with the next step's strips).
+    if (k_ == 0) prior_.G.resize(n_, 0);
+    const double g = rounding_bounds::gamma(n_ + sys_.nu() + sys_.ny() + 4);
+    prior_.p.noalias() = sys_.A() * cur_.p;
+    prior_.r.noalias() = absA_ * cur_.p.cwiseAbs();
+    if (sys_.nu() > 0) {
+      prior_.p.noalias() += sys_.B() * u;
+      prior_.r.noalias() += absB_ * u.cwiseAbs();
+    }
+    prior_.r = g * (prior_.r + prior_.p.cwiseAbs());
+  }
+  gain_last_ = gainw_;
   has_current_ = true;
-  hull(cur_);
+  refresh_current(false);
   ++k_;
 }
 
@@ -374,105 +418,288 @@ SETBOUND_INLINE void ZonotopicObserver::predict(Set& X, const Eigen::Ref<const V
   affine(X, sys_.A(), Mat::Zero(n_, n_), t, dt, Enz_, Vec::Zero(n_));
 }
 
-SETBOUND_INLINE void ZonotopicObserver::propagate(Set& X, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u,
-                                                  Mat& L) const {
+SETBOUND_INLINE void ZonotopicObserver::ensure_columns(Mat& M, Eigen::Index cols) const {
+  if (M.cols() < cols) M.resize(n_, cols);
+}
+
+SETBOUND_INLINE void ZonotopicObserver::prior_gram(Mat& R) {
+  K_.noalias() = sys_.A() * S_cur_;  // K_: scratch here (T_ may hold the step's map)
+  R.noalias() = K_ * sys_.A().transpose();
+  R += EEt_;
+  symmetrize(R);
+}
+
+SETBOUND_INLINE Eigen::Index ZonotopicObserver::map_current(const Mat& T, const Mat& dT, Eigen::Index nN, double g) {
+  // x = p + G ξ + ρ (|ξ| <= 1, |ρ| <= r) maps to T_exact x + …; the error of the computed T
+  // (dT), of the product T G (γ|T||G|, row sums <= g |T| w) and of N_ (dN_) go to the box,
+  // with the box itself through |T_exact| <= |T| + dT.
+  const Eigen::Index m = cur_.G.cols();
+  ensure_columns(W_, m + nN + n_);
+  if (m > 0) detail::transform_generators(T, cur_.G, W_, m);
+  if (nN > 0) W_.middleCols(m, nN) = N_.leftCols(nN);
+  absT_ = T.cwiseAbs();
+  v_ = w_cur_ + cur_.r;
+  t_ = g * w_cur_ + cur_.r;
+  rw_ = ec_ + dN_;
+  rw_.noalias() += dT * v_;
+  rw_.noalias() += absT_ * t_;
+  rw_ *= 1.0 + g;
+  pw_ = pc_;
+  return m + nN;
+}
+
+SETBOUND_INLINE Eigen::Index ZonotopicObserver::correct_from_current(const Eigen::Ref<const Vec>& y,
+                                                                     const Eigen::Ref<const Vec>& u, Mat& gain) {
   using rounding_bounds::gamma;
-  std::vector<Eigen::Index> rows;
-  Vec ys, sig;
-  shifted(y, u, rows, ys, sig);
-  const Eigen::Index q = static_cast<Eigen::Index>(rows.size());
   const Mat& A = sys_.A();
   const Mat& C = sys_.C();
-  L.setZero(n_, sys_.ny());
+  const Eigen::Index nu = sys_.nu(), ne = Enz_.cols();
+  const double g = gamma(n_ + nu + sys_.ny() + 4);
+  // The prior's centre A p + B u_{k−1} and the bound of its error (prior_, end of the last step).
+  pc_ = prior_.p;
+  ec_ = prior_.r;
+  // The map from the current set, starting with the prediction: T = A, N = E (both exact).
+  T_ = A;
+  dT_.setZero(n_, n_);
+  if (ne > 0) N_.leftCols(ne) = Enz_;
+  Eigen::Index nN = ne;
+  dN_.setZero(n_);
+  shifted(y, u, rows_, ys_, sig_);
+  const Eigen::Index q = static_cast<Eigen::Index>(rows_.size());
+  if (q == 0) return map_current(T_, dT_, nN, g);
+  if (opt_.rule == ZonotopicRule::SegmentMin || opt_.rule == ZonotopicRule::FixedStrips) {
+    // S-I: strip after strip, each the exact map K_i = I − λ_i c_iᵀ on the set so far, composed
+    // into T and N; dT and dN carry the rounding of every update through the later K_i.
+    const bool segment = opt_.rule == ZonotopicRule::SegmentMin;
+    if (segment) prior_gram(R_);  // R = Gram of the set so far ([Alamo2005] λ = R c / (cᵀR c + σ²))
+    for (Eigen::Index s = 0; s < q; ++s) {
+      const Eigen::Index i = rows_[static_cast<std::size_t>(s)];
+      const auto c = C.row(i).transpose();
+      const auto ac = absC_.row(i).transpose();
+      const double sig = sig_(s);
+      if (segment) {
+        sc_.noalias() = R_ * c;
+        const double den = c.dot(sc_) + sig * sig;
+        if (den > 0) lam_ = sc_ / den;
+        else lam_.setZero(n_);
+      } else {
+        lam_ = opt_.gain.col(i);
+      }
+      if (!lam_.allFinite()) throw NumericalError("gain rule: non-finite weight for output " + std::to_string(i));
+      if (lam_.cwiseAbs().maxCoeff() == 0) continue;  // nothing changes (CORA's zero column is dropped)
+      al_ = lam_.cwiseAbs();
+      // T ← T − λ (cᵀT): |K| dT <= dT + |λ| (|c|ᵀ dT), and the new rounding g (|T| + |λ| |c|ᵀ|T|).
+      t_.noalias() = T_.transpose() * c;
+      absT_ = T_.cwiseAbs();
+      v_.noalias() = absT_.transpose() * ac;
+      v_ *= g;
+      v_.noalias() += dT_.transpose() * ac;
+      dT_ += g * absT_;
+      dT_.noalias() += al_ * v_.transpose();
+      T_.noalias() -= lam_ * t_.transpose();
+      // N ← N − λ (cᵀN), then the strip's own column σλ.
+      if (nN > 0) {
+        v_ = N_.leftCols(nN).cwiseAbs().rowwise().sum();
+        const double spread = ac.dot(dN_) + g * ac.dot(v_);
+        dN_ += g * v_ + spread * al_;
+        cN_.noalias() = N_.leftCols(nN).transpose() * c;
+        N_.leftCols(nN).noalias() -= lam_ * cN_.transpose();
+      }
+      if (sig > 0) {
+        N_.col(nN++) = sig * lam_;
+        dN_ += (g * sig) * al_;
+      }
+      // Centre p + λ (y − cᵀp); its error through K and the new rounding.
+      const double innov = ys_(s) - c.dot(pc_);
+      pn_ = pc_ + lam_ * innov;
+      t_ = pc_.cwiseAbs();
+      const double mag = std::abs(ys_(s)) + ac.dot(t_);
+      ec_ += ac.dot(ec_) * al_ + 2.0 * g * (t_ + mag * al_ + pn_.cwiseAbs());
+      pc_.swap(pn_);
+      if (segment) {
+        // R ← K R Kᵀ + σ² λλᵀ with R c = sc.
+        const double csc = c.dot(sc_);
+        R_.noalias() -= lam_ * sc_.transpose();
+        R_.noalias() -= sc_ * lam_.transpose();
+        R_.noalias() += (csc + sig * sig) * (lam_ * lam_.transpose());
+      }
+      gain.col(i) = lam_;
+    }
+    return map_current(T_, dT_, nN, g);
+  }
+  // S-II: all present strips at once with one n × q weight Λ, K = I − Λ C_S.
+  CS_.resize(q, n_);
+  Lam_.resize(n_, q);
+  for (Eigen::Index s = 0; s < q; ++s) CS_.row(s) = C.row(rows_[static_cast<std::size_t>(s)]);
+  if (opt_.rule == ZonotopicRule::Wang) {
+    // Wang, Puig, Cembrano 2018 Thm. 2: Λ = R̄ C_Sᵀ (C_S R̄ C_Sᵀ + F Fᵀ)⁻¹ with R̄ = the
+    // predicted set's G Gᵀ = A S Aᵀ + E Eᵀ (n × n from the current Gram S: never the
+    // n × m columns); CORA (sic, spec §2.4) applies A and W a second time: A R̄ Aᵀ + E Eᵀ.
+    prior_gram(R_);
+    if (opt_.convention == Convention::Cora) {
+      K_.noalias() = A * R_;
+      R_.noalias() = K_ * A.transpose();
+      R_ += EEt_;
+      symmetrize(R_);
+    }
+    RC_.noalias() = R_ * CS_.transpose();
+    Sq_.noalias() = CS_ * RC_;
+    for (Eigen::Index a = 0; a < q; ++a)
+      for (Eigen::Index b = 0; b < q; ++b)
+        Sq_(a, b) += FFt_(rows_[static_cast<std::size_t>(a)], rows_[static_cast<std::size_t>(b)]);
+    Lam_ = solve_gain(RC_, Sq_);
+  } else {
+    for (Eigen::Index s = 0; s < q; ++s) Lam_.col(s) = opt_.gain.col(rows_[static_cast<std::size_t>(s)]);
+  }
+  absL_ = Lam_.cwiseAbs();
+  absCS_ = CS_.cwiseAbs();
+  // K = I − Λ C_S as computed and its rounding (for the centre's error).
+  K_.noalias() = -(Lam_ * CS_);
+  K_.diagonal().array() += 1.0;
+  dK_.noalias() = g * (absL_ * absCS_);
+  dK_.diagonal().array() += g;
+  // T = K A computed as A − Λ (C_S A): |T − K A| <= g (|A| + |Λ| (|C_S| |A|)).
+  CSA_.noalias() = CS_ * A;
+  T_.noalias() -= Lam_ * CSA_;
+  absT_.noalias() = absCS_ * absA_;
+  dT_ = g * absA_;
+  dT_.noalias() += g * (absL_ * absT_);
+  // N = [K E, Λ diag σ].
+  if (ne > 0) {
+    CSE_.noalias() = CS_ * Enz_;
+    N_.leftCols(ne).noalias() -= Lam_ * CSE_;
+    v_.noalias() = absCS_ * rsE_;
+    dN_ = g * rsE_;
+    dN_.noalias() += g * (absL_ * v_);
+  }
+  for (Eigen::Index s = 0; s < q; ++s)
+    if (sig_(s) > 0) {
+      N_.col(nN++) = sig_(s) * Lam_.col(s);
+      dN_ += (g * sig_(s)) * absL_.col(s);
+    }
+  // Centre p + Λ (y_S − C_S p); its error through K and the new rounding.
+  innov_ = ys_;
+  innov_.noalias() -= CS_ * pc_;
+  pn_ = pc_;
+  pn_.noalias() += Lam_ * innov_;
+  t_ = pc_.cwiseAbs();
+  v_ = ys_.cwiseAbs();
+  v_.noalias() += absCS_ * t_;
+  tmp_ = ec_;
+  ec_ = dK_ * tmp_;
+  ec_.noalias() += K_.cwiseAbs() * tmp_;
+  ec_ += 2.0 * g * (t_ + pn_.cwiseAbs());
+  ec_.noalias() += (2.0 * g) * (absL_ * v_);
+  pc_.swap(pn_);
+  for (Eigen::Index s = 0; s < q; ++s) gain.col(rows_[static_cast<std::size_t>(s)]) = Lam_.col(s);
+  return map_current(T_, dT_, nN, g);
+}
+
+SETBOUND_INLINE Eigen::Index ZonotopicObserver::propagate(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u,
+                                                          Mat& L) {
+  using rounding_bounds::gamma;
+  shifted(y, u, rows_, ys_, sig_);
+  const Eigen::Index q = static_cast<Eigen::Index>(rows_.size());
+  const Mat& A = sys_.A();
+  const Mat& C = sys_.C();
+  const Eigen::Index nu = sys_.nu(), ny = sys_.ny();
+  L.setZero(n_, ny);
   if (q > 0) {
     if (opt_.rule == ZonotopicRule::Combastel) {
-      // Combastel 2015: L_k = A P Cᵀ (C P Cᵀ + F Fᵀ)⁻¹ with P = G Gᵀ of the current set (spec §2.5),
-      // over the present outputs.
-      Mat CS(q, n_);
-      for (Eigen::Index t = 0; t < q; ++t) CS.row(t) = C.row(rows[static_cast<std::size_t>(t)]);
-      // P is never formed: with H = GᵀC_Sᵀ, A P C_Sᵀ = A (G H) and C_S P C_Sᵀ = HᵀH, O(n m q).
-      const Mat H = X.G.transpose() * CS.transpose();
-      Mat S = H.transpose() * H;
+      // Combastel 2015: L_k = A P C_Sᵀ (C_S P C_Sᵀ + F Fᵀ)⁻¹ with P = G Gᵀ of the current set
+      // (spec §2.5), over the present outputs; P is the Gram matrix kept with the set.
+      CS_.resize(q, n_);
+      for (Eigen::Index s = 0; s < q; ++s) CS_.row(s) = C.row(rows_[static_cast<std::size_t>(s)]);
+      RC_.noalias() = S_cur_ * CS_.transpose();
+      Sq_.noalias() = CS_ * RC_;
       for (Eigen::Index a = 0; a < q; ++a)
         for (Eigen::Index b = 0; b < q; ++b)
-          S(a, b) += FFt_(rows[static_cast<std::size_t>(a)], rows[static_cast<std::size_t>(b)]);
-      const Mat Lq = solve_gain(A * (X.G * H), S);
-      for (Eigen::Index t = 0; t < q; ++t) L.col(rows[static_cast<std::size_t>(t)]) = Lq.col(t);
+          Sq_(a, b) += FFt_(rows_[static_cast<std::size_t>(a)], rows_[static_cast<std::size_t>(b)]);
+      CSA_.noalias() = A * RC_;
+      Lam_ = solve_gain(CSA_, Sq_);
+      for (Eigen::Index s = 0; s < q; ++s) L.col(rows_[static_cast<std::size_t>(s)]) = Lam_.col(s);
     } else {
-      for (Eigen::Index t = 0; t < q; ++t) {
-        const Eigen::Index i = rows[static_cast<std::size_t>(t)];
+      for (Eigen::Index s = 0; s < q; ++s) {
+        const Eigen::Index i = rows_[static_cast<std::size_t>(s)];
         L.col(i) = opt_.gain.col(i);
       }
     }
   }
   if (!L.allFinite()) throw NumericalError("gain rule: non-finite observer gain");
-  const double g = gamma(sys_.ny() + sys_.nu() + 4);
-  const Mat absL = L.cwiseAbs();
-  // M = A − L C and the bound of its rounding.
-  const Mat M = A - L * C;
-  const Mat dM = g * (A.cwiseAbs() + absL * C.cwiseAbs());
-  // t = B u + L (y − D u) over the present outputs (L's other columns are zero).
-  Vec t = Vec::Zero(n_), dt = Vec::Zero(n_);
-  Vec yfull = Vec::Zero(sys_.ny()), yabs = Vec::Zero(sys_.ny());
+  const double g = gamma(n_ + ny + nu + 4);
+  absL_ = L.cwiseAbs();
+  // T = A − L C and the bound of its rounding.
+  T_ = A;
+  T_.noalias() -= L * C;
+  dT_ = g * absA_;
+  dT_.noalias() += g * (absL_ * absC_);
+  // Centre T p + B u + L (y − D u) over the present outputs (L's other columns are zero), and
+  // the bound of its error: T's (dT |p|), the products' and the sums'.
+  yfull_.setZero(ny);
+  yabs_.setZero(ny);
   for (Eigen::Index s = 0; s < q; ++s) {
-    const Eigen::Index i = rows[static_cast<std::size_t>(s)];
-    yfull(i) = ys(s);
-    yabs(i) = std::abs(y(i)) + (sys_.nu() > 0 ? sys_.D().row(i).cwiseAbs().dot(u.cwiseAbs()) : 0.0);
+    const Eigen::Index i = rows_[static_cast<std::size_t>(s)];
+    yfull_(i) = ys_(s);
+    yabs_(i) = std::abs(y(i)) + (nu > 0 ? sys_.D().row(i).cwiseAbs().dot(u.cwiseAbs()) : 0.0);
   }
-  if (sys_.nu() > 0) {
-    t.noalias() = sys_.B() * u;
-    dt = g * (sys_.B().cwiseAbs() * u.cwiseAbs());
+  pc_.noalias() = T_ * cur_.p;
+  t_ = cur_.p.cwiseAbs();
+  ec_.noalias() = dT_ * t_;
+  absT_ = T_.cwiseAbs();
+  ec_.noalias() += g * (absT_ * t_);
+  if (nu > 0) {
+    pc_.noalias() += sys_.B() * u;
+    ec_.noalias() += g * (absB_ * u.cwiseAbs());
   }
-  t.noalias() += L * yfull;
-  dt += 2.0 * g * (absL * yabs) + g * t.cwiseAbs();
+  pc_.noalias() += L * yfull_;
+  ec_.noalias() += (2.0 * g) * (absL_ * yabs_);
+  ec_ += (2.0 * g) * pc_.cwiseAbs();
   // Disturbance columns: E_j − L F_j for the ω entering the outputs, then E_j (CORA's order
   // [−L G_V, G_W] on its model, spec §1.3).
-  Mat N(n_, static_cast<Eigen::Index>(fcols_.size() + ecols_.size()));
-  Eigen::Index k = 0;
-  Vec dN = Vec::Zero(n_);
+  Eigen::Index nN = 0;
+  dN_.setZero(n_);
   for (Eigen::Index j : fcols_) {
-    N.col(k++) = sys_.E().col(j) - L * sys_.F().col(j);
-    dN += g * (sys_.E().col(j).cwiseAbs() + absL * sys_.F().col(j).cwiseAbs());
+    N_.col(nN) = sys_.E().col(j);
+    N_.col(nN++).noalias() -= L * sys_.F().col(j);
+    dN_ += g * sys_.E().col(j).cwiseAbs();
+    dN_.noalias() += g * (absL_ * sys_.F().col(j).cwiseAbs());
   }
-  for (Eigen::Index j : ecols_) N.col(k++) = sys_.E().col(j);
-  affine(X, M, dM, t, dt, N, dN);
+  for (Eigen::Index j : ecols_) N_.col(nN++) = sys_.E().col(j);
+  return map_current(T_, dT_, nN, g);
 }
 
-SETBOUND_INLINE void ZonotopicObserver::finish_set(Set& X, bool reduce) {
+SETBOUND_INLINE Eigen::Index ZonotopicObserver::finish_set(Mat& W, Eigen::Index m, Vec& r, Vec& w, bool reduce) {
   // Drop exactly-zero columns (CORA never counts them), keeping the order.
-  Eigen::Index k = 0;
-  for (Eigen::Index j = 0; j < X.G.cols(); ++j) {
-    if ((X.G.col(j).array() == 0.0).all()) continue;
-    if (k != j) X.G.col(k) = X.G.col(j);
-    ++k;
-  }
-  X.G.conservativeResize(n_, k);
+  Eigen::Index k = detail::compact_and_sum(W, m, w, true);
+  bool changed = false;
   // A pending box that is no longer negligible becomes generators (counted).
-  const double scale = k > 0 ? X.G.cwiseAbs().rowwise().sum().maxCoeff() : 0.0;
-  if (X.r.maxCoeff() > kBoxToGenerators * scale) {
-    const Eigen::Index nb = static_cast<Eigen::Index>((X.r.array() > 0).count());
-    X.G.conservativeResize(n_, k + nb);
+  const double scale = k > 0 ? w.maxCoeff() : 0.0;
+  if (r.maxCoeff() > kBoxToGenerators * scale) {
     for (Eigen::Index i = 0; i < n_; ++i)
-      if (X.r(i) > 0) {
-        X.G.col(k).setZero();
-        X.G(i, k++) = X.r(i);
+      if (r(i) > 0) {
+        W.col(k).setZero();
+        W(i, k++) = r(i);
       }
-    X.r.setZero();
+    r.setZero();
+    changed = true;
   }
   if (reduce && k > opt_.max_generators) {
-    k = detail::reduce_in_place(opt_.reduction, X.G, k, opt_.max_generators, &X.r, rws_);
-    if (rws_.reduced_count > 0) X.r.setZero();
-    X.G.conservativeResize(n_, k);
+    k = detail::reduce_in_place(opt_.reduction, W, k, opt_.max_generators, &r, rws_);
+    if (rws_.reduced_count > 0) r.setZero();
+    changed = true;
   }
+  if (changed) k = detail::compact_and_sum(W, k, w, false);
+  return k;
 }
 
-SETBOUND_INLINE void ZonotopicObserver::hull(const Set& X) {
+SETBOUND_INLINE void ZonotopicObserver::refresh_current(bool row_sums) {
+  const Eigen::Index m = cur_.G.cols();
+  if (row_sums) detail::compact_and_sum(cur_.G, m, w_cur_, false);
+  if (needs_gram_) detail::gram(cur_.G, m, S_cur_);
   const double eps = std::numeric_limits<double>::epsilon();
-  const Eigen::Index m = X.G.cols();
-  Vec e = m > 0 ? Vec(X.G.cwiseAbs().rowwise().sum()) : Vec(Vec::Zero(n_));
-  e = (e + X.r + eps * X.p.cwiseAbs()) * (1.0 + static_cast<double>(m + n_ + 4) * eps);
-  lo_ = X.p - e;
-  hi_ = X.p + e;
+  t_ = (w_cur_ + cur_.r + eps * cur_.p.cwiseAbs()) * (1.0 + static_cast<double>(m + n_ + 4) * eps);
+  lo_ = cur_.p - t_;
+  hi_ = cur_.p + t_;
 }
 
 SETBOUND_INLINE std::vector<double> ZonotopicObserver::save_state() const {
@@ -507,6 +734,8 @@ SETBOUND_INLINE void ZonotopicObserver::restore_state(const std::vector<double>&
     if ((t.prior.r.array() < 0).any() || (t.cur.r.array() < 0).any()) r.fail("a box radius is negative");
     if (is_filter() && t.has != (t.k > 0)) r.fail("a filter has a current set exactly after its first step");
     if (!is_filter() && !t.has) r.fail("a predictor always has a current set");
+    if (lazy_prior() && t.k > 0 && t.prior.G.cols() > 0)
+      r.fail("this filter's prior after the first step has no generators of its own (they are the current set's)");
     return t;
   });
   k_ = static_cast<Eigen::Index>(q.k);
@@ -515,8 +744,10 @@ SETBOUND_INLINE void ZonotopicObserver::restore_state(const std::vector<double>&
   cur_ = std::move(q.cur);
   gain_last_ = std::move(q.gain);
   if (has_current_) {
-    hull(cur_);
+    refresh_current(true);
   } else {
+    w_cur_ = Vec::Zero(n_);
+    S_cur_ = Mat::Zero(n_, n_);
     lo_.setZero();
     hi_.setZero();
   }
@@ -527,6 +758,10 @@ SETBOUND_INLINE StateFingerprint ZonotopicObserver::fingerprint() const {
   f.add(sys_.A()).add(sys_.B()).add(sys_.C()).add(sys_.D()).add(sys_.E()).add(sys_.F());
   f.add_int(static_cast<int>(opt_.rule)).add(opt_.gain).add_int(opt_.max_generators);
   f.add_int(static_cast<int>(opt_.reduction)).add_int(static_cast<int>(opt_.convention));
+  // Layout 2: a filter's prior after its first step is implied by the current set (A·X̂ ⊕ E):
+  // saved as its centre and the bound of that centre's error, no generators; a state of
+  // layout 1 (the explicit prior) is refused by this value.
+  f.add_int(2);
   return f;
 }
 

@@ -1,0 +1,62 @@
+// setbound — definitions of the functions declared in setbound/sets/generator_kernels.hpp.
+// Included by that header (header-only use) or compiled once into libsetbound
+// (SETBOUND_SEPARATE_COMPILATION); see setbound/core/config.hpp.
+#pragma once
+
+#include "setbound/sets/generator_kernels.hpp"
+#include "setbound/core/config.hpp"
+
+namespace setbound {
+namespace detail {
+
+SETBOUND_INLINE void transform_generators(const Eigen::MatrixXd& T, const Eigen::MatrixXd& G, Eigen::MatrixXd& W,
+                                          Eigen::Index m) {
+  switch (T.rows()) {
+    case 1: W.leftCols(m).noalias() = T(0, 0) * G.leftCols(m); return;
+    case 2: return transform_generators_fixed<2>(T, G, W, m);
+    case 3: return transform_generators_fixed<3>(T, G, W, m);
+    case 4: return transform_generators_fixed<4>(T, G, W, m);
+    case 5: return transform_generators_fixed<5>(T, G, W, m);
+    case 6: return transform_generators_fixed<6>(T, G, W, m);
+    case 7: return transform_generators_fixed<7>(T, G, W, m);
+    case 8: return transform_generators_fixed<8>(T, G, W, m);
+    default: W.leftCols(m).noalias() = T * G.leftCols(m);
+  }
+}
+
+SETBOUND_INLINE void gram(const Eigen::MatrixXd& G, Eigen::Index m, Eigen::MatrixXd& S) {
+  const Eigen::Index n = G.rows();
+  switch (n) {
+    case 1: S.resize(1, 1); S(0, 0) = G.row(0).head(m).squaredNorm(); return;
+    case 2: return gram_fixed<2>(G, m, S);
+    case 3: return gram_fixed<3>(G, m, S);
+    case 4: return gram_fixed<4>(G, m, S);
+    case 5: return gram_fixed<5>(G, m, S);
+    case 6: return gram_fixed<6>(G, m, S);
+    case 7: return gram_fixed<7>(G, m, S);
+    case 8: return gram_fixed<8>(G, m, S);
+    default:
+      // Half the flops of G Gᵀ: the lower triangle by a rank-m update, mirrored.
+      S.setZero(n, n);
+      S.selfadjointView<Eigen::Lower>().rankUpdate(G.leftCols(m));
+      for (Eigen::Index j = 1; j < n; ++j)
+        for (Eigen::Index i = 0; i < j; ++i) S(i, j) = S(j, i);
+  }
+}
+
+SETBOUND_INLINE Eigen::Index compact_and_sum(Eigen::MatrixXd& W, Eigen::Index m, Eigen::VectorXd& w, bool drop_zeros) {
+  switch (W.rows()) {
+    case 1: return compact_and_sum_fixed<1>(W, m, w, drop_zeros);
+    case 2: return compact_and_sum_fixed<2>(W, m, w, drop_zeros);
+    case 3: return compact_and_sum_fixed<3>(W, m, w, drop_zeros);
+    case 4: return compact_and_sum_fixed<4>(W, m, w, drop_zeros);
+    case 5: return compact_and_sum_fixed<5>(W, m, w, drop_zeros);
+    case 6: return compact_and_sum_fixed<6>(W, m, w, drop_zeros);
+    case 7: return compact_and_sum_fixed<7>(W, m, w, drop_zeros);
+    case 8: return compact_and_sum_fixed<8>(W, m, w, drop_zeros);
+    default: return compact_and_sum_fixed<Eigen::Dynamic>(W, m, w, drop_zeros);
+  }
+}
+
+}  // namespace detail
+}  // namespace setbound
