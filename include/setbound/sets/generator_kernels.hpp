@@ -32,8 +32,15 @@ void transform_generators_fixed(const Eigen::MatrixXd& T, const Eigen::MatrixXd&
 
 template <int N>
 void gram_fixed(const Eigen::MatrixXd& G, Eigen::Index m, Eigen::MatrixXd& S) {
-  Eigen::Map<const Eigen::Matrix<double, N, Eigen::Dynamic>> Gm(G.data(), N, m);
-  const Eigen::Matrix<double, N, N> Sf = Gm.lazyProduct(Gm.transpose());
+  // Column by column (rank-1 updates of a register-sized matrix): the row-times-row form of
+  // Gm Gmᵀ reads the columns with a stride of N and was 3× slower.
+  using Col = Eigen::Matrix<double, N, 1>;
+  Eigen::Matrix<double, N, N> Sf = Eigen::Matrix<double, N, N>::Zero();
+  const double* const base = G.data();
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const Eigen::Map<const Col> g(base + j * N);
+    Sf.noalias() += g * g.transpose();
+  }
   S = Sf;
 }
 

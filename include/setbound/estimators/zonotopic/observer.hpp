@@ -188,9 +188,11 @@ class ZonotopicObserver {
   void prior_gram(Mat& R);
   /// Drops zero columns of the first m of W, turns a large box r into generators, reduces when
   /// above the limit; w = rs|W| rounded up. W needs room for m + n columns. Returns the count.
-  Eigen::Index finish_set(Mat& W, Eigen::Index m, Vec& r, Vec& w, bool reduce);
-  /// The current set's row sums, Gram matrix (when the rule needs it) and hull.
-  void refresh_current(bool row_sums);
+  /// With S, the Gram matrix of W's columns is kept up to date through the box columns and the
+  /// reduction (rank updates; it feeds the gains only, so its rounding costs no guarantee).
+  Eigen::Index finish_set(Mat& W, Eigen::Index m, Vec& r, Vec& w, bool reduce, Mat* S);
+  /// The current set's hull; its row sums and Gram matrix from its columns when asked.
+  void refresh_current(bool row_sums, bool gram);
   void ensure_columns(Mat& M, Eigen::Index cols) const;
   static Mat solve_gain(const Mat& num, const Mat& S);
 
@@ -210,7 +212,7 @@ class ZonotopicObserver {
   // lazy prior it is A·cur_ ⊕ E after the first step and prior_ is empty. Predictor: cur_ only.
   Set prior_, cur_;
   Vec w_cur_;          // rs|cur_.G| rounded up
-  Mat S_cur_;          // cur_.G cur_.Gᵀ (Wang, segment minimisation, Combastel)
+  Mat S_cur_;          // ≈ cur_.G cur_.Gᵀ, updated per step (Wang, segment minimisation, Combastel)
   bool has_current_ = false;
   Eigen::Index k_ = 0;
   Vec lo_, hi_;
@@ -218,7 +220,7 @@ class ZonotopicObserver {
   detail::ReductionWorkspace rws_;
 
   // Scratch of one step (sized once; the steady state does not allocate).
-  Mat W_, N_, T_, dT_, absT_, R_, RC_, Sq_, CS_, CSA_, CSE_, Lam_, absL_, absCS_, K_, dK_, gainw_;
+  Mat W_, N_, T_, Snew_, dT_, absT_, R_, RC_, Sq_, CS_, CSA_, CSE_, Lam_, absL_, absCS_, K_, dK_, gainw_;
   Vec pw_, rw_, ww_, pc_, pn_, ec_, dN_, lam_, al_, t_, v_, sc_, cN_, innov_, yfull_, yabs_, tmp_;
   std::vector<Eigen::Index> rows_;
   Vec ys_, sig_;

@@ -104,7 +104,7 @@ SETBOUND_INLINE void ZonotopicObserver::load_initial() {
     prior_ = Set{Vec::Zero(n_), Vec::Zero(n_), Mat::Zero(n_, 0)};
     cur_ = s;
     has_current_ = true;
-    refresh_current(true);
+    refresh_current(true, true);
   }
 }
 
@@ -136,9 +136,11 @@ SETBOUND_INLINE void ZonotopicObserver::update(const Eigen::Ref<const Eigen::Vec
   // The new set is built in pw_ ⊕ W_.leftCols(m) B ⊕ box(rw_); the observer's state is only
   // written at the end (nothing after the commit throws).
   Eigen::Index m = 0;
+  bool fresh_gram = false;
   if (is_filter() && lazy_prior() && k_ > 0) {
     m = correct_from_current(y, u, gainw_);
   } else if (is_filter()) {
+    fresh_gram = true;
     Set X = prior_;  // explicit: x0 before the first step, and every prior of Bravo
     correct(X, y, u, gainw_);
     m = X.G.cols();
@@ -151,7 +153,17 @@ SETBOUND_INLINE void ZonotopicObserver::update(const Eigen::Ref<const Eigen::Vec
   }
   // CORA's strip-based loop does not reduce the first corrected set (spec §1.3).
   const bool reduce = !(is_filter() && opt_.convention == Convention::Cora && k_ == 0);
-  m = finish_set(W_, m, rw_, ww_, reduce);
+  // The Gram matrix of the new set without touching its columns: T S Tᵀ + N Nᵀ, then
+  // finish_set's box columns and reduction as rank updates.
+  if (needs_gram_ && !fresh_gram) {
+    const Eigen::Index nN = m - cur_.G.cols();
+    K_.noalias() = T_ * S_cur_;
+    Snew_.noalias() = K_ * T_.transpose();
+    if (nN > 0) Snew_.noalias() += N_.leftCols(nN) * N_.leftCols(nN).transpose();
+  }
+  m = finish_set(W_, m, rw_, ww_, reduce, needs_gram_ && !fresh_gram ? &Snew_ : nullptr);
+  if (needs_gram_ && fresh_gram) detail::gram(W_, m, Snew_);
+  if (needs_gram_) symmetrize(Snew_);
   // ww_ = rs|W| is finite exactly when every generator is.
   if (!pw_.allFinite() || !rw_.allFinite() || !ww_.allFinite())
     throw NumericalError("observer: the set overflowed (non-finite values) at step " + std::to_string(k_));
@@ -167,6 +179,7 @@ SETBOUND_INLINE void ZonotopicObserver::update(const Eigen::Ref<const Eigen::Vec
   cur_.r.swap(rw_);
   cur_.G = W_.leftCols(m);
   w_cur_.swap(ww_);
+  if (needs_gram_) S_cur_.swap(Snew_);
   if (is_filter() && !lazy_prior()) {
     prior_ = std::move(P);
   } else if (is_filter()) {
@@ -184,7 +197,7 @@ SETBOUND_INLINE void ZonotopicObserver::update(const Eigen::Ref<const Eigen::Vec
   }
   gain_last_ = gainw_;
   has_current_ = true;
-  refresh_current(false);
+  refresh_current(false, false);
   ++k_;
 }
 
@@ -668,7 +681,7 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::propagate(const Eigen::Ref<const
   return map_current(T_, dT_, nN, g);
 }
 
-SETBOUND_INLINE Eigen::Index ZonotopicObserver::finish_set(Mat& W, Eigen::Index m, Vec& r, Vec& w, bool reduce) {
+SETBOUND_INLINE Eigen::Index ZonotopicObserver::finish_set(Mat& W, Eigen::Index m, Vec& r, Vec& w, bool reduce, Mat* S) {
   // Drop exactly-zero columns (CORA never counts them), keeping the order.
   Eigen::Index k = detail::compact_and_sum(W, m, w, true);
   bool changed = false;
@@ -679,23 +692,33 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::finish_set(Mat& W, Eigen::Index 
       if (r(i) > 0) {
         W.col(k).setZero();
         W(i, k++) = r(i);
+        if (S) (*S)(i, i) += r(i) * r(i);
       }
     r.setZero();
     changed = true;
   }
   if (reduce && k > opt_.max_generators) {
-    k = detail::reduce_in_place(opt_.reduction, W, k, opt_.max_generators, &r, rws_);
-    if (rws_.reduced_count > 0) r.setZero();
+    const Eigen::Index before = k;
+    k = detail::reduce_in_place(opt_.reduction, W, k, opt_.max_generators, &r, rws_, S != nullptr);
+    if (rws_.reduced_count > 0) {
+      r.setZero();
+      if (S) {
+        // The reduced columns leave, their box columns (the last ones) come in.
+        const Eigen::Index boxed = k - (before - rws_.reduced_count);
+        *S -= rws_.gram;
+        S->noalias() += W.middleCols(k - boxed, boxed) * W.middleCols(k - boxed, boxed).transpose();
+      }
+    }
     changed = true;
   }
   if (changed) k = detail::compact_and_sum(W, k, w, false);
   return k;
 }
 
-SETBOUND_INLINE void ZonotopicObserver::refresh_current(bool row_sums) {
+SETBOUND_INLINE void ZonotopicObserver::refresh_current(bool row_sums, bool gram) {
   const Eigen::Index m = cur_.G.cols();
   if (row_sums) detail::compact_and_sum(cur_.G, m, w_cur_, false);
-  if (needs_gram_) detail::gram(cur_.G, m, S_cur_);
+  if (gram) detail::gram(cur_.G, m, S_cur_);
   const double eps = std::numeric_limits<double>::epsilon();
   t_ = (w_cur_ + cur_.r + eps * cur_.p.cwiseAbs()) * (1.0 + static_cast<double>(m + n_ + 4) * eps);
   lo_ = cur_.p - t_;
@@ -707,7 +730,7 @@ SETBOUND_INLINE std::vector<double> ZonotopicObserver::save_state() const {
   w.count(k_).flag(has_current_);
   w.vec(prior_.p).vec(prior_.r).mat(prior_.G);
   w.vec(cur_.p).vec(cur_.r).mat(cur_.G);
-  w.mat(gain_last_);
+  w.mat(gain_last_).mat(S_cur_);
   return w.finish();
 }
 
@@ -716,7 +739,7 @@ SETBOUND_INLINE void ZonotopicObserver::restore_state(const std::vector<double>&
     long long k;
     bool has;
     Set prior, cur;
-    Mat gain;
+    Mat gain, S;
   };
   Parsed q = guard_state_memory(StateKind::ZonotopicObserver, [&] {
     StateReader r(state, StateKind::ZonotopicObserver, fingerprint());
@@ -730,6 +753,7 @@ SETBOUND_INLINE void ZonotopicObserver::restore_state(const std::vector<double>&
     t.cur.r = r.vec(n_, "current box");
     t.cur.G = r.mat(n_, -1, "current generators");
     t.gain = r.mat(n_, sys_.ny(), "gain");
+    t.S = r.mat(n_, n_, "Gram matrix");
     r.finish();
     if ((t.prior.r.array() < 0).any() || (t.cur.r.array() < 0).any()) r.fail("a box radius is negative");
     if (is_filter() && t.has != (t.k > 0)) r.fail("a filter has a current set exactly after its first step");
@@ -743,8 +767,9 @@ SETBOUND_INLINE void ZonotopicObserver::restore_state(const std::vector<double>&
   prior_ = std::move(q.prior);
   cur_ = std::move(q.cur);
   gain_last_ = std::move(q.gain);
+  S_cur_ = std::move(q.S);
   if (has_current_) {
-    refresh_current(true);
+    refresh_current(true, false);
   } else {
     w_cur_ = Vec::Zero(n_);
     S_cur_ = Mat::Zero(n_, n_);
@@ -759,8 +784,9 @@ SETBOUND_INLINE StateFingerprint ZonotopicObserver::fingerprint() const {
   f.add_int(static_cast<int>(opt_.rule)).add(opt_.gain).add_int(opt_.max_generators);
   f.add_int(static_cast<int>(opt_.reduction)).add_int(static_cast<int>(opt_.convention));
   // Layout 2: a filter's prior after its first step is implied by the current set (A·X̂ ⊕ E):
-  // saved as its centre and the bound of that centre's error, no generators; a state of
-  // layout 1 (the explicit prior) is refused by this value.
+  // saved as its centre and the bound of that centre's error, no generators; the Gram matrix
+  // the gains use is saved (it is updated, not recomputed). A state of layout 1 (the explicit
+  // prior, no Gram matrix) is refused by this value.
   f.add_int(2);
   return f;
 }
