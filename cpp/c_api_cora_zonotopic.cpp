@@ -1,5 +1,6 @@
 // setbound — C ABI: CORA's zonotopic observer catalogue on the shared skeleton
 // (estimators/zonotopic/observer.hpp).
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -14,6 +15,24 @@ using namespace setbound::capi;
 struct sb_zono_observer {
   ZonotopicObserver observer;
 };
+
+namespace {
+// sb_zono_gain_design(_limits) after the guard: the checks of the arguments and the design.
+void zono_gain_design_body(const sb_linear_system* system, int method, const lmi::SolverOptions& options,
+                           double* gain, double* P, double* Y, double* beta) {
+  const LinearSystem& sys = system_arg(system);
+  require_pointer(gain, "gain");
+  if (method < SB_ZOBS_DESIGN_PRAD_E || method > SB_ZOBS_DESIGN_PRAD_D)
+    throw InvalidArgumentError("method: unknown gain design " + std::to_string(method) +
+                               " (SB_ZOBS_DESIGN_PRAD_E = 1, SB_ZOBS_DESIGN_NOM_G = 2, SB_ZOBS_DESIGN_PRAD_B = 3, "
+                               "SB_ZOBS_DESIGN_PRAD_A = 4, SB_ZOBS_DESIGN_PRAD_C = 5, SB_ZOBS_DESIGN_PRAD_D = 6)");
+  const ZonotopicGainDesign d = design_zonotopic_gain(sys, static_cast<ZonotopicGainMethod>(method), options);
+  write_matrix(d.gain, gain);
+  write_matrix(d.P, P);
+  write_matrix(d.Y, Y);
+  if (beta) *beta = d.beta;
+}
+}  // namespace
 
 extern "C" {
 
@@ -148,20 +167,24 @@ int sb_zono_observer_restore_state(sb_zono_observer* observer, const double* sta
   });
 }
 
+
 int sb_zono_gain_design(const sb_linear_system* system, int method, double* gain, double* P, double* Y,
                         double* beta) {
-  return guard("sb_zono_gain_design", [&] {
-    const LinearSystem& sys = system_arg(system);
-    require_pointer(gain, "gain");
-    if (method < SB_ZOBS_DESIGN_PRAD_E || method > SB_ZOBS_DESIGN_PRAD_D)
-      throw InvalidArgumentError("method: unknown gain design " + std::to_string(method) +
-                                 " (SB_ZOBS_DESIGN_PRAD_E = 1, SB_ZOBS_DESIGN_NOM_G = 2, SB_ZOBS_DESIGN_PRAD_B = 3, "
-                                 "SB_ZOBS_DESIGN_PRAD_A = 4, SB_ZOBS_DESIGN_PRAD_C = 5, SB_ZOBS_DESIGN_PRAD_D = 6)");
-    const ZonotopicGainDesign d = design_zonotopic_gain(sys, static_cast<ZonotopicGainMethod>(method));
-    write_matrix(d.gain, gain);
-    write_matrix(d.P, P);
-    write_matrix(d.Y, Y);
-    if (beta) *beta = d.beta;
+  return guard("sb_zono_gain_design", [&] { zono_gain_design_body(system, method, {}, gain, P, Y, beta); });
+}
+
+int sb_zono_gain_design_limits(const sb_linear_system* system, int method, int max_iterations, double time_limit,
+                               double* gain, double* P, double* Y, double* beta) {
+  return guard("sb_zono_gain_design_limits", [&] {
+    if (max_iterations < 0)
+      throw InvalidArgumentError("max_iterations: must be > 0 (0 keeps the default, 100), got " + std::to_string(max_iterations));
+    if (std::isnan(time_limit)) throw NotFiniteError("time_limit: value is nan; it must be a number");
+    if (time_limit < 0)
+      throw InvalidArgumentError("time_limit: must be > 0 seconds (0 keeps the default, 30), got " + std::to_string(time_limit));
+    lmi::SolverOptions o;
+    if (max_iterations > 0) o.max_iterations = max_iterations;
+    if (time_limit > 0) o.time_limit = time_limit;
+    zono_gain_design_body(system, method, o, gain, P, Y, beta);
   });
 }
 

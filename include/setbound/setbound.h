@@ -1092,6 +1092,12 @@ int sb_zono_observer_restore_state(sb_zono_observer* observer, const double* sta
 #define SB_ZOBS_DESIGN_PRAD_D 6
 int sb_zono_gain_design(const sb_linear_system* system, int method, double* gain, double* P, double* Y,
                         double* beta);
+/* sb_zono_gain_design with the limits of every LMI solve of the design: max_iterations (per solve)
+ * and time_limit (seconds per solve); 0 keeps the default (100 iterations, 30 s), a negative or
+ * NaN value is SB_ERR_INVALID_ARGUMENT / SB_ERR_NOT_FINITE. A design whose solves all stop at a
+ * limit gives SB_ERR_NUMERICAL with a message that says so ("time limit"/"iteration limit"). */
+int sb_zono_gain_design_limits(const sb_linear_system* system, int method, int max_iterations, double time_limit,
+                               double* gain, double* P, double* Y, double* beta);
 /* ==== end CORA's zonotopic observers ==== */
 /* ==== CORA's ROPO parallelotopes and the Rauch-Tung-Striebel smoother (issue 22;
  * estimators/zonotopic/parallelotope.hpp, estimators/point/rts_smoother.hpp) ====

@@ -273,7 +273,10 @@ def observe(model, alg: str, *, convention: str = "setbound", gain=None, steps: 
     steps : int, optional
         Use only the first ``steps`` measurements (CORA's ``tFinal`` shortened).
     **options
-        The method's own options (its estimator's keywords).
+        The method's own options (its estimator's keywords). The methods whose gain setbound
+        designs (PRad-A..E, Nom-G) also take ``solver_options={"max_iterations": ..., "time_limit":
+        ...}``: the limits of each LMI solve of the design (defaults 100 iterations, 30 s; see
+        :func:`setbound.zonotopic.design_zonotopic_gain`).
 
     Returns
     -------

@@ -907,7 +907,8 @@ class ZonotopicGainDesign:
     beta: float
 
 
-def design_zonotopic_gain(system: LinearSystem, method: str = "PRad-E") -> ZonotopicGainDesign:
+def design_zonotopic_gain(system: LinearSystem, method: str = "PRad-E", *, max_iterations: int | None = None,
+                          time_limit: float | None = None) -> ZonotopicGainDesign:
     """Offline weight or gain of CORA's P-radius and nominal zonotopic observers (PRad-A..E, Nom-G), on the bundled LMI solver.
 
     ``"PRad-B"`` (Le, Stoica, Alamo, Camacho, Dumur, ISIC 2013, eq. 17): the weight ``Λ`` of all
@@ -937,6 +938,12 @@ def design_zonotopic_gain(system: LinearSystem, method: str = "PRad-E") -> Zonot
         The model (a known ``A``).
     method : {"PRad-A", "PRad-B", "PRad-C", "PRad-D", "PRad-E", "Nom-G"}, optional
         The design.
+    max_iterations : int, optional
+        Iteration limit of each LMI solve of the design (default 100).
+    time_limit : float, optional
+        Time limit of each LMI solve of the design, in seconds (default 30). The designs solve a
+        few (PRad-E, Nom-G, PRad-B: up to 8) to a few dozen (PRad-A: per output; PRad-C/D: up to
+        16) LMIs.
 
     Returns
     -------
@@ -946,6 +953,11 @@ def design_zonotopic_gain(system: LinearSystem, method: str = "PRad-E") -> Zonot
     ------
     InfeasibleError
         When no gain satisfies the design's LMI.
+    NumericalError
+        When no LMI solve of the design gave a solution and some stopped undecided, e.g. at
+        ``time_limit`` (the message names the limit reached).
+    InvalidArgumentError
+        For ``max_iterations`` or ``time_limit`` not positive (or not a number).
 
     Examples
     --------
@@ -959,10 +971,13 @@ def design_zonotopic_gain(system: LinearSystem, method: str = "PRad-E") -> Zonot
     if not isinstance(system, LinearSystem):
         raise InvalidArgumentError(f"system: expected a setbound.LinearSystem, got {type(system).__name__}")
     method = as_choice(method, "method", GAIN_DESIGNS)
+    iters = 0 if max_iterations is None else as_int(max_iterations, "max_iterations", lo=1)
+    seconds = 0.0 if time_limit is None else as_float(time_limit, "time_limit", lo=0.0, lo_open=True)
     nx, ny = system.nx, system.ny
     L, P, Y = np.empty((nx, ny)), np.empty((nx, nx)), np.empty((nx, ny))
     beta = ffi.new("double*")
-    check(lib.sb_zono_gain_design(system._handle, GAIN_DESIGNS[method], dptr(L), dptr(P), dptr(Y), beta))
+    check(lib.sb_zono_gain_design_limits(system._handle, GAIN_DESIGNS[method], iters, seconds, dptr(L), dptr(P),
+                                         dptr(Y), beta))
     return ZonotopicGainDesign(method, L, P, Y, float(beta[0]))
 
 
@@ -1017,11 +1032,27 @@ def _observer_runner(make, alg: str, intersection_free: bool, gain_required_unde
     return runner
 
 
+def _design_limits(kw: dict) -> dict:
+    """Pops ``solver_options`` (the solver limits of :func:`design_zonotopic_gain`:
+    ``max_iterations``, ``time_limit``) from the options of ``setbound.cora.observe``."""
+    opts = kw.pop("solver_options", None)
+    if opts is None:
+        return {}
+    if not isinstance(opts, dict):
+        raise InvalidArgumentError(f"solver_options: expected a dict with max_iterations and/or time_limit, got "
+                                   f"{type(opts).__name__}")
+    unknown = sorted(set(opts) - {"max_iterations", "time_limit"})
+    if unknown:
+        raise InvalidArgumentError(f"solver_options: unknown option {unknown[0]!r} (max_iterations, time_limit)")
+    return dict(opts)
+
+
 def _strip_gain(name: str, all_strips: bool):
     def make(model, gain, **kw):
+        limits = _design_limits(kw)
         # Without a gain: CORA's LMI design on setbound's solver (design_zonotopic_gain).
         if gain is None:
-            gain = design_zonotopic_gain(model.system, name).gain
+            gain = design_zonotopic_gain(model.system, name, **limits).gain
         return StripGainEstimator(model.system, model.x0, gain, all_strips=all_strips, **kw)
     return make
 
@@ -1053,9 +1084,10 @@ def _register_cora_names():
                                    "design_zonotopic_gain (convention='cora': CORA's gain only)", accepts_gain=True)
     for name, paper in (("PRad-E", "Wang 2017 CCC"), ("Nom-G", "Wang 2018")):
         def make(m, g, _name=name, **kw):
+            limits = _design_limits(kw)
             # Without a gain: setbound's design (design_zonotopic_gain), timed as CORA's offline part.
             if g is None:
-                g = design_zonotopic_gain(m.system, _name).gain
+                g = design_zonotopic_gain(m.system, _name, **limits).gain
             return PropagationObserver(m.system, m.x0, g, **kw)
         register_algorithm(name, _observer_runner(make, name, True),
                            summary=f"fixed gain, no intersection [{paper}] = PropagationObserver + "

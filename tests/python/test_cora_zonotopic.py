@@ -540,3 +540,65 @@ def test_prad_c_d_designs_name_what_is_wrong():
     for method in ("PRad-B", "PRad-C", "PRad-D"):
         with pytest.raises(setbound.errors.InfeasibleError, match=f"design {method}: .*spectral radius 1.2.*detectable"):
             setbound.zonotopic.design_zonotopic_gain(blind, method)
+
+
+# ---- solver limits of the designs (issue 22: tank30's designs hit the 30 s default) ----------------
+
+def _small_design_system():
+    return setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+                                 E=[[0.1, 0.0, 0.0], [0.0, 0.1, 0.0]], F=[[0.0, 0.0, 0.05]])
+
+
+@pytest.mark.parametrize("method", ["PRad-E", "Nom-G", "PRad-B"])
+def test_design_time_limit_is_reported_and_raising_it_finishes(method):
+    from setbound.errors import NumericalError
+    sys = _small_design_system()
+    with pytest.raises(NumericalError, match="time limit"):
+        setbound.zonotopic.design_zonotopic_gain(sys, method, time_limit=1e-9)
+    with pytest.raises(NumericalError, match="time limit|iteration limit"):
+        setbound.zonotopic.design_zonotopic_gain(sys, method, max_iterations=1)
+    d = setbound.zonotopic.design_zonotopic_gain(sys, method, time_limit=60.0, max_iterations=200)
+    ref = setbound.zonotopic.design_zonotopic_gain(sys, method)
+    np.testing.assert_allclose(d.gain, ref.gain, rtol=1e-12, atol=1e-14)  # the limits do not change the result
+    assert np.max(np.abs(np.linalg.eigvals(sys.A - d.gain @ sys.C))) < 1
+
+
+@pytest.mark.parametrize("kw", [{"time_limit": -1.0}, {"time_limit": float("nan")}, {"time_limit": 0.0},
+                                {"max_iterations": 0}, {"max_iterations": -5}, {"max_iterations": 2.0}])
+def test_design_limits_refuse_bad_values(kw):
+    with pytest.raises(InvalidArgumentError, match=next(iter(kw))):
+        setbound.zonotopic.design_zonotopic_gain(_small_design_system(), "PRad-E", **kw)
+
+
+def test_design_limits_c_abi_refuses_bad_values_and_zero_keeps_the_default():
+    from setbound._native import dptr, ffi, lib
+    sys = _small_design_system()
+    L, P, Y = np.empty((2, 1)), np.empty((2, 2)), np.empty((2, 1))
+    beta = ffi.new("double*")
+    call = lambda it, tl: lib.sb_zono_gain_design_limits(sys._handle, lib.SB_ZOBS_DESIGN_PRAD_E, it, tl, dptr(L),
+                                                          dptr(P), dptr(Y), beta)
+    assert call(-1, 0.0) == lib.SB_ERR_INVALID_ARGUMENT
+    assert "max_iterations" in ffi.string(lib.sb_last_error()).decode()
+    assert call(0, -2.0) == lib.SB_ERR_INVALID_ARGUMENT
+    assert "time_limit" in ffi.string(lib.sb_last_error()).decode()
+    assert call(0, float("nan")) == lib.SB_ERR_NOT_FINITE
+    assert call(0, 1e-9) == lib.SB_ERR_NUMERICAL
+    assert "time limit" in ffi.string(lib.sb_last_error()).decode()
+    assert call(0, 0.0) == lib.SB_OK
+    ref = setbound.zonotopic.design_zonotopic_gain(sys, "PRad-E")
+    np.testing.assert_allclose(L, ref.gain, rtol=1e-12, atol=1e-14)
+
+
+@needs_data
+def test_observe_passes_solver_options_to_the_design():
+    from setbound.errors import NumericalError
+    b = _vehicle2()
+    with pytest.raises(NumericalError, match="time limit"):
+        cora.observe(b, "Nom-G", steps=3, solver_options={"time_limit": 1e-9})
+    r = cora.observe(b, "Nom-G", steps=3, solver_options={"time_limit": 60.0, "max_iterations": 150})
+    ref = cora.observe(b, "Nom-G", steps=3)
+    np.testing.assert_allclose(r.upper, ref.upper, rtol=1e-12, atol=1e-12)
+    with pytest.raises(InvalidArgumentError, match="solver_options"):
+        cora.observe(b, "PRad-B", steps=3, solver_options={"tolerance": 1.0})
+    with pytest.raises(InvalidArgumentError, match="time_limit"):
+        cora.observe(b, "PRad-E", steps=3, solver_options={"time_limit": -1.0})

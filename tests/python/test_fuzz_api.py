@@ -816,7 +816,7 @@ OPTIONS: dict[str, dict[str, str]] = {
                                                        "reduction": "choice", "convention": "choice"},
     "setbound.zonotopic.PropagationObserver.__init__": {"max_generators": "int", "reduction": "choice",
                                                         "convention": "choice"},
-    "setbound.zonotopic.design_zonotopic_gain": {"method": "choice"},
+    "setbound.zonotopic.design_zonotopic_gain": {"method": "choice", "max_iterations": "int?", "time_limit": "float?"},
     # CORA's ROPO and the Rauch-Tung-Striebel smoother
     "setbound.parallelotope.ParallelotopeEstimator.__init__": {"reduction": "choice", "convention": "choice",
                                                                "on_inconsistency": "choice"},

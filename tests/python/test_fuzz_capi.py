@@ -319,7 +319,7 @@ def check_case(name, status, message, finite, nan_out, huge=False):
 
 
 # Functions that solve LMIs (designs with a scalar search take ~1 s a call): fewer examples.
-SLOW = {"sb_zono_gain_design", "sb_ell_design_descriptor", "sb_ell_design_offline", "sb_pradius_design", "sb_hinf_design_create",
+SLOW = {"sb_zono_gain_design", "sb_zono_gain_design_limits", "sb_ell_design_descriptor", "sb_ell_design_offline", "sb_pradius_design", "sb_hinf_design_create",
         "sb_eso_d_design_create",
         "sb_interval_invariant_design_create", "sb_interval_luenberger_create", "sb_interval_nonlinear_create",
         "sb_mrpi_algorithm1", "sb_lmi_solve_gevp"}

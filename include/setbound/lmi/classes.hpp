@@ -67,13 +67,21 @@ struct BarrierTerm {
   Eigen::MatrixXd F, Linv, Ft;  // F(x), L⁻¹ (Cholesky), stacked L⁻¹F_iL⁻ᵀ (n²×k)
   Eigen::MatrixXd tmp;          // n×n work
   Eigen::LLT<Eigen::MatrixXd> llt;
+  // Arm form of the coefficients (ArmForm, solver.hpp), decided at the first derivatives: for a
+  // block beyond the fixed-size kernels whose coefficients are all sparse, when it is cheaper than
+  // the n²k²/2 of the dot products of the dense L⁻¹F_iL⁻ᵀ (Nom-G's analytic centre on tank30).
+  bool arm_decided = false, arm = false;
+  ArmForm arms;
+  Eigen::MatrixXd gram;         // k×k: the arm form's Gram matrix (upper triangle)
+  Eigen::VectorXd ones;         // k unit scales for ArmForm::gram
 };
 
 // −log det F(x) value; false when F(x) is not positive definite.
 bool barrier_value(BarrierTerm& t, const LmiProblem& p, const Eigen::VectorXd& x, double& value);
 
 // Adds weight·(gradient, Hessian) of −log det F at the point of the last barrier_value call:
-// g_i −= tr F̃_i, H_ij += tr F̃_i F̃_j with F̃_i = L⁻¹F_iL⁻ᵀ. The congruences run on the
+// g_i −= tr F̃_i, H_ij += tr F̃_i F̃_j with F̃_i = L⁻¹F_iL⁻ᵀ (from the arm form where it pays,
+// with T = L⁻¹). The congruences run on the
 // solver's small-matrix kernels (fixed-size up to kernels::kFixedMax); Eigen's blocked product
 // only pays off for large blocks.
 void barrier_derivatives(BarrierTerm& t, Eigen::VectorXd& g, Eigen::MatrixXd& H);

@@ -91,6 +91,22 @@ namespace detail {
 struct SolveTally {
   int solved = 0, infeasible = 0, undecided = 0;
   lmi::SolveStatus last_undecided = lmi::SolveStatus::Optimal;
+  std::string limit;  // the limit the last undecided solve stopped at, when it was one
+  /// count(status), and which limit (time or iterations) a solve that stopped undecided reached.
+  bool count(const lmi::SolveResult& r, const lmi::SolverOptions& o) {
+    if (r.status == lmi::SolveStatus::MaxIterations) limit = limit_reached(r, o);
+    return count(r.status);
+  }
+  /// "the time limit of 30 s" / "the iteration limit of 100" for a solve that stopped at one.
+  static std::string limit_reached(const lmi::SolveResult& r, const lmi::SolverOptions& o) {
+    if (r.solve_time >= o.time_limit || r.iterations < o.max_iterations) {
+      std::string t = std::to_string(o.time_limit);
+      t.erase(t.find_last_not_of('0') + 1);
+      if (!t.empty() && t.back() == '.') t.pop_back();
+      return "the time limit of " + t + " s per solve";
+    }
+    return "the iteration limit of " + std::to_string(o.max_iterations) + " per solve";
+  }
   /// Records one solve; true when it gave a usable point (optimal or inaccurate).
   bool count(lmi::SolveStatus s) {
     if (s == lmi::SolveStatus::Optimal || s == lmi::SolveStatus::Inaccurate) return ++solved, true;
@@ -105,9 +121,12 @@ struct SolveTally {
       throw InfeasibleError(who + ": the LMI is infeasible for every " + what + " in (0, 1)");
     throw NumericalError(who + ": no " + what + " in (0, 1) gave a solution: the LMI solver stopped undecided at " +
                          std::to_string(undecided) + " of " + std::to_string(undecided + infeasible) + " values (" +
-                         lmi::status_name(last_undecided) +
-                         ": its iteration or time limit, or numerical trouble; the solver options of "
-                         "design_zonotopic_gain raise the limits) and proved infeasibility at " +
+                         lmi::status_name(last_undecided) + ": " +
+                         (last_undecided == lmi::SolveStatus::MaxIterations && !limit.empty()
+                              ? "it reached " + limit
+                              : std::string("its iteration or time limit, or numerical trouble")) +
+                         "; the solver options of design_zonotopic_gain (max_iterations, time_limit) raise the "
+                         "limits) and proved infeasibility at " +
                          std::to_string(infeasible));
   }
 };
@@ -116,8 +135,7 @@ struct SolveTally {
 
 /// The PRad-A, PRad-B, PRad-C, PRad-D, PRad-E or Nom-G design (see designs.hpp). PRad-A returns
 /// the P and Y of its last output. `solver`: the options of every LMI solve (the defaults stop a
-/// solve after 100 iterations or 30 s; tank30's designs, with about a thousand unknowns, need
-/// more). Throws InfeasibleError with the reason when no gain exists (no β / μ feasible, every
+/// solve after 100 iterations or 30 s; checked first: InvalidArgumentError for a bad value). Throws InfeasibleError with the reason when no gain exists (no β / μ feasible, every
 /// solve with a certificate; unbounded trace P), NumericalError when no solve gave a solution
 /// and some stopped undecided (iteration or time limit, numerical trouble: the message counts
 /// them), DimensionError / InvalidArgumentError for an unsuitable system (an interval A).

@@ -138,6 +138,35 @@ SETBOUND_INLINE void barrier_derivatives(BarrierTerm& t, Eigen::VectorXd& g, Eig
   const int k = static_cast<int>(t.blk->coefficients.size());
   t.Linv.setIdentity(n, n);
   t.llt.matrixL().solveInPlace(t.Linv);
+  if (!t.arm_decided) {
+    t.arm_decided = true;
+    bool sparse = n > kernels::kFixedMax && k > 0;
+    for (const Coefficient& co : t.blk->coefficients) sparse = sparse && co.kind == CoefficientKind::Sparse;
+    if (sparse) {
+      t.arms.build(*t.blk, nullptr, k);
+      t.arm = 2.0 * t.arms.cost() < 0.5 * static_cast<double>(n) * n * k * k;
+      if (t.arm) {
+        t.gram.resize(k, k);
+        t.ones.setOnes(k);
+      }
+    }
+  }
+  if (t.arm) {
+    // tr F̃_i F̃_j and tr F̃_i from the arm form with T = L⁻¹ (q_r = column r of L⁻¹).
+    t.arms.prepare(t.Linv.data());
+    t.arms.gram(t.ones.data(), t.gram.data(), k);
+    for (int j = 0; j < k; ++j) {
+      const int vj = t.blk->coefficients[static_cast<size_t>(j)].var;
+      g(vj) -= t.weight * t.arms.trace(j);
+      for (int i = 0; i <= j; ++i) {
+        const int vi = t.blk->coefficients[static_cast<size_t>(i)].var;
+        const double d = t.weight * t.gram(i, j);
+        H(vi, vj) += d;
+        if (vi != vj) H(vj, vi) += d;
+      }
+    }
+    return;
+  }
   t.Ft.resize(static_cast<Eigen::Index>(n) * n, k);
   t.tmp.resize(n, n);
   for (int j = 0; j < k; ++j) {

@@ -109,7 +109,7 @@ SETBOUND_INLINE ZonotopicGainDesign prad_b_design(const LinearSystem& sys, const
     build(beta);
     model.update(problem);
     const lmi::SolveResult& res = solver.solve();
-    if (tally.count(res.status)) {
+    if (tally.count(res, solver_options)) {
       best_beta = beta;
       best_x = res.x;
       lo = beta;
@@ -220,7 +220,7 @@ SETBOUND_INLINE ZonotopicGainDesign wang_strip_weight_design(const LinearSystem&
     build(s);
     model.update(problem);
     const lmi::SolveResult& res = solver.solve();
-    if (!tally.count(res.status)) return std::nullopt;
+    if (!tally.count(res, solver_options)) return std::nullopt;
     return res.x;
   };
   // The criterion is not monotone in s (papers.md §0.4): a larger s relaxes the decay but leaves
@@ -266,6 +266,7 @@ SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sy
   using lmi::AffineExpr;
   const int m = static_cast<int>(method);
   if (m < 1 || m > 6) throw InvalidArgumentError("method: unknown zonotopic gain design " + std::to_string(m));
+  solver_options.validate();
   if (sys.uncertain_A()) throw InvalidArgumentError("system: the gain designs need a known A");
   if (method == ZonotopicGainMethod::PRadC || method == ZonotopicGainMethod::PRadD)
     return detail::wang_strip_weight_design(sys, method == ZonotopicGainMethod::PRadD, solver_options);
@@ -374,7 +375,7 @@ SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sy
     model.update(problem);
     const lmi::SolveResult& res = solver.solve();
     if (res.status == lmi::SolveStatus::Unbounded) unbounded = true;
-    if (!tally.count(res.status)) return std::nullopt;
+    if (!tally.count(res, solver_options)) return std::nullopt;
     return Found{s, res.x};
   };
   std::optional<Found> best;
@@ -402,9 +403,11 @@ SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sy
     const std::optional<Found> least = feasible(1.0);  // build(): min trace P, P ⪰ I
     if (!least && tally.undecided > 0)
       throw NumericalError(std::string("design Nom-G: the least-trace LMI was not solved (") +
-                           lmi::status_name(tally.last_undecided) +
-                           ": the solver's iteration or time limit, or numerical trouble; the solver options of "
-                           "design_zonotopic_gain raise the limits)");
+                           lmi::status_name(tally.last_undecided) + ": " +
+                           (tally.last_undecided == lmi::SolveStatus::MaxIterations && !tally.limit.empty()
+                                ? "it reached " + tally.limit
+                                : std::string("the solver's iteration or time limit, or numerical trouble")) +
+                           "; the solver options of design_zonotopic_gain (max_iterations, time_limit) raise the limits)");
     if (!least)
       throw InfeasibleError("design Nom-G: no gain L with (A − LC)ᵀP(A − LC) ⪯ P, P ⪰ I (is (C, A) detectable?)");
     const double cap = 10.0 * model.value(P, least->x).trace();
@@ -421,8 +424,12 @@ SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sy
     const lmi::SolveResult res = lmi::solve_maxdet(centre, solver_options);
     if (res.status != lmi::SolveStatus::Optimal && res.status != lmi::SolveStatus::Inaccurate)
       throw NumericalError(std::string("design Nom-G: the analytic centre could not be computed (") +
-                           lmi::status_name(res.status) + ", " + std::to_string(res.iterations) +
-                           " iterations: the solver's iteration or time limit, or numerical trouble)");
+                           lmi::status_name(res.status) + ", " + std::to_string(res.iterations) + " iterations: " +
+                           (res.status == lmi::SolveStatus::MaxIterations
+                                ? (res.solve_time >= solver_options.time_limit ? "it reached " + detail::SolveTally::limit_reached(res, solver_options)
+                                                                               : std::string("the solver's iteration limit"))
+                                : std::string("numerical trouble")) +
+                           "; the solver options of design_zonotopic_gain (max_iterations, time_limit) raise the limits)");
     best = Found{1.0, res.x};
   }
   ZonotopicGainDesign d;
