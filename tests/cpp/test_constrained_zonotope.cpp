@@ -132,6 +132,45 @@ TEST(BoxLP, MatchesBruteForceOnRandomFeasibleLPs) {
   }
 }
 
+// The warm-started queries (dual simplex with bound flips and perturbed costs, then the primal
+// simplex on the true costs) on LPs shaped like a constrained zonotope's hull LPs: tens of rows,
+// a few hundred columns, objectives ±(row of G) with many zero entries (noise and slack columns),
+// which makes every dual step degenerate. Optimality is checked without trusting the solver: the
+// returned point is feasible, so g·ξ* <= max <= value, and the gap must be rounding-sized.
+TEST(BoxLP, WarmStartedHullQueriesAreOptimalOnLargeDegenerateLPs) {
+  std::mt19937 rng(41);
+  for (int trial = 0; trial < 12; ++trial) {
+    const int q = 8 + 4 * (trial % 4), n = 2 + trial % 5, m = 4 * q + 20 * (trial % 3);
+    MatrixXd A = randn(q, m, rng);
+    // Private noise columns (one per row, zero elsewhere and zero in G), as a measurement's rows.
+    MatrixXd G = randn(n, m, rng);
+    for (int i = 0; i < q; ++i) {
+      A.col(m - q + i).setZero();
+      A(i, m - q + i) = 0.1 + 0.05 * i;
+    }
+    G.rightCols(q).setZero();
+    const VectorXd b = A * (0.9 * box_point(m, rng, false));
+    BoxLP lp(A, b);
+    ASSERT_EQ(lp.feasibility(), BoxLP::Feasibility::feasible) << "trial " << trial;
+    BoxLP twin(A, b);
+    for (int i = 0; i < n; ++i) {
+      for (double s : {1.0, -1.0}) {
+        const VectorXd g = s * G.row(i).transpose();
+        const auto res = lp.maximize(g);
+        ASSERT_TRUE(res.optimal) << "trial " << trial;
+        ASSERT_EQ(res.point.size(), m);
+        EXPECT_LE(res.point.cwiseAbs().maxCoeff(), 1.0 + 1e-9) << "trial " << trial;
+        EXPECT_LE((A * res.point - b).cwiseAbs().maxCoeff(), 1e-8) << "trial " << trial;
+        const double scale = 1.0 + g.cwiseAbs().sum();
+        EXPECT_GE(res.value, g.dot(res.point) - 1e-8 * scale) << "trial " << trial;
+        EXPECT_LE(res.value - g.dot(res.point), 1e-8 * scale) << "optimality gap, trial " << trial << " i " << i;
+        // Deterministic: the same queries on the same LP give the same bits.
+        EXPECT_EQ(twin.maximize(g).value, res.value) << "trial " << trial;
+      }
+    }
+  }
+}
+
 TEST(BoxLP, CertifiesEmptinessAndOnlyWithAVerifiedCertificate) {
   // ξ1 + ξ2 = 3 has no solution in the box: y = 1 gives yᵀb − ‖Aᵀy‖₁ = 3 − 2 = 1.
   BoxLP lp(MatrixXd::Constant(1, 2, 1.0), VectorXd::Constant(1, 3.0));

@@ -6,9 +6,11 @@
 // The interval hull, the support function, the membership and the emptiness test of a constrained
 // zonotope {c + Gξ : Aξ = b, ‖ξ‖∞ <= 1} are all LPs of this form with the same rows and different
 // objectives (the hull alone is 2n of them), so one BoxLP is built per set and solved many times:
-// a dense bounded-variable primal simplex (variables at either bound, no slack columns) whose basis
-// is kept between objectives, so each LP after the first starts from a feasible, usually
-// near-optimal basis.
+// a dense bounded-variable simplex (variables at either bound, no slack columns) whose basis is
+// kept between objectives. Phase 1 is a primal simplex; each objective after it starts with a dual
+// simplex from the kept basis (in a boxed LP every basis is dual feasible once the non-basic
+// variables sit at the bounds their reduced costs prefer; bound-flipping ratio test, perturbed
+// costs against stalling), finished by the primal simplex on the true costs.
 //
 // Why a simplex of our own: these LPs are small (tens to a few hundred columns, a few to a hundred
 // rows) and solved thousands of times per second; the per-call set-up of a general solver costs more
@@ -30,6 +32,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <utility>
 #include <vector>
 
 namespace setbound {
@@ -42,6 +45,7 @@ inline constexpr double kPivotTol = 1e-9;        // relative to the entering col
 inline constexpr double kReducedCostTol = 1e-10;  // relative to the largest cost
 inline constexpr double kFeasibilityTol = 1e-9;   // phase 1 objective below this (rows scaled) = feasible
 inline constexpr int kRefactorEvery = 64;         // pivots between fresh factorisations of the basis
+inline constexpr double kDualPerturbation = 1e-7;  // relative cost perturbation of the dual simplex
 
 /// max |v_i|, 0 for an empty vector (Eigen's maxCoeff asserts on those).
 template <class V>
@@ -121,6 +125,12 @@ class BoxLP {
   Eigen::VectorXd duals(const Eigen::VectorXd& cost_basic) const;  // solves Bᵀμ = c_B
   double dual_bound(const Eigen::Ref<const Eigen::VectorXd>& g, const Eigen::VectorXd& mu) const;
   bool run_simplex(const Eigen::VectorXd& cost, long max_pivots);  // minimises costᵀx; false: limit
+  // Minimises costᵀx from the current basis by the dual simplex: every non-basic variable first
+  // goes to the bound its reduced cost prefers (a boxed LP is then dual feasible), then basic
+  // variables outside their bounds leave one by one. false: limit, or no entering column (the
+  // caller falls back to the primal simplex from the saved basis).
+  bool run_dual_simplex(const Eigen::VectorXd& cost, long max_pivots);
+  void pivot(Eigen::Index row, int enter, Eigen::VectorXd& d);  // tableau and reduced costs
 
   Eigen::MatrixXd A_;  // original rows (zero rows kept: they are checked in phase 1)
   Eigen::VectorXd b_;
@@ -134,7 +144,11 @@ class BoxLP {
   Eigen::VectorXd art_sign_;   // s_i
   std::vector<int> basis_;     // basic variable of each row
   std::vector<signed char> state_;  // per variable: 0 basic, -1 at lower, +1 at upper
-  Eigen::MatrixXd T_;          // B⁻¹ [As | S], r × (m + r)
+  // B⁻¹ [As | S], r × (m + r), stored by rows: a pivot subtracts multiples of the pivot row from
+  // every other row, which is then a contiguous (vectorised) operation.
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> T_;
+  Eigen::VectorXd col_;        // scratch: the entering column of T (no allocation per pivot)
+  std::vector<std::pair<double, int>> cand_;  // scratch: the dual simplex's ratio-test candidates
   Eigen::VectorXd beta_;       // values of the basic variables
   bool phase1_done_ = false;
   Feasibility feasibility_ = Feasibility::inconclusive;

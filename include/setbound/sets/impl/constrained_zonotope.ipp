@@ -46,19 +46,25 @@ SETBOUND_INLINE void require_vector(const Eigen::Ref<const Eigen::VectorXd>& v, 
 /// in one dimension) when there is one, else through a new column s_k e_k (zero in G).
 SETBOUND_INLINE void absorb_row_slack(Eigen::MatrixXd& G, Eigen::MatrixXd& A, const Eigen::VectorXd& s) {
   const Eigen::Index q = A.rows(), m = A.cols();
+  // Each column's only row, when it has exactly one non-zero entry and is zero in G (−1: none);
+  // one pass over A and G instead of a search per row.
+  std::vector<Eigen::Index> only_row(static_cast<size_t>(m), -1);
+  for (Eigen::Index j = 0; j < m; ++j) {
+    Eigen::Index row = -1, count = 0;
+    for (Eigen::Index k = 0; k < q && count < 2; ++k)
+      if (A(k, j) != 0.0) row = k, ++count;
+    if (count == 1 && box_lp_detail::max_abs(G.col(j)) == 0.0) only_row[static_cast<size_t>(j)] = row;
+  }
+  std::vector<Eigen::Index> private_col(static_cast<size_t>(q), -1);  // the first such column per row
+  for (Eigen::Index j = m - 1; j >= 0; --j)
+    if (only_row[static_cast<size_t>(j)] >= 0) private_col[static_cast<size_t>(only_row[static_cast<size_t>(j)])] = j;
   std::vector<Eigen::Index> extra;
   for (Eigen::Index k = 0; k < q; ++k) {
     if (!(s(k) > 0.0)) continue;
-    Eigen::Index private_col = -1;
-    for (Eigen::Index j = 0; j < m && private_col < 0; ++j) {
-      if (A(k, j) == 0.0 || box_lp_detail::max_abs(G.col(j)) > 0.0) continue;
-      bool alone = true;
-      for (Eigen::Index k2 = 0; k2 < q && alone; ++k2) alone = (k2 == k) || A(k2, j) == 0.0;
-      if (alone) private_col = j;
-    }
-    if (private_col >= 0) {
-      const double a = A(k, private_col);
-      A(k, private_col) = std::copysign(rounding::add_up(std::abs(a), s(k)), a);
+    const Eigen::Index pc = private_col[static_cast<size_t>(k)];
+    if (pc >= 0) {
+      const double a = A(k, pc);
+      A(k, pc) = std::copysign(rounding::add_up(std::abs(a), s(k)), a);
     } else {
       extra.push_back(k);
     }
@@ -317,32 +323,39 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::remove_zero_constraints
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::rescale() const {
   const Eigen::Index q = num_constraints(), m = num_generators();
   if (q == 0 || m == 0) return *this;
-  Eigen::VectorXd lo = Eigen::VectorXd::Constant(m, -1.0), hi = Eigen::VectorXd::Constant(m, 1.0);
+  Eigen::ArrayXd lo = Eigen::ArrayXd::Constant(m, -1.0), hi = Eigen::ArrayXd::Constant(m, 1.0);
+  // Row i keeps a_j ξ_j in b_i − Σ_{k≠j} a_k ξ_k. The row's terms' ends are summed in plain floating
+  // point and the whole row's rounding is covered by one a-priori margin E (Higham §3.1: every
+  // sum, product, the subtraction of term j and the final b_i − … err by at most γ_{m+4} times the
+  // sum S of the terms' magnitudes and |b_i|; 4γ leaves a factor 2 for the computed S and γ), so
+  // the propagation is a few vector operations per row instead of two directed roundings per term.
+  // The quotient by a_j is then moved outward by 4u of itself (its own rounding and that of the
+  // move) and a subnormal (underflow).
+  const double u = std::ldexp(1.0, -53), tiny = std::numeric_limits<double>::denorm_min();
+  const double margin_factor = 4.0 * rounding_bounds::gamma(m + 4);
+  Eigen::ArrayXd a(m), tl(m), tu(m), xl(m), xu(m);
   for (int sweep = 0; sweep < 4; ++sweep) {
     bool changed = false;
     for (Eigen::Index i = 0; i < q; ++i) {
-      // Row sums of the terms' lower and upper ends, rounded outward. Subtracting one computed
-      // term from them stays a valid bound of the sum of the others (see the test).
-      double L = 0.0, U = 0.0;
-      for (Eigen::Index k = 0; k < m; ++k) {
-        const double a = A_(i, k);
-        if (a == 0.0) continue;
-        L = rounding::add_down(L, a > 0 ? rounding::mul_down(a, lo(k)) : rounding::mul_down(a, hi(k)));
-        U = rounding::add_up(U, a > 0 ? rounding::mul_up(a, hi(k)) : rounding::mul_up(a, lo(k)));
-      }
+      a = A_.row(i).transpose().array();
+      const Eigen::Array<bool, Eigen::Dynamic, 1> pos = a > 0.0;
+      tl = pos.select(a * lo, a * hi);  // the terms' lower ends (0 where a_j = 0)
+      tu = pos.select(a * hi, a * lo);
+      const double L = tl.sum(), U = tu.sum();
+      const double S = tl.abs().sum() + tu.abs().sum() + std::abs(b_(i));
+      const double E = margin_factor * S + static_cast<double>(m + 4) * tiny;
+      // a_j ξ_j ∈ [b_i − (U − tu_j) − E, b_i − (L − tl_j) + E].
+      const Eigen::ArrayXd rl = (b_(i) - (U - tu)) - E, ru = (b_(i) - (L - tl)) + E;
+      xl = pos.select(rl / a, ru / a);
+      xu = pos.select(ru / a, rl / a);
+      xl -= 4.0 * u * xl.abs() + tiny;
+      xu += 4.0 * u * xu.abs() + tiny;
       for (Eigen::Index j = 0; j < m; ++j) {
-        const double a = A_(i, j);
-        if (a == 0.0) continue;
-        const double tl = a > 0 ? rounding::mul_down(a, lo(j)) : rounding::mul_down(a, hi(j));
-        const double tu = a > 0 ? rounding::mul_up(a, hi(j)) : rounding::mul_up(a, lo(j));
-        const double SL = rounding::sub_down(L, tl), SU = rounding::sub_up(U, tu);  // Σ_{k≠j}
-        const double rl = rounding::sub_down(b_(i), SU), ru = rounding::sub_up(b_(i), SL);  // a ξ_j ∈ [rl, ru]
-        const double xl = a > 0 ? rounding::div_down(rl, a) : rounding::div_down(ru, a);
-        const double xu = a > 0 ? rounding::div_up(ru, a) : rounding::div_up(rl, a);
-        if (!(xl <= xu) || xl > hi(j) || xu < lo(j)) return *this;  // empty: BoxLP certifies that
-        if (xl > lo(j) + 1e-12 || xu < hi(j) - 1e-12) changed = true;
-        lo(j) = std::max(lo(j), xl);
-        hi(j) = std::min(hi(j), xu);
+        if (a(j) == 0.0) continue;
+        if (!(xl(j) <= xu(j)) || xl(j) > hi(j) || xu(j) < lo(j)) return *this;  // empty: BoxLP certifies that
+        if (xl(j) > lo(j) + 1e-12 || xu(j) < hi(j) - 1e-12) changed = true;
+        lo(j) = std::max(lo(j), xl(j));
+        hi(j) = std::min(hi(j), xu(j));
       }
     }
     if (!changed) break;
