@@ -44,7 +44,7 @@ namespace box_lp_detail {
 inline constexpr double kPivotTol = 1e-9;        // relative to the entering column's largest entry
 inline constexpr double kReducedCostTol = 1e-10;  // relative to the largest cost
 inline constexpr double kFeasibilityTol = 1e-9;   // phase 1 objective below this (rows scaled) = feasible
-inline constexpr int kRefactorEvery = 64;         // pivots between fresh factorisations of the basis
+inline constexpr int kRefactorEvery = 64;         // pivots between fresh factorisations (at least r: one costs ~2r pivots)
 inline constexpr double kDualPerturbation = 1e-7;  // relative cost perturbation of the dual simplex
 
 /// max |v_i|, 0 for an empty vector (Eigen's maxCoeff asserts on those).
