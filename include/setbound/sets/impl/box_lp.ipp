@@ -285,7 +285,7 @@ SETBOUND_INLINE bool BoxLP::run_dual_simplex(const Eigen::VectorXd& cost, long m
     std::sort(cand_.begin(), cand_.end());
     int enter = -1;
     double slope = worst;  // the row's remaining infeasibility
-    std::size_t first_flip = cand_.size(), k = 0;
+    std::size_t k = 0;  // candidates [0, k) flip, candidate k enters
     for (; k < cand_.size(); ++k) {
       const double step = 2.0 * std::abs(Trow(cand_[k].second));
       if (k + 1 < cand_.size() && slope - step > box_lp_detail::kFeasibilityTol) {
@@ -295,7 +295,6 @@ SETBOUND_INLINE bool BoxLP::run_dual_simplex(const Eigen::VectorXd& cost, long m
       enter = cand_[k].second;
       break;
     }
-    first_flip = k;  // candidates [0, k) flip
     // Among candidates whose ratio ties the entering one's, the largest pivot (stability).
     if (enter >= 0) {
       const double t = cand_[k].first, tol = box_lp_detail::kReducedCostTol * dscale;
@@ -306,7 +305,7 @@ SETBOUND_INLINE bool BoxLP::run_dual_simplex(const Eigen::VectorXd& cost, long m
           enter = cand_[k].second;
           piv = std::abs(Trow(enter));
         }
-      for (std::size_t l = 0; l < first_flip; ++l) {
+      for (std::size_t l = 0; l < k; ++l) {
         const int f = cand_[l].second;
         const signed char s = state_[static_cast<size_t>(f)];
         beta_ -= (-2.0 * s) * T_.col(f);  // Δx = −2 s
