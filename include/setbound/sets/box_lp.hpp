@@ -43,7 +43,9 @@ namespace box_lp_detail {
 // returned (the returned numbers are certified by duality), so they aim at robustness.
 inline constexpr double kPivotTol = 1e-9;        // relative to the entering column's largest entry
 inline constexpr double kReducedCostTol = 1e-10;  // relative to the largest cost
-inline constexpr double kFeasibilityTol = 1e-9;   // phase 1 objective below this (rows scaled) = feasible
+// Primal feasibility (rows scaled): phase 1 ends feasible when its objective is below it, and the
+// dual simplex treats a basic variable within it of its box as inside.
+inline constexpr double kFeasibilityTol = 1e-9;
 inline constexpr int kRefactorEvery = 64;         // pivots between fresh factorisations (at least r: one costs ~2r pivots)
 inline constexpr double kDualPerturbation = 1e-7;  // relative cost perturbation of the dual simplex
 
@@ -122,7 +124,13 @@ class BoxLP {
   void phase1_run();                            // drives the artificials out from any start
   void scale_rows();                            // row_scale_, As_, bs_, absA_ from A_, b_
   void refactor();                              // T = B⁻¹A, beta = x_B, from the original data
-  Eigen::VectorXd duals(const Eigen::VectorXd& cost_basic) const;  // solves Bᵀμ = c_B
+  Eigen::VectorXd duals(const Eigen::VectorXd& cost) const;  // solves Bᵀμ = c_B (cost: all m + r)
+  Eigen::VectorXd basic_costs(const Eigen::VectorXd& cost) const;    // c_B: cost of each row's basic variable
+  Eigen::VectorXd reduced_costs(const Eigen::VectorXd& cost) const;  // cost − Tᵀ c_B
+  // The box of variable k when basic: ξ in [−1, 1]; an artificial is fixed at 0 (phase 1 lets it
+  // be positive, see run_simplex).
+  double lower_of(int k) const { return k < A_.cols() ? -1.0 : 0.0; }
+  double upper_of(int k) const { return k < A_.cols() ? 1.0 : 0.0; }
   double dual_bound(const Eigen::Ref<const Eigen::VectorXd>& g, const Eigen::VectorXd& mu) const;
   bool run_simplex(const Eigen::VectorXd& cost, long max_pivots);  // minimises costᵀx; false: limit
   // Minimises costᵀx from the current basis by the dual simplex: every non-basic variable first
@@ -130,7 +138,9 @@ class BoxLP {
   // variables outside their bounds leave one by one. false: limit, or no entering column (the
   // caller falls back to the primal simplex from the saved basis).
   bool run_dual_simplex(const Eigen::VectorXd& cost, long max_pivots);
-  void pivot(Eigen::Index row, int enter, Eigen::VectorXd& d);  // tableau and reduced costs
+  // Updates the tableau and the reduced costs d of `cost` for `enter` replacing row's basic
+  // variable (col_ holds the entering column); refactorises every max(kRefactorEvery, r) pivots.
+  void pivot(Eigen::Index row, int enter, const Eigen::VectorXd& cost, Eigen::VectorXd& d);
 
   Eigen::MatrixXd A_;  // original rows (zero rows kept: they are checked in phase 1)
   Eigen::VectorXd b_;
@@ -149,6 +159,8 @@ class BoxLP {
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> T_;
   Eigen::VectorXd col_;        // scratch: the entering column of T (no allocation per pivot)
   std::vector<std::pair<double, int>> cand_;  // scratch: the dual simplex's ratio-test candidates
+  std::vector<int> saved_basis_;         // scratch: maximize's fallback basis for the primal simplex
+  std::vector<signed char> saved_state_;
   Eigen::VectorXd beta_;       // values of the basic variables
   bool phase1_done_ = false;
   Feasibility feasibility_ = Feasibility::inconclusive;

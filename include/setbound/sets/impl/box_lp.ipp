@@ -118,26 +118,21 @@ SETBOUND_INLINE void BoxLP::refactor() {
   beta_ = lu.solve(rhs);
 }
 
-SETBOUND_INLINE Eigen::VectorXd BoxLP::duals(const Eigen::VectorXd& cost_basic) const {
+SETBOUND_INLINE Eigen::VectorXd BoxLP::duals(const Eigen::VectorXd& cost) const {
   const Eigen::Index r = A_.rows();
   if (r == 0) return Eigen::VectorXd();
   // Bᵀ μ_s = c_B in the scaled rows; μ = D μ_s in the original ones (μ_sᵀ D A = (D μ_s)ᵀ A).
   // T's artificial columns are B⁻¹S (S = diag(s), s_i = ±1), so B⁻¹ = T_art S and
   // μ_s = S T_artᵀ c_B: no factorisation per query. T is refreshed every kRefactorEvery pivots;
   // a μ spoilt by drift would only loosen the bound, which duality certifies whatever μ is.
-  const Eigen::VectorXd mu_s = art_sign_.cwiseProduct(T_.rightCols(r).transpose() * cost_basic);
+  const Eigen::VectorXd mu_s = art_sign_.cwiseProduct(T_.rightCols(r).transpose() * basic_costs(cost));
   return row_scale_.cwiseProduct(mu_s);
 }
 
 SETBOUND_INLINE bool BoxLP::run_simplex(const Eigen::VectorXd& cost, long max_pivots) {
   const Eigen::Index r = A_.rows(), m = A_.cols();
   const bool phase1 = !phase1_done_;
-  auto cost_basic = [&] {
-    Eigen::VectorXd cB(r);
-    for (Eigen::Index i = 0; i < r; ++i) cB(i) = cost(basis_[static_cast<size_t>(i)]);
-    return cB;
-  };
-  Eigen::VectorXd d = cost - T_.transpose() * cost_basic();
+  Eigen::VectorXd d = reduced_costs(cost);
   const double dscale = std::max(1.0, box_lp_detail::max_abs(cost));
   long done = 0;
   int degenerate = 0;
@@ -169,8 +164,8 @@ SETBOUND_INLINE bool BoxLP::run_simplex(const Eigen::VectorXd& cost, long max_pi
       if (std::abs(t(i)) <= box_lp_detail::kPivotTol * tmax) continue;
       const double rate = -delta * t(i);  // d x_basic(i) / d theta
       const int k = basis_[static_cast<size_t>(i)];
-      const double lo = k < m ? -1.0 : 0.0;
-      const double hi = k < m ? 1.0 : (phase1 ? rounding::kInf : 0.0);
+      const double lo = lower_of(k);
+      const double hi = (phase1 && k >= m) ? rounding::kInf : upper_of(k);  // phase 1: artificials >= 0
       double lim;
       if (rate < 0.0) lim = (beta_(i) - lo) / -rate;
       else if (std::isfinite(hi)) lim = (hi - beta_(i)) / rate;
@@ -198,31 +193,38 @@ SETBOUND_INLINE bool BoxLP::run_simplex(const Eigen::VectorXd& cost, long max_pi
     if (leave >= m) state_[static_cast<size_t>(leave)] = -1;  // artificials leave at 0
     state_[static_cast<size_t>(enter)] = 0;
     basis_[static_cast<size_t>(row)] = enter;
-    pivot(row, enter, d);
-    if (++since_refactor_ >= std::max<Eigen::Index>(box_lp_detail::kRefactorEvery, r)) {
-      refactor();
-      d = cost - T_.transpose() * cost_basic();
-    }
+    pivot(row, enter, cost, d);
   }
 }
 
-SETBOUND_INLINE void BoxLP::pivot(Eigen::Index row, int enter, Eigen::VectorXd& d) {
+SETBOUND_INLINE Eigen::VectorXd BoxLP::basic_costs(const Eigen::VectorXd& cost) const {
+  Eigen::VectorXd cB(A_.rows());
+  for (Eigen::Index i = 0; i < cB.size(); ++i) cB(i) = cost(basis_[static_cast<size_t>(i)]);
+  return cB;
+}
+
+SETBOUND_INLINE Eigen::VectorXd BoxLP::reduced_costs(const Eigen::VectorXd& cost) const {
+  return cost - T_.transpose() * basic_costs(cost);
+}
+
+SETBOUND_INLINE void BoxLP::pivot(Eigen::Index row, int enter, const Eigen::VectorXd& cost, Eigen::VectorXd& d) {
   const Eigen::VectorXd& t = col_;  // T's column `enter` before the pivot
   T_.row(row) /= t(row);
   for (Eigen::Index i = 0; i < T_.rows(); ++i)
     if (i != row && t(i) != 0.0) T_.row(i) -= t(i) * T_.row(row);  // rows are contiguous (T_ is row-major)
   d -= d(enter) * T_.row(row).transpose();
+  // A fresh factorisation every so often bounds the drift of the product-form updates; it costs
+  // about 2r pivots, hence an interval of at least r.
+  if (++since_refactor_ >= std::max<Eigen::Index>(box_lp_detail::kRefactorEvery, T_.rows())) {
+    refactor();
+    d = reduced_costs(cost);
+  }
 }
 
 SETBOUND_INLINE bool BoxLP::run_dual_simplex(const Eigen::VectorXd& cost, long max_pivots) {
   const Eigen::Index r = A_.rows(), m = A_.cols();
   Eigen::VectorXd pc = cost;  // the perturbed costs (below)
-  auto cost_basic = [&] {
-    Eigen::VectorXd cB(r);
-    for (Eigen::Index i = 0; i < r; ++i) cB(i) = pc(basis_[static_cast<size_t>(i)]);
-    return cB;
-  };
-  Eigen::VectorXd d = cost - T_.transpose() * cost_basic();
+  Eigen::VectorXd d = reduced_costs(pc);
   const double dscale = std::max(1.0, box_lp_detail::max_abs(cost));
   // Dual feasibility for free: each non-basic ξ_j at the bound its reduced cost prefers (the
   // artificials are fixed at 0 in phase 2). The basic values follow: β −= Δx_j T_j. Then the
@@ -253,7 +255,7 @@ SETBOUND_INLINE bool BoxLP::run_dual_simplex(const Eigen::VectorXd& cost, long m
     bool below = false;
     for (Eigen::Index i = 0; i < r; ++i) {
       const int k = basis_[static_cast<size_t>(i)];
-      const double lo = k < m ? -1.0 : 0.0, hi = k < m ? 1.0 : 0.0;
+      const double lo = lower_of(k), hi = upper_of(k);
       const double v = std::max(lo - beta_(i), beta_(i) - hi);
       if (v <= worst) continue;
       if (k >= m && box_lp_detail::max_abs(T_.row(i).head(m)) <= 1e-9) continue;
@@ -316,7 +318,7 @@ SETBOUND_INLINE bool BoxLP::run_dual_simplex(const Eigen::VectorXd& cost, long m
     ++done;
     ++pivots_;
     const int leave = basis_[static_cast<size_t>(row)];
-    const double bound = below ? (leave < m ? -1.0 : 0.0) : (leave < m ? 1.0 : 0.0);
+    const double bound = below ? lower_of(leave) : upper_of(leave);
     col_ = T_.col(enter);
     const double dx = (beta_(row) - bound) / col_(row);  // Δx_enter that puts β_row on its bound
     const double x_enter = (state_[static_cast<size_t>(enter)] > 0 ? 1.0 : -1.0) + dx;
@@ -325,11 +327,7 @@ SETBOUND_INLINE bool BoxLP::run_dual_simplex(const Eigen::VectorXd& cost, long m
     state_[static_cast<size_t>(leave)] = static_cast<signed char>(leave >= m ? -1 : (below ? -1 : 1));
     state_[static_cast<size_t>(enter)] = 0;
     basis_[static_cast<size_t>(row)] = enter;
-    pivot(row, enter, d);
-    if (++since_refactor_ >= std::max<Eigen::Index>(box_lp_detail::kRefactorEvery, r)) {
-      refactor();
-      d = pc - T_.transpose() * cost_basic();
-    }
+    pivot(row, enter, pc, d);
   }
 }
 
@@ -364,12 +362,8 @@ SETBOUND_INLINE void BoxLP::phase1_run() {
   cost.tail(r).setOnes();
   const bool converged = run_simplex(cost, 50 * (m + r) + 1000);
   double infeasibility = 0.0;
-  Eigen::VectorXd cB(r);
-  for (Eigen::Index i = 0; i < r; ++i) {
-    const int v = basis_[static_cast<size_t>(i)];
-    cB(i) = cost(v);
-    if (v >= m) infeasibility += std::abs(beta_(i));
-  }
+  for (Eigen::Index i = 0; i < r; ++i)
+    if (basis_[static_cast<size_t>(i)] >= m) infeasibility += std::abs(beta_(i));
   phase1_done_ = true;
   if (converged && infeasibility <= box_lp_detail::kFeasibilityTol * std::max(1.0, box_lp_detail::max_abs(bs_))) {
     feasibility_ = Feasibility::feasible;
@@ -397,7 +391,7 @@ SETBOUND_INLINE void BoxLP::phase1_run() {
   // Phase 1 ended above zero: its dual is the candidate certificate (at the optimum
   // w = yᵀb − ‖Aᵀy‖₁, see the header). It is believed only if the certified margin is positive.
   refactor();
-  const Eigen::VectorXd y = duals(cB);
+  const Eigen::VectorXd y = duals(cost);
   const double margin = -box_lp_detail::upper_bound_q_plus_l1(A_, -b_, y);
   if (y.size() && margin > 0.0) {
     feasibility_ = Feasibility::empty;
@@ -523,21 +517,19 @@ SETBOUND_INLINE BoxLP::Bound BoxLP::maximize(const Eigen::Ref<const Eigen::Vecto
   // simplex in one sweep (measured: ~80 % of the primal iterations were flips). Should it stop
   // (iteration limit, or a row it cannot repair through rounding), the primal simplex takes over
   // from the saved feasible basis.
-  const std::vector<int> saved_basis = basis_;
-  const std::vector<signed char> saved_state = state_;
+  saved_basis_ = basis_;  // member buffers: no allocation per query once they have grown
+  saved_state_ = state_;
   bool optimal = run_dual_simplex(cost, 10 * (m + r) + 100);
   if (!optimal) {
-    basis_ = saved_basis;
-    state_ = saved_state;
+    basis_ = saved_basis_;
+    state_ = saved_state_;
     refactor();
   }
   // The primal simplex finishes (or, after a fallback, does) the job with the true costs: the
   // dual simplex ran on perturbed ones and its Harris-style ties may leave reduced costs a hair
   // on the wrong side. From its primal-feasible basis this is usually a few pivots or none.
   optimal = run_simplex(cost, 50 * (m + r) + 1000);
-  Eigen::VectorXd cB(r);
-  for (Eigen::Index i = 0; i < r; ++i) cB(i) = cost(basis_[static_cast<size_t>(i)]);
-  const Eigen::VectorXd mu = -duals(cB);  // dual of the maximisation
+  const Eigen::VectorXd mu = -duals(cost);  // dual of the maximisation
   double value = dual_bound(g, mu);       // μᵀb + ‖g − Aᵀμ‖₁, certified
   Eigen::VectorXd mu_used = mu;
   const double plain = box_lp_detail::l1_upper(g);
