@@ -483,12 +483,28 @@ TEST(ConstrainedZonotope, ConstraintEliminationAndLimitsKeepEveryPoint) {
     // Rows ranked by the hull LPs' dual weights (the estimators' default) keep every point too,
     // and the weighted hull is the plain one.
     BoxLP lp(Z.constraint_matrix(), Z.constraint_vector());
-    VectorXd weight;
-    const auto hw = Z.interval_hull(lp, weight);
+    ConstrainedZonotope::HullSensitivity sens;
+    const auto hw = Z.interval_hull(lp, sens);
+    const VectorXd& weight = sens.row_weight;
     ASSERT_EQ(weight.size(), Z.num_constraints());
+    ASSERT_EQ(sens.box_cost.size(), Z.num_generators());
     EXPECT_GE(weight.minCoeff(), 0.0);
+    EXPECT_GE(sens.box_cost.minCoeff(), 0.0);
     EXPECT_EQ(hw.lo, hz.lo);
     EXPECT_EQ(hw.hi, hz.hi);
+    // box_cost is what boxing a generator adds to Σ width_i⁻¹·(hull growth) with the LPs'
+    // multipliers kept, so re-optimised LPs can only do better: the growth of the boxed set's hull
+    // is at most the cost (up to rounding); and the boxed set keeps every point.
+    const VectorXd width = hz.hi - hz.lo;
+    for (Eigen::Index j = 0; j < Z.num_generators(); ++j) {
+      const ConstrainedZonotope B = Z.box_generators({j});
+      const auto hb = B.interval_hull();
+      EXPECT_TRUE((hb.lo.array() <= hz.lo.array() + 1e-12).all() && (hb.hi.array() >= hz.hi.array() - 1e-12).all())
+          << "trial " << trial << " generator " << j;
+      const double growth = ((hb.hi - hb.lo - width).array() / width.array()).sum();
+      EXPECT_LE(growth, sens.box_cost(j) + 1e-9) << "trial " << trial << " generator " << j;
+      for (const auto& x : pts) EXPECT_TRUE(B.contains(x)) << "trial " << trial << " generator " << j;
+    }
     for (int keep = ns - 1; keep >= 0; --keep) {
       const ConstrainedZonotope R = Z.eliminate_constraints(keep, weight);
       EXPECT_LE(R.num_constraints(), keep);
@@ -497,13 +513,23 @@ TEST(ConstrainedZonotope, ConstraintEliminationAndLimitsKeepEveryPoint) {
       EXPECT_TRUE((hr.hi.array() >= hz.hi.array() - 1e-12).all()) << "trial " << trial << " keep " << keep;
       for (const auto& x : pts) EXPECT_TRUE(R.contains(x)) << "trial " << trial << " keep " << keep;
     }
-    const ConstrainedZonotope LW = Z.reduce_limits(n + 2, 1, setbound::ZonotopeReduction::Girard, weight);
-    EXPECT_LE(LW.num_constraints(), 1);
-    EXPECT_LE(LW.num_generators(), n + 2);
-    for (const auto& x : pts) EXPECT_TRUE(LW.contains(x)) << "trial " << trial;
+    for (int extra = 0; extra <= 4; extra += 2) {  // guided by the hull LPs, at several limits
+      const ConstrainedZonotope LW = Z.reduce_limits(n + 1 + extra, 1, setbound::ZonotopeReduction::Girard, sens);
+      EXPECT_LE(LW.num_constraints(), 1);
+      EXPECT_LE(LW.num_generators(), n + 1 + extra);
+      for (const auto& x : pts) EXPECT_TRUE(LW.contains(x)) << "trial " << trial << " extra " << extra;
+    }
     expect_error_naming<setbound::DimensionError>([&] { Z.eliminate_constraints(0, VectorXd::Zero(ns + 1)); }, "row_weight");
+    auto bad = sens;
+    bad.row_weight = VectorXd::Constant(ns, NAN);
     expect_error_naming<setbound::NotFiniteError>(
-        [&] { Z.reduce_limits(n + 2, 1, setbound::ZonotopeReduction::Girard, VectorXd::Constant(ns, NAN)); }, "row_weight");
+        [&] { Z.reduce_limits(n + 2, 1, setbound::ZonotopeReduction::Girard, bad); }, "row_weight");
+    bad = sens;
+    bad.box_cost.conservativeResize(Z.num_generators() + 1);
+    expect_error_naming<setbound::DimensionError>(
+        [&] { Z.reduce_limits(n + 2, 1, setbound::ZonotopeReduction::Girard, bad); }, "box_cost");
+    expect_error_naming<setbound::InvalidArgumentError>([&] { Z.box_generators({0, 0}); }, "which");
+    expect_error_naming<setbound::InvalidArgumentError>([&] { Z.box_generators({Z.num_generators()}); }, "which");
   }
   // A row that already keeps its variable in [−1, 1] is eliminated without loss: the box
   // [−1, 1]² cut by |x1| <= 2 (no cut at all) keeps its hull exactly.

@@ -493,43 +493,150 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_limits(Eigen::In
 }
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_limits(Eigen::Index max_generators,
                                                                       Eigen::Index max_constraints,
-                                                                      ZonotopeReduction technique, const Eigen::VectorXd& w) const {
-  if (w.size() != num_constraints())
+                                                                      ZonotopeReduction technique,
+                                                                      const HullSensitivity& sens) const {
+  if (sens.row_weight.size() != num_constraints())
     throw DimensionError("row_weight: expected length " + std::to_string(num_constraints()) + " (one per row), got " +
-                         std::to_string(w.size()));
-  require_finite(w, "row_weight");
-  return reduce_limits_impl(max_generators, max_constraints, technique, &w);
+                         std::to_string(sens.row_weight.size()));
+  require_finite(sens.row_weight, "row_weight");
+  if (sens.box_cost.size() != num_generators())
+    throw DimensionError("box_cost: expected length " + std::to_string(num_generators()) +
+                         " (one per generator), got " + std::to_string(sens.box_cost.size()));
+  if (sens.box_cost.hasNaN()) throw NotFiniteError("box_cost: contains NaN");  // +inf: a cost never worth paying
+  return reduce_limits_impl(max_generators, max_constraints, technique, &sens);
 }
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::box_generators(const std::vector<Eigen::Index>& which) const {
+  const Eigen::Index n = dimension(), q = num_constraints(), m = num_generators();
+  std::vector<char> boxed(static_cast<size_t>(m), 0);
+  for (const Eigen::Index j : which) {
+    if (j < 0 || j >= m)
+      throw InvalidArgumentError("which: generator index " + std::to_string(j) + " out of range [0, " + std::to_string(m) + ")");
+    if (boxed[static_cast<size_t>(j)])
+      throw InvalidArgumentError("which: generator index " + std::to_string(j) + " given twice");
+    boxed[static_cast<size_t>(j)] = 1;
+  }
+  if (which.empty()) return *this;
+  const Eigen::Index k = static_cast<Eigen::Index>(which.size());
+  Eigen::VectorXd gx = Eigen::VectorXd::Zero(n), sa = Eigen::VectorXd::Zero(q);
+  for (const Eigen::Index j : which) {
+    gx += G_.col(j).cwiseAbs();
+    if (q) sa += A_.col(j).cwiseAbs();
+  }
+  // Sums of k exact non-negative terms, rounded up.
+  gx = czono_detail::inflate(gx, k + 1);
+  sa = czono_detail::inflate(sa, k + 1);
+  std::vector<Eigen::Index> coords;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (gx(i) > 0.0) coords.push_back(i);
+  const Eigen::Index e = static_cast<Eigen::Index>(coords.size());
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, m - k + e), A = Eigen::MatrixXd::Zero(q, m - k + e);
+  Eigen::Index out = 0;
+  for (Eigen::Index j = 0; j < m; ++j) {
+    if (boxed[static_cast<size_t>(j)]) continue;
+    G.col(out) = G_.col(j);
+    A.col(out) = A_.col(j);
+    ++out;
+  }
+  for (Eigen::Index t = 0; t < e; ++t) G(coords[static_cast<size_t>(t)], out + t) = gx(coords[static_cast<size_t>(t)]);
+  czono_detail::absorb_row_slack(G, A, sa);
+  return ConstrainedZonotope(c_, std::move(G), std::move(A), b_, r_, true);
+}
+
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_limits_impl(Eigen::Index max_generators,
                                                                       Eigen::Index max_constraints,
-                                                                      ZonotopeReduction technique, const Eigen::VectorXd* w) const {
+                                                                      ZonotopeReduction technique,
+                                                                      const HullSensitivity* sens) const {
   if (max_constraints < 0)
     throw InvalidArgumentError("max_constraints: must be >= 0, got " + std::to_string(max_constraints));
   if (max_generators < dimension() + max_constraints)
     throw InvalidArgumentError("max_generators: must be >= n + max_constraints = " +
                                std::to_string(dimension() + max_constraints) + ", got " + std::to_string(max_generators));
-  const ConstrainedZonotope Z = eliminate_impl(max_constraints, w).remove_zero_constraints();
+  const Eigen::Index n = dimension();
+  ConstrainedZonotope start = *this;
+  if (sens) start = box_cheapest(max_generators, max_constraints, sens->box_cost);
+  const ConstrainedZonotope Z =
+      start.eliminate_impl(max_constraints, sens ? &sens->row_weight : nullptr).remove_zero_constraints();
   // Columns zero in G and A say nothing; dropping them makes the limit a limit on every column.
   std::vector<Eigen::Index> keep;
   for (Eigen::Index j = 0; j < Z.num_generators(); ++j)
     if (box_lp_detail::max_abs(Z.G_.col(j)) > 0.0 || box_lp_detail::max_abs(Z.A_.col(j)) > 0.0) keep.push_back(j);
-  // The rounding box joins the generators (diag(r) columns, zero in A: the same set, exactly).
+  // The rounding box joins the generators (the same set, exactly): into a column that is already
+  // an axis-aligned segment of its coordinate (zero in A and in the other coordinates; the box
+  // columns of box_generators are such), since box(s) ⊕ box(r) = box(s + r), else as a new column.
   // Kept apart, it would be mapped by |K| at every linear map — the wrapping effect: with
   // ρ(|A|) > 1 (vehicle6: a rotation-like block) it grew ~10 % per step, to a useless hull after a
   // few hundred steps and an overflow after 7 000 — whereas as generators it is mapped exactly and
   // the lift reduction bounds it like any other column.
+  std::vector<Eigen::Index> axis(static_cast<size_t>(n), -1);  // an axis-aligned kept column per coordinate
+  for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(keep.size()); ++k) {
+    const Eigen::Index j = keep[static_cast<size_t>(k)];
+    if (Z.num_constraints() && box_lp_detail::max_abs(Z.A_.col(j)) > 0.0) continue;
+    Eigen::Index nz = 0, row = -1;
+    for (Eigen::Index i = 0; i < n && nz < 2; ++i)
+      if (Z.G_(i, j) != 0.0) ++nz, row = i;
+    if (nz == 1 && axis[static_cast<size_t>(row)] < 0) axis[static_cast<size_t>(row)] = k;
+  }
   std::vector<Eigen::Index> box;
-  for (Eigen::Index i = 0; i < Z.dimension(); ++i)
-    if (Z.r_(i) > 0.0) box.push_back(i);
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (Z.r_(i) > 0.0 && axis[static_cast<size_t>(i)] < 0) box.push_back(i);
   const Eigen::Index mk = static_cast<Eigen::Index>(keep.size()), mb = static_cast<Eigen::Index>(box.size());
-  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(Z.dimension(), mk + mb), A = Eigen::MatrixXd::Zero(Z.num_constraints(), mk + mb);
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, mk + mb), A = Eigen::MatrixXd::Zero(Z.num_constraints(), mk + mb);
   for (Eigen::Index k = 0; k < mk; ++k) {
     G.col(k) = Z.G_.col(keep[static_cast<size_t>(k)]);
     A.col(k) = Z.A_.col(keep[static_cast<size_t>(k)]);
   }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Index k = axis[static_cast<size_t>(i)];
+    if (k >= 0 && Z.r_(i) > 0.0) G(i, k) = std::copysign(rounding::add_up(std::abs(G(i, k)), Z.r_(i)), G(i, k));
+  }
   for (Eigen::Index k = 0; k < mb; ++k) G(box[static_cast<size_t>(k)], mk + k) = Z.r_(box[static_cast<size_t>(k)]);
-  return ConstrainedZonotope(Z.c_, std::move(G), std::move(A), Z.b_, Eigen::VectorXd::Zero(Z.dimension()), true)
+  return ConstrainedZonotope(Z.c_, std::move(G), std::move(A), Z.b_, Eigen::VectorXd::Zero(n), true)
       .reduce_lift(technique, max_generators);
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::box_cheapest(Eigen::Index max_generators,
+                                                                     Eigen::Index max_constraints,
+                                                                     const Eigen::VectorXd& box_cost) const {
+  const Eigen::Index n = dimension(), q = num_constraints(), m = num_generators();
+  // What the step after this will do: rows that are not 0 = 0 are eliminated down to
+  // max_constraints, each taking one column with it; columns zero in G and A are dropped.
+  Eigen::Index rows = 0, cols = 0;
+  for (Eigen::Index i = 0; i < q; ++i)
+    if (b_(i) != 0.0 || box_lp_detail::max_abs(A_.row(i)) > 0.0) ++rows;
+  const Eigen::Index eliminated = std::max<Eigen::Index>(0, rows - max_constraints);
+  // Columns that are a row's own slack (zero in G, one non-zero in A) are not candidates: boxing
+  // one only turns it into the same slack. Each row's count of them decides whether the box adds
+  // a slack column (a row without one gets a new column).
+  std::vector<Eigen::Index> own_slack(static_cast<size_t>(q), 0), candidates;
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const bool in_g = box_lp_detail::max_abs(G_.col(j)) > 0.0;
+    Eigen::Index nz = 0, row = -1;
+    for (Eigen::Index i = 0; i < q && nz < 2; ++i)
+      if (A_(i, j) != 0.0) ++nz, row = i;
+    if (!in_g && nz == 0) continue;  // dropped anyway
+    ++cols;
+    if (!in_g && nz == 1) ++own_slack[static_cast<size_t>(row)];
+    else candidates.push_back(j);
+  }
+  // The n box columns are counted whatever they turn out to be (the rounding box joins them).
+  Eigen::Index excess = cols + n - eliminated - max_generators;
+  if (excess <= 0) return *this;
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [&](Eigen::Index a, Eigen::Index b) { return box_cost(a) < box_cost(b); });
+  std::vector<Eigen::Index> which;
+  std::vector<char> new_slack(static_cast<size_t>(q), 0);
+  for (const Eigen::Index j : candidates) {
+    if (excess <= 0) break;
+    which.push_back(j);
+    --excess;
+    for (Eigen::Index i = 0; i < q; ++i)
+      if (A_(i, j) != 0.0 && own_slack[static_cast<size_t>(i)] == 0 && !new_slack[static_cast<size_t>(i)]) {
+        new_slack[static_cast<size_t>(i)] = 1;  // this row's slack needs a column of its own
+        ++excess;
+      }
+  }
+  return box_generators(which);
 }
 
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_cora(ZonotopeReduction technique, double order) const {
@@ -598,29 +705,40 @@ SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull() const {
   return interval_hull(lp);
 }
 
-SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull(BoxLP& lp, Eigen::VectorXd& wt) const {
+SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull(BoxLP& lp, HullSensitivity& sens) const {
   require_lp(lp);
   // ±G_i is exact, so BoxLP's certified bound of max ±G_i ξ is the hull's radius part.
-  const Eigen::Index n = dimension(), q = num_constraints();
-  wt = Eigen::VectorXd::Zero(q);
+  const Eigen::Index n = dimension(), q = num_constraints(), m = num_generators();
+  sens.row_weight = Eigen::VectorXd::Zero(q);
+  sens.box_cost = Eigen::VectorXd::Zero(m);
   if (lp.feasibility() == BoxLP::Feasibility::empty)
     return {Eigen::VectorXd::Constant(n, rounding::kInf), Eigen::VectorXd::Constant(n, -rounding::kInf)};
   BoundingBox box{Eigen::VectorXd(n), Eigen::VectorXd(n)};
   Eigen::VectorXd rmax(q);
   for (Eigen::Index i = 0; i < q; ++i) rmax(i) = box_lp_detail::max_abs(A_.row(i));
+  const Eigen::MatrixXd absA = A_.cwiseAbs();
+  Eigen::VectorXd loss(m);
   for (Eigen::Index i = 0; i < n; ++i) {
     const auto up = lp.maximize(G_.row(i).transpose());
     const auto down = lp.maximize(-G_.row(i).transpose());
     box.hi(i) = rounding::add_up(c_(i), rounding::add_up(up.value, r_(i)));
     box.lo(i) = rounding::sub_down(c_(i), rounding::add_up(down.value, r_(i)));
     const double width = std::max(box.hi(i) - box.lo(i), 1e-300);
-    if (q) wt += (up.dual.cwiseAbs() + down.dual.cwiseAbs()).cwiseProduct(rmax) / width;
+    if (q == 0) continue;  // no rows: boxing a generator costs nothing beyond its own |G_ij| (loss 0)
+    sens.row_weight += (up.dual.cwiseAbs() + down.dual.cwiseAbs()).cwiseProduct(rmax) / width;
+    // Column j's term in the dual bound of max ±G_i ξ is |±G_ij − μᵀa_j|; boxed, it becomes
+    // |G_ij| + |μ|ᵀ|a_j| (the box in x plus the rows' slack priced by μ). Non-negative by the
+    // triangle inequality; rounding can make it a hair negative.
+    const auto g = G_.row(i).transpose();
+    loss = 2.0 * g.cwiseAbs() + absA.transpose() * (up.dual.cwiseAbs() + down.dual.cwiseAbs());
+    loss -= (g - A_.transpose() * up.dual).cwiseAbs() + (-g - A_.transpose() * down.dual).cwiseAbs();
+    sens.box_cost += loss.cwiseMax(0.0) / width;
   }
   return box;
 }
 
 SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull(BoxLP& lp) const {
-  Eigen::VectorXd unused;
+  HullSensitivity unused;
   return interval_hull(lp, unused);
 }
 
