@@ -159,6 +159,7 @@ class BoxLP {
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> T_;
   Eigen::VectorXd col_;        // scratch: the entering column of T (no allocation per pivot)
   std::vector<std::pair<double, int>> cand_;  // scratch: the dual simplex's ratio-test candidates
+  Eigen::VectorXd perturb_frac_;         // the dual simplex's cost perturbation per column, in [0.5, 1)
   std::vector<int> saved_basis_;         // scratch: maximize's fallback basis for the primal simplex
   std::vector<signed char> saved_state_;
   Eigen::VectorXd beta_;       // values of the basic variables
