@@ -191,12 +191,15 @@ def box_excess(lo, hi, x, delta) -> float:
 
 def zonotope_excess(c, G, x, delta) -> float:
     """``t* − (1 + TAU)`` where ``t*`` is the smallest ``t`` with ``x ∈ c + G [−t, t]^m ⊕ [−δ, δ]``
-    (the exact containment test as a linear program; a least-squares certificate
-    ``|ξ|∞ ≤ 1`` with ``G ξ = x − c`` answers first when it exists). Positive means a violation
-    (beyond the LP's own 1e-9 feasibility tolerance, which is added to the allowance); a
-    violation the LP reports is confirmed by the library's exact facet test
-    (:meth:`setbound.Zonotope.contains` with ``rel_tol = TAU``) of the zonotope widened by the
-    δ box, because the LP is badly scaled when generator lengths span many orders of magnitude.
+    (the exact containment test as a linear program). A least-squares certificate answers first
+    when it exists: a ``ξ`` with ``|ξ|∞ ≤ 1`` and ``G ξ = x − c`` (up to δ) proves containment, and
+    ``|ξ|∞ − (1 + TAU)`` is then returned, an upper bound of the excess (the least-squares ``ξ``
+    need not minimise ``|ξ|∞``). Positive means a violation (beyond the LP's own 1e-9 feasibility
+    tolerance, which is added to the allowance). A violation the LP reports, or an LP that fails,
+    goes to the library's exact facet test (:meth:`setbound.Zonotope.contains` with
+    ``rel_tol = TAU``) of the zonotope widened by the δ box, because the LP is badly scaled when
+    generator lengths span many orders of magnitude; NaN (undecided, never a violation) when the
+    LP failed and the facet test is too large to run.
 
     Parameters
     ----------
@@ -233,16 +236,18 @@ def zonotope_excess(c, G, x, delta) -> float:
     b_ub = np.concatenate([np.zeros(2 * m), r + delta, -r + delta])
     sol = linprog(cost, A_ub=A_ub, b_ub=b_ub, bounds=[(None, None)] * m + [(0, None)], method="highs",
                   options={"primal_feasibility_tolerance": 1e-9, "dual_feasibility_tolerance": 1e-9})
-    excess = float(sol.x[-1]) - (1 + TAU) - 1e-9 if sol.status == 0 else math.inf
-    if excess > 0:
+    excess = float(sol.x[-1]) - (1 + TAU) - 1e-9 if sol.status == 0 else math.nan  # NaN: the LP failed
+    if not excess <= 0:
         # The LP is badly scaled when generator lengths span many orders of magnitude (tiny
-        # rounding generators next to the state's): confirm a reported violation with the
-        # library's exact test (facet enumeration) of the zonotope widened by the δ box.
+        # rounding generators next to the state's): confirm a reported violation, or decide where
+        # the LP failed, with the library's exact test (facet enumeration) of the zonotope widened
+        # by the δ box.
         keep = np.any(G != 0, axis=0)
         Gd = np.hstack([G[:, keep], np.diag(delta)[:, delta > 0]])
         if Gd.shape[1] >= n and math.comb(Gd.shape[1], n - 1) <= 200_000:
             if bool(Zonotope(c, Gd).contains(x, rel_tol=TAU)):
                 return -TAU
+            return excess if excess > 0 else math.inf  # outside: a violation of unknown size
     return excess
 
 

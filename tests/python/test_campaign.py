@@ -50,6 +50,26 @@ def test_the_checks_detect_a_point_outside():
     assert campaign.box_excess([0, 0], [1, 1], [1.5, 0.5], np.array([0.6, 0])) <= 0
 
 
+def test_a_failed_zonotope_lp_is_decided_by_the_facets_or_left_undecided(monkeypatch):
+    # A linprog that fails must not count as a violation: the exact facet test decides when it can
+    # run, else the step is undecided (NaN), never a violation.
+    import scipy.optimize
+
+    class Failed:
+        status, x = 4, None
+
+    monkeypatch.setattr(scipy.optimize, "linprog", lambda *a, **k: Failed())
+    G = np.array([[1.0, 1.0, 0.5], [0.0, 1.0, -0.5]])
+    z = np.zeros(2)
+    v = G @ np.array([1.0, 1.0, -1.0])
+    far = 0.98 * v  # inside the zonotope, but its least-squares ξ leaves the unit box
+    assert np.max(np.abs(np.linalg.lstsq(G, far, rcond=None)[0])) > 1
+    assert campaign.zonotope_excess(z, G, far, z) <= 0  # decided by the facets
+    assert campaign.zonotope_excess(z, G, v * (1 + 1e-6), z) > 0  # outside: still a violation
+    monkeypatch.setattr(campaign.math, "comb", lambda *a: 10**9)  # facet test too large to run
+    assert math.isnan(campaign.zonotope_excess(z, G, far, z))
+
+
 def test_box_check_with_overflowed_or_nan_bounds():
     # A bound that overflowed to ±inf contains everything on its side (found by the campaign: the
     # LPV observer's box of a diverging case; the old check computed NaN and passed silently).
