@@ -93,12 +93,14 @@ class _Algorithm:
     runner: Runner
     summary: str
     accepts_gain: bool
+    gain_required: dict  # convention -> why that convention has no design (a gain must be given)
 
 
 _ALGORITHMS: dict[str, _Algorithm] = {}
 
 
-def register_algorithm(name: str, runner: Runner, *, summary: str, accepts_gain: bool = False) -> None:
+def register_algorithm(name: str, runner: Runner, *, summary: str, accepts_gain: bool = False,
+                       gain_required: dict | None = None) -> None:
     """Makes an observer reachable by its CORA name.
 
     Parameters
@@ -114,6 +116,10 @@ def register_algorithm(name: str, runner: Runner, *, summary: str, accepts_gain:
         One line: what the method is (listed by :func:`algorithms`).
     accepts_gain : bool, optional
         Whether the method takes a given gain (``gain=L``, ``n_x × n_y``) instead of its design.
+    gain_required : dict, optional
+        The conventions under which the method has no design, so that a gain must be given, each
+        with the reason (one sentence, shown in the error). :func:`prepare` and the job files
+        (:mod:`setbound.jobs.cora`) both read this one rule.
     """
     from ._validate import as_bool, as_str
 
@@ -121,9 +127,20 @@ def register_algorithm(name: str, runner: Runner, *, summary: str, accepts_gain:
     accepts_gain = as_bool(accepts_gain, "accepts_gain")
     if not callable(runner):
         raise InvalidArgumentError(f"runner: expected a callable, got {type(runner).__name__}")
+    if gain_required is not None and not isinstance(gain_required, dict):
+        raise InvalidArgumentError(f"gain_required: expected a dict {{convention: reason}}, got "
+                                   f"{type(gain_required).__name__}")
+    gain_required = dict(gain_required or {})
+    for conv, why in gain_required.items():
+        if conv not in CONVENTIONS or not isinstance(why, str):
+            raise InvalidArgumentError(f"gain_required: expected {{convention: reason}} with a convention of "
+                                       f"{CONVENTIONS}, got {conv!r}: {why!r}")
+    if gain_required and not accepts_gain:
+        raise InvalidArgumentError("gain_required: only for a method that accepts a gain (accepts_gain=True)")
     if name in _ALGORITHMS:
         raise InvalidArgumentError(f"register_algorithm: {name!r} is registered already")
-    _ALGORITHMS[name] = _Algorithm(runner, summary, accepts_gain)
+    _ALGORITHMS[name] = _Algorithm(runner, summary, accepts_gain, gain_required)
+
 
 
 def algorithms() -> dict[str, str]:
@@ -196,6 +213,35 @@ def accepts_gain(alg: str) -> bool:
     return _algorithm(alg).accepts_gain
 
 
+def gain_requirement(alg: str, convention: str) -> str | None:
+    """Why ``alg`` needs a given gain under ``convention`` (it has no design there), or None.
+
+    Parameters
+    ----------
+    alg : str
+        CORA's name of the observer.
+    convention : {"setbound", "cora"}
+        The convention.
+
+    Returns
+    -------
+    str or None
+        The reason, or None when the method designs its gain (or takes none).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Unknown ``alg``.
+
+    Examples
+    --------
+    >>> from setbound.cora import gain_requirement
+    >>> gain_requirement("FRad-B", "cora") is None
+    True
+    """
+    return _algorithm(alg).gain_required.get(convention)
+
+
 def _algorithm(alg) -> _Algorithm:
     _load_families()
     if not isinstance(alg, str) or alg not in _ALGORITHMS:
@@ -252,6 +298,9 @@ def prepare(model, alg: str, *, convention: str = "setbound", gain=None, **optio
         raise InvalidArgumentError(f"convention: expected one of {CONVENTIONS}, got {convention!r}")
     if gain is not None and not a.accepts_gain:
         raise InvalidArgumentError(f"gain: {alg} has no observer gain to give")
+    if gain is None and convention in a.gain_required:
+        raise InvalidArgumentError(f"gain: {alg} with convention={convention!r} needs a given gain (gain=L, "
+                                   f"n_x x n_y): {a.gain_required[convention]}")
     return a.runner(as_model(model), convention=convention, gain=gain, **options)
 
 

@@ -873,9 +873,6 @@ def _hinf_g_runner(model, *, convention, gain, **options):
     if convention == "cora":
         if options:
             raise InvalidArgumentError(f"{next(iter(options))}: not an option of Hinf-G")
-        if gain is None:
-            raise InvalidArgumentError("gain: convention cora needs CORA's gain (gain=L): its design is a "
-                                       "feasibility SDP whose result depends on the solver (spec §2.12)")
         if np.any(s.B[:, -1] != 0.0) or np.any(s.D != 0.0):
             raise InvalidArgumentError("model: convention cora: CORA's interval observer omits the constant "
                                        "term c (and the offsets of W and V); this model has one, so CORA's "
@@ -905,6 +902,8 @@ def _hinf_g_runner(model, *, convention, gain, **options):
 def _register_cora_names():
     from .cora import register_algorithm
     register_algorithm("Hinf-G", _hinf_g_runner, accepts_gain=True,
+                       gain_required={"cora": "CORA's design is a feasibility SDP whose result depends on the solver "
+                                              "(spec §2.12), so convention='cora' runs with CORA's gain"},
                        summary="interval observer with an H∞ gain [Tang 2019]; default = IntervalLuenbergerObserver, "
                                "cora = CoraIntervalObserver (CORA's one-step lag)")
 

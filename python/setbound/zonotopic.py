@@ -1012,17 +1012,12 @@ def _refuse_cora_quirk(model, alg: str, convention: str, intersection_free: bool
             "does not reproduce that; use convention='setbound'")
 
 
-def _observer_runner(make, alg: str, intersection_free: bool, gain_required_under: tuple = ()):
+def _observer_runner(make, alg: str, intersection_free: bool):
     """A runner of the shared skeleton: ``make(model, gain, **kw)`` builds the observer with
-    CORA's zonotope order and reduction technique (overridable) and the convention;
-    ``gain_required_under``: the conventions under which CORA's own gain must be given."""
+    CORA's zonotope order and reduction technique (overridable) and the convention (a gain the
+    convention requires is checked by :func:`setbound.cora.prepare`)."""
     def runner(model, *, convention, gain, **options):
         _refuse_cora_quirk(model, alg, convention, intersection_free)
-        if convention in gain_required_under and gain is None:
-            raise InvalidArgumentError(
-                f"gain: CORA's {alg} design cannot be reproduced (its SDP is unbounded or infeasible as coded), so "
-                f"convention='cora' runs {alg} with CORA's gain only (gain=L, n_x x n_y); convention='setbound' "
-                "uses setbound's design of the paper's condition (design_zonotopic_gain)")
         est = make(model, gain, **{**model.estimator_options(), "convention": convention, **options})
 
         def run():
@@ -1079,9 +1074,12 @@ def _register_cora_names():
                        summary="fixed P-radius weight on all strips [Le 2013 ISIC] = StripGainEstimator + "
                                "design_zonotopic_gain", accepts_gain=True)
     for name, paper in (("PRad-C", "Wang 2018 CDC"), ("PRad-D", "Wang 2019 TAC")):
-        register_algorithm(name, _observer_runner(_strip_gain(name, True), name, False, ("cora",)),
+        register_algorithm(name, _observer_runner(_strip_gain(name, True), name, False),
                            summary=f"fixed P-radius weight on all strips [{paper}] = StripGainEstimator + "
-                                   "design_zonotopic_gain (convention='cora': CORA's gain only)", accepts_gain=True)
+                                   "design_zonotopic_gain (convention='cora': CORA's gain only)", accepts_gain=True,
+                           gain_required={"cora": f"CORA's {name} design cannot be reproduced (its SDP is unbounded "
+                                                  "or infeasible as coded); convention='setbound' uses setbound's "
+                                                  "design of the paper's condition (design_zonotopic_gain)"})
     for name, paper in (("PRad-E", "Wang 2017 CCC"), ("Nom-G", "Wang 2018")):
         def make(m, g, _name=name, **kw):
             limits = _design_limits(kw)

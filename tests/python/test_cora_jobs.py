@@ -159,8 +159,9 @@ def _check(tmp_path, doc) -> tuple[int, str]:
     ({"method": "PRad-E", "gain": 0.4}, "estimator[0].gain", "expected shape"),
     ({"method": "FRad-B", "convention": "CORA"}, "estimator[0].convention", "'setbound', 'cora'"),
     ({"method": "FRad-B", "convention": 1}, "estimator[0].convention", "setbound"),
-    ({"method": "PRad-C", "convention": "cora"}, "estimator[0].gain", "PRad-C needs a given gain"),
-    ({"method": "Hinf-G", "convention": "cora"}, "estimator[0].gain", "Hinf-G needs a given gain"),
+    # the reason comes from the one rule setbound.cora.prepare applies (register_algorithm's gain_required)
+    ({"method": "PRad-C", "convention": "cora"}, "estimator[0].gain", "PRad-C needs a given gain (n_x x n_y) with convention = 'cora': CORA's PRad-C design cannot"),
+    ({"method": "Hinf-G", "convention": "cora"}, "estimator[0].gain", "Hinf-G needs a given gain (n_x x n_y) with convention = 'cora': CORA's design is a feasibility SDP"),
     ({"method": "Hinf-G", "convention": "cora", "gain": GAIN, "variant": "wrapped"}, "estimator[0].variant",
      "CORA's recursion"),
     ({"method": "ESO-C", "convention": "cora"}, "estimator[0].convention", "ESO-C cannot run"),

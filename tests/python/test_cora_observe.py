@@ -56,6 +56,14 @@ def test_unknown_names_and_options_are_named():
         cora.observe(42, "FRad-A")
     with pytest.raises(InvalidArgumentError, match="registered already"):
         cora.register_algorithm("FRad-A", lambda m, **k: None, summary="again")
+    with pytest.raises(InvalidArgumentError, match="gain_required: expected a dict"):
+        cora.register_algorithm("Test-G", lambda m, **k: None, summary="x", accepts_gain=True, gain_required=["cora"])
+    with pytest.raises(InvalidArgumentError, match="gain_required: expected .* got 'matlab'"):
+        cora.register_algorithm("Test-G", lambda m, **k: None, summary="x", accepts_gain=True,
+                                gain_required={"matlab": "why"})
+    with pytest.raises(InvalidArgumentError, match="gain_required: only for a method that accepts a gain"):
+        cora.register_algorithm("Test-G", lambda m, **k: None, summary="x", gain_required={"cora": "why"})
+    assert "Test-G" not in cora.algorithms()
 
 
 @needs_data

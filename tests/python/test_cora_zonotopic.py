@@ -209,8 +209,10 @@ def test_cora_names_refuse_what_they_cannot_do():
     with pytest.raises(InvalidArgumentError, match="constant term c"):
         cora.observe(m, "FRad-C", convention="cora")
     assert cora.observe(m, "FRad-C").lower.shape == (5, 2)  # setbound keeps c: guaranteed
-    with pytest.raises(InvalidArgumentError, match="gain: CORA's PRad-C design cannot be reproduced"):
+    with pytest.raises(InvalidArgumentError, match="gain: PRad-C with convention='cora' needs a given gain .*"
+                       "CORA's PRad-C design cannot be reproduced"):
         cora.observe(m, "PRad-C", convention="cora")
+    assert cora.gain_requirement("PRad-C", "cora") and cora.gain_requirement("PRad-C", "setbound") is None
     assert cora.observe(m, "PRad-C").lower.shape == (5, 2)  # setbound's design of the paper's condition
     with pytest.raises(InvalidArgumentError, match="gain: FRad-B has no observer gain"):
         cora.observe(m, "FRad-B", gain=np.zeros((2, 1)))

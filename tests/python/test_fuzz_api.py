@@ -805,7 +805,7 @@ OPTIONS: dict[str, dict[str, str]] = {
     "setbound.constrained_zonotopic.ConstrainedZonotopicEstimator.run": {"u": "data", "keep_sets": "bool"},
     "setbound.cora.observe": {"convention": "choice", "gain": "data", "steps": "int?"},
     "setbound.cora.prepare": {"convention": "choice", "gain": "data"},
-    "setbound.cora.register_algorithm": {"summary": "str", "accepts_gain": "bool"},
+    "setbound.cora.register_algorithm": {"summary": "str", "accepts_gain": "bool", "gain_required": "data"},
     "setbound.zonotopic.BravoEstimator.__init__": {"max_generators": "int", "reduction": "choice",
                                                    "convention": "choice"},
     "setbound.zonotopic.WangEstimator.__init__": {"max_generators": "int", "reduction": "choice",

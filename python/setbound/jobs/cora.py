@@ -66,8 +66,6 @@ class CoraMethod:
         The conventions it runs with.
     why_not_cora : str, optional
         The reason given when ``convention = "cora"`` is not among ``conventions``.
-    needs_gain : tuple of str, optional
-        The conventions under which ``gain`` must be given (no design of setbound's).
     setbound_only : tuple of str, optional
         Options of the ``"setbound"`` convention's estimator that CORA's recursion does not take.
     validate : callable, optional
@@ -83,7 +81,6 @@ class CoraMethod:
     filter: dict = field(default_factory=dict)
     conventions: tuple = CONVENTIONS
     why_not_cora: str = ""
-    needs_gain: tuple = ()
     setbound_only: tuple = ()
     validate: Callable[[dict, str], None] | None = None
     interval_a: bool = False
@@ -113,10 +110,9 @@ def _ellipsoids(o: dict, where: str) -> None:
                           'sets would not be guaranteed; only with convention = "cora" (CORA\'s conversion)')
 
 
-def _zonotopic(filter_: dict, needs_gain: tuple = (), extra: dict | None = None,
-               interval_a: bool = False) -> CoraMethod:
-    return CoraMethod("zonotopic", {**_ZONO, **(extra or {})}, filter=filter_, needs_gain=needs_gain,
-                      validate=_one_size, interval_a=interval_a)
+def _zonotopic(filter_: dict, extra: dict | None = None, interval_a: bool = False) -> CoraMethod:
+    return CoraMethod("zonotopic", {**_ZONO, **(extra or {})}, filter=filter_, validate=_one_size,
+                      interval_a=interval_a)
 
 
 _STRIP_POLICY = {"use_first_measurement": boolean, "on_inconsistency": _POLICY}
@@ -138,8 +134,8 @@ CORA_METHODS: dict[str, CoraMethod] = {
     "FRad-C": _zonotopic(_PREDICTOR),
     "PRad-A": _zonotopic(_FILTER),
     "PRad-B": _zonotopic(_FILTER),
-    "PRad-C": _zonotopic(_FILTER, needs_gain=("cora",)),
-    "PRad-D": _zonotopic(_FILTER, needs_gain=("cora",)),
+    "PRad-C": _zonotopic(_FILTER),
+    "PRad-D": _zonotopic(_FILTER),
     "PRad-E": _zonotopic(_PREDICTOR),
     "Nom-G": _zonotopic(_PREDICTOR),
     "ESO-A": CoraMethod("ellipsoidal", {"ellipsoids": one_of("auto", "inner", "outer"),
@@ -162,7 +158,7 @@ CORA_METHODS: dict[str, CoraMethod] = {
                                      "that solver stops at; setbound's is the same algorithm with defined choices, "
                                      "guaranteed"),
     "Hinf-G": CoraMethod("interval", {"variant": one_of("tight", "wrapped"), "on_inconsistency": _POLICY},
-                         guaranteed=("setbound",), filter={"setbound": False}, needs_gain=("cora",),
+                         guaranteed=("setbound",), filter={"setbound": False},
                          setbound_only=("variant", "on_inconsistency")),
     "CZN-A": CoraMethod("constrained_zonotopic", _CZN, filter=_FILTER, validate=_one_order),
     "CZN-B": CoraMethod("constrained_zonotopic", _CZN, filter=_FILTER, validate=_one_order),
@@ -337,9 +333,11 @@ def _validate(alg: str, row: CoraMethod):
             raise ConfigError(f"{where}.convention: {alg} runs only with convention = "
                               f"{' or '.join(repr(c) for c in row.conventions)}" +
                               (f" ({row.why_not_cora})" if row.why_not_cora else ""))
-        if conv in row.needs_gain and o.get("gain") is None:
-            raise ConfigError(f"{where}.gain: {alg} needs a given gain (n_x x n_y) with convention = {conv!r} "
-                              "(setbound has no design of its own there)")
+        from ..cora import gain_requirement  # the rule setbound.cora.prepare applies, from one table
+
+        why = gain_requirement(alg, conv)
+        if why is not None and o.get("gain") is None:
+            raise ConfigError(f"{where}.gain: {alg} needs a given gain (n_x x n_y) with convention = {conv!r}: {why}")
         if conv == "cora":
             for k in row.setbound_only:
                 if o.get(k) is not None:
