@@ -115,19 +115,22 @@ struct SolveTally {
     last_undecided = s;
     return false;
   }
+  /// Why the last undecided solve stopped, and what to do about it (the parenthesis of the
+  /// designs' NumericalError messages).
+  std::string undecided_reason() const {
+    return std::string(lmi::status_name(last_undecided)) + ": " +
+           (last_undecided == lmi::SolveStatus::MaxIterations && !limit.empty()
+                ? "it reached " + limit
+                : std::string("the solver's iteration or time limit, or numerical trouble")) +
+           "; the solver options of design_zonotopic_gain (max_iterations, time_limit) raise the limits";
+  }
   /// Throws the error of a search over `what` (beta, the contraction) that found no solution.
   [[noreturn]] void fail(const std::string& who, const std::string& what) const {
     if (undecided == 0)
       throw InfeasibleError(who + ": the LMI is infeasible for every " + what + " in (0, 1)");
     throw NumericalError(who + ": no " + what + " in (0, 1) gave a solution: the LMI solver stopped undecided at " +
                          std::to_string(undecided) + " of " + std::to_string(undecided + infeasible) + " values (" +
-                         lmi::status_name(last_undecided) + ": " +
-                         (last_undecided == lmi::SolveStatus::MaxIterations && !limit.empty()
-                              ? "it reached " + limit
-                              : std::string("its iteration or time limit, or numerical trouble")) +
-                         "; the solver options of design_zonotopic_gain (max_iterations, time_limit) raise the "
-                         "limits) and proved infeasibility at " +
-                         std::to_string(infeasible));
+                         undecided_reason() + ") and proved infeasibility at " + std::to_string(infeasible));
   }
 };
 

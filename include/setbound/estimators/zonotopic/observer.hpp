@@ -195,6 +195,10 @@ class ZonotopicObserver {
   void refresh_current(bool row_sums, bool gram);
   void ensure_columns(Mat& M, Eigen::Index cols) const;
   static Mat solve_gain(const Mat& num, const Mat& S);
+  /// C_S: the rows `rows` of C (the present outputs), q × n.
+  static void gather_rows(const Mat& C, const std::vector<Eigen::Index>& rows, Mat& CS);
+  /// S += (F Fᵀ)_SS, the present outputs' block of the noise Gram matrix (q × q).
+  void add_noise_block(const std::vector<Eigen::Index>& rows, Mat& S) const;
 
   LinearSystem sys_;
   ZonotopicObserverOptions opt_;
@@ -220,7 +224,7 @@ class ZonotopicObserver {
   detail::ReductionWorkspace rws_;
 
   // Scratch of one step (sized once; the steady state does not allocate).
-  Mat W_, N_, T_, Snew_, dT_, absT_, R_, RC_, Sq_, CS_, CSA_, CSE_, Lam_, absL_, absCS_, K_, dK_, gainw_;
+  Mat W_, N_, T_, Snew_, dT_, absT_, R_, RC_, Sq_, CS_, CSA_, CSE_, ARC_, Lam_, absL_, absCS_, K_, dK_, gainw_;
   Vec pw_, rw_, ww_, pc_, pn_, ec_, dN_, lam_, al_, t_, v_, sc_, cN_, innov_, yfull_, yabs_, tmp_;
   std::vector<Eigen::Index> rows_;
   Vec ys_, sig_;

@@ -402,12 +402,7 @@ SETBOUND_INLINE ZonotopicGainDesign design_zonotopic_gain(const LinearSystem& sy
     // deterministic point strictly inside.
     const std::optional<Found> least = feasible(1.0);  // build(): min trace P, P ⪰ I
     if (!least && tally.undecided > 0)
-      throw NumericalError(std::string("design Nom-G: the least-trace LMI was not solved (") +
-                           lmi::status_name(tally.last_undecided) + ": " +
-                           (tally.last_undecided == lmi::SolveStatus::MaxIterations && !tally.limit.empty()
-                                ? "it reached " + tally.limit
-                                : std::string("the solver's iteration or time limit, or numerical trouble")) +
-                           "; the solver options of design_zonotopic_gain (max_iterations, time_limit) raise the limits)");
+      throw NumericalError("design Nom-G: the least-trace LMI was not solved (" + tally.undecided_reason() + ")");
     if (!least)
       throw InfeasibleError("design Nom-G: no gain L with (A − LC)ᵀP(A − LC) ⪯ P, P ⪰ I (is (C, A) detectable?)");
     const double cap = 10.0 * model.value(P, least->x).trace();

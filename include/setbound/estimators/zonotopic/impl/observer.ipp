@@ -332,6 +332,17 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Set& X, const
   return bestj;
 }
 
+SETBOUND_INLINE void ZonotopicObserver::gather_rows(const Mat& C, const std::vector<Eigen::Index>& rows, Mat& CS) {
+  CS.resize(static_cast<Eigen::Index>(rows.size()), C.cols());
+  for (std::size_t s = 0; s < rows.size(); ++s) CS.row(static_cast<Eigen::Index>(s)) = C.row(rows[s]);
+}
+
+SETBOUND_INLINE void ZonotopicObserver::add_noise_block(const std::vector<Eigen::Index>& rows, Mat& S) const {
+  const Eigen::Index q = static_cast<Eigen::Index>(rows.size());
+  for (Eigen::Index a = 0; a < q; ++a)
+    for (Eigen::Index b = 0; b < q; ++b) S(a, b) += FFt_(rows[static_cast<std::size_t>(a)], rows[static_cast<std::size_t>(b)]);
+}
+
 SETBOUND_INLINE ZonotopicObserver::Mat ZonotopicObserver::solve_gain(const Mat& num, const Mat& S) {
   // Λ = num S⁻¹ with S symmetric positive semidefinite; a singular S gets the minimum-norm
   // solution (any weight is guaranteed), a non-finite one the zero weight.
@@ -387,8 +398,8 @@ SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const V
     case ZonotopicRule::Wang:
     case ZonotopicRule::FixedLambda: {
       // S-II: all present strips at once with one n × q weight.
-      Mat CS(q, n_);
-      for (Eigen::Index t = 0; t < q; ++t) CS.row(t) = C.row(rows[static_cast<std::size_t>(t)]);
+      Mat CS;
+      gather_rows(C, rows, CS);
       Mat Lam(n_, q);
       if (opt_.rule == ZonotopicRule::Wang) {
         // Wang, Puig, Cembrano 2018 Thm. 2: Λ = R̄ C_Sᵀ (C_S R̄ C_Sᵀ + F Fᵀ)⁻¹ with R̄ the
@@ -406,9 +417,7 @@ SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const V
           RC = sys_.A() * RC + EEt_ * CS.transpose();
           S += CS * EEt_ * CS.transpose();
         }
-        for (Eigen::Index a = 0; a < q; ++a)
-          for (Eigen::Index b = 0; b < q; ++b)
-            S(a, b) += FFt_(rows[static_cast<std::size_t>(a)], rows[static_cast<std::size_t>(b)]);
+        add_noise_block(rows, S);
         Lam = solve_gain(RC, S);
       } else {
         for (Eigen::Index t = 0; t < q; ++t) Lam.col(t) = opt_.gain.col(rows[static_cast<std::size_t>(t)]);
@@ -541,9 +550,8 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::correct_from_current(const Eigen
     return map_current(T_, dT_, nN, g);
   }
   // S-II: all present strips at once with one n × q weight Λ, K = I − Λ C_S.
-  CS_.resize(q, n_);
   Lam_.resize(n_, q);
-  for (Eigen::Index s = 0; s < q; ++s) CS_.row(s) = C.row(rows_[static_cast<std::size_t>(s)]);
+  gather_rows(C, rows_, CS_);
   if (opt_.rule == ZonotopicRule::Wang) {
     // Wang, Puig, Cembrano 2018 Thm. 2: Λ = R̄ C_Sᵀ (C_S R̄ C_Sᵀ + F Fᵀ)⁻¹ with R̄ = the
     // predicted set's G Gᵀ = A S Aᵀ + E Eᵀ (n × n from the current Gram S: never the
@@ -557,9 +565,7 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::correct_from_current(const Eigen
     }
     RC_.noalias() = R_ * CS_.transpose();
     Sq_.noalias() = CS_ * RC_;
-    for (Eigen::Index a = 0; a < q; ++a)
-      for (Eigen::Index b = 0; b < q; ++b)
-        Sq_(a, b) += FFt_(rows_[static_cast<std::size_t>(a)], rows_[static_cast<std::size_t>(b)]);
+    add_noise_block(rows_, Sq_);
     Lam_ = solve_gain(RC_, Sq_);
   } else {
     for (Eigen::Index s = 0; s < q; ++s) Lam_.col(s) = opt_.gain.col(rows_[static_cast<std::size_t>(s)]);
@@ -621,15 +627,12 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::propagate(const Eigen::Ref<const
     if (opt_.rule == ZonotopicRule::Combastel) {
       // Combastel 2015: L_k = A P C_Sᵀ (C_S P C_Sᵀ + F Fᵀ)⁻¹ with P = G Gᵀ of the current set
       // (spec §2.5), over the present outputs; P is the Gram matrix kept with the set.
-      CS_.resize(q, n_);
-      for (Eigen::Index s = 0; s < q; ++s) CS_.row(s) = C.row(rows_[static_cast<std::size_t>(s)]);
+      gather_rows(C, rows_, CS_);
       RC_.noalias() = S_cur_ * CS_.transpose();
       Sq_.noalias() = CS_ * RC_;
-      for (Eigen::Index a = 0; a < q; ++a)
-        for (Eigen::Index b = 0; b < q; ++b)
-          Sq_(a, b) += FFt_(rows_[static_cast<std::size_t>(a)], rows_[static_cast<std::size_t>(b)]);
-      CSA_.noalias() = A * RC_;
-      Lam_ = solve_gain(CSA_, Sq_);
+      add_noise_block(rows_, Sq_);
+      ARC_.noalias() = A * RC_;  // A P C_Sᵀ
+      Lam_ = solve_gain(ARC_, Sq_);
       for (Eigen::Index s = 0; s < q; ++s) L.col(rows_[static_cast<std::size_t>(s)]) = Lam_.col(s);
     } else {
       for (Eigen::Index s = 0; s < q; ++s) {
