@@ -195,8 +195,8 @@ def zonotope_excess(c, G, x, delta) -> float:
     when it exists: a ``ξ`` with ``|ξ|∞ ≤ 1`` and ``G ξ = x − c`` (up to δ) proves containment, and
     ``|ξ|∞ − (1 + TAU)`` is then returned, an upper bound of the excess (the least-squares ``ξ``
     need not minimise ``|ξ|∞``). Positive means a violation (beyond the LP's own 1e-9 feasibility
-    tolerance, which is added to the allowance). A violation the LP reports, or an LP that fails,
-    goes to the library's exact facet test (:meth:`setbound.Zonotope.contains` with
+    tolerance, which is added to the allowance; an infeasible LP is a violation too). A violation
+    the LP reports, or an LP that fails (iteration limit, numerical trouble), goes to the library's exact facet test (:meth:`setbound.Zonotope.contains` with
     ``rel_tol = TAU``) of the zonotope widened by the δ box, because the LP is badly scaled when
     generator lengths span many orders of magnitude; NaN (undecided, never a violation) when the
     LP failed and the facet test is too large to run.
@@ -236,7 +236,10 @@ def zonotope_excess(c, G, x, delta) -> float:
     b_ub = np.concatenate([np.zeros(2 * m), r + delta, -r + delta])
     sol = linprog(cost, A_ub=A_ub, b_ub=b_ub, bounds=[(None, None)] * m + [(0, None)], method="highs",
                   options={"primal_feasibility_tolerance": 1e-9, "dual_feasibility_tolerance": 1e-9})
-    excess = float(sol.x[-1]) - (1 + TAU) - 1e-9 if sol.status == 0 else math.nan  # NaN: the LP failed
+    # status 2 (infeasible): no t at all, x is off the set's affine hull (a violation); any other
+    # non-zero status (iteration limit, numerical trouble) decides nothing: NaN
+    excess = (float(sol.x[-1]) - (1 + TAU) - 1e-9 if sol.status == 0
+              else math.inf if sol.status == 2 else math.nan)
     if not excess <= 0:
         # The LP is badly scaled when generator lengths span many orders of magnitude (tiny
         # rounding generators next to the state's): confirm a reported violation, or decide where

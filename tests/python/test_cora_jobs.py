@@ -41,8 +41,7 @@ def _doc(estimators, *, horizon=15, disturbance="uniform", seed=3):
 
 
 def _needs_gain(name: str, convention: str = "setbound") -> bool:
-    row = CORA_METHODS.get(name)
-    return row is not None and convention in row.needs_gain
+    return cora.gain_requirement(name, convention) is not None
 
 
 def _table(name: str, convention: str = "setbound") -> dict:
