@@ -139,8 +139,8 @@ class ConstrainedZonotope {
   /// lift (the box in x as diagonal columns, the rows' part as row slack) until the limits can be
   /// met, then the rows are eliminated in order of row_weight (eliminate_constraints(max_constraints,
   /// row_weight)), then reduce_limits' lift reduction catches what is still over the limit. The
-  /// estimators' default: on the §3.5 example and CORA's records it loses much less than boxing
-  /// by Girard's size criterion in the lift (docs/methods.md). Same guarantee: an outer bound.
+  /// estimators' default: on CORA's records it loses much less than boxing by Girard's size
+  /// criterion in the lift (docs/theory/constrained_zonotopes.md). Same guarantee: an outer bound.
   ConstrainedZonotope reduce_limits(Eigen::Index max_generators, Eigen::Index max_constraints,
                                     ZonotopeReduction technique, const HullSensitivity& sensitivity) const;
   /// The lift's box of generators `which` (distinct indices): x = c + G_rest ξ + diag(Σ_J |G_j|) η,
@@ -224,6 +224,8 @@ class ConstrainedZonotope {
   /// The certified support in d with an LP already built on (A, b) and not certified empty.
   double support_with(BoxLP& lp, const Eigen::Ref<const Eigen::VectorXd>& d) const;
   ConstrainedZonotope reduce_lift(ZonotopeReduction technique, Eigen::Index limit) const;
+  /// The interval hull on `lp`; the sensitivity too when asked (it costs O(n q m) more).
+  BoundingBox hull_impl(BoxLP& lp, HullSensitivity* sensitivity) const;
   ConstrainedZonotope eliminate_impl(Eigen::Index max_constraints, const Eigen::VectorXd* row_weight) const;
   ConstrainedZonotope reduce_limits_impl(Eigen::Index max_generators, Eigen::Index max_constraints,
                                          ZonotopeReduction technique, const HullSensitivity* sensitivity) const;

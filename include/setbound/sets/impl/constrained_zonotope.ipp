@@ -41,13 +41,10 @@ SETBOUND_INLINE void require_vector(const Eigen::Ref<const Eigen::VectorXd>& v, 
   require_finite(v, name);
 }
 
-/// Widens every row k of A ξ = b by s_k >= 0 (it then allows |A_k ξ − b_k| <= s_k): through a
-/// column private to the row (zero in G and in every other row: {a ζ + s t} = {(|a| + s) ζ'}
-/// in one dimension) when there is one, else through a new column s_k e_k (zero in G).
-SETBOUND_INLINE void absorb_row_slack(Eigen::MatrixXd& G, Eigen::MatrixXd& A, const Eigen::VectorXd& s) {
+/// For each column, its only row when it is a row's own slack (exactly one non-zero entry in A,
+/// zero in G), else −1.
+SETBOUND_INLINE std::vector<Eigen::Index> slack_rows(const Eigen::MatrixXd& G, const Eigen::MatrixXd& A) {
   const Eigen::Index q = A.rows(), m = A.cols();
-  // Each column's only row, when it has exactly one non-zero entry and is zero in G (−1: none);
-  // one pass over A and G instead of a search per row.
   std::vector<Eigen::Index> only_row(static_cast<size_t>(m), -1);
   for (Eigen::Index j = 0; j < m; ++j) {
     Eigen::Index row = -1, count = 0;
@@ -55,6 +52,15 @@ SETBOUND_INLINE void absorb_row_slack(Eigen::MatrixXd& G, Eigen::MatrixXd& A, co
       if (A(k, j) != 0.0) row = k, ++count;
     if (count == 1 && box_lp_detail::max_abs(G.col(j)) == 0.0) only_row[static_cast<size_t>(j)] = row;
   }
+  return only_row;
+}
+
+/// Widens every row k of A ξ = b by s_k >= 0 (it then allows |A_k ξ − b_k| <= s_k): through a
+/// column private to the row (zero in G and in every other row: {a ζ + s t} = {(|a| + s) ζ'}
+/// in one dimension) when there is one, else through a new column s_k e_k (zero in G).
+SETBOUND_INLINE void absorb_row_slack(Eigen::MatrixXd& G, Eigen::MatrixXd& A, const Eigen::VectorXd& s) {
+  const Eigen::Index q = A.rows(), m = A.cols();
+  const std::vector<Eigen::Index> only_row = slack_rows(G, A);  // one pass instead of a search per row
   std::vector<Eigen::Index> private_col(static_cast<size_t>(q), -1);  // the first such column per row
   for (Eigen::Index j = m - 1; j >= 0; --j)
     if (only_row[static_cast<size_t>(j)] >= 0) private_col[static_cast<size_t>(only_row[static_cast<size_t>(j)])] = j;
@@ -608,15 +614,14 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::box_cheapest(Eigen::Ind
   // Columns that are a row's own slack (zero in G, one non-zero in A) are not candidates: boxing
   // one only turns it into the same slack. Each row's count of them decides whether the box adds
   // a slack column (a row without one gets a new column).
+  const std::vector<Eigen::Index> slack_row = czono_detail::slack_rows(G_, A_);
   std::vector<Eigen::Index> own_slack(static_cast<size_t>(q), 0), candidates;
   for (Eigen::Index j = 0; j < m; ++j) {
-    const bool in_g = box_lp_detail::max_abs(G_.col(j)) > 0.0;
-    Eigen::Index nz = 0, row = -1;
-    for (Eigen::Index i = 0; i < q && nz < 2; ++i)
-      if (A_(i, j) != 0.0) ++nz, row = i;
-    if (!in_g && nz == 0) continue;  // dropped anyway
+    if (box_lp_detail::max_abs(G_.col(j)) == 0.0 && (q == 0 || box_lp_detail::max_abs(A_.col(j)) == 0.0))
+      continue;  // dropped anyway
     ++cols;
-    if (!in_g && nz == 1) ++own_slack[static_cast<size_t>(row)];
+    const Eigen::Index row = slack_row[static_cast<size_t>(j)];
+    if (row >= 0) ++own_slack[static_cast<size_t>(row)];
     else candidates.push_back(j);
   }
   // The n box columns are counted whatever they turn out to be (the rounding box joins them).
@@ -706,40 +711,49 @@ SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull() const {
 }
 
 SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull(BoxLP& lp, HullSensitivity& sens) const {
+  return hull_impl(lp, &sens);
+}
+
+SETBOUND_INLINE BoundingBox ConstrainedZonotope::hull_impl(BoxLP& lp, HullSensitivity* sens) const {
   require_lp(lp);
   // ±G_i is exact, so BoxLP's certified bound of max ±G_i ξ is the hull's radius part.
   const Eigen::Index n = dimension(), q = num_constraints(), m = num_generators();
-  sens.row_weight = Eigen::VectorXd::Zero(q);
-  sens.box_cost = Eigen::VectorXd::Zero(m);
+  if (sens) {
+    sens->row_weight = Eigen::VectorXd::Zero(q);
+    sens->box_cost = Eigen::VectorXd::Zero(m);
+  }
   if (lp.feasibility() == BoxLP::Feasibility::empty)
     return {Eigen::VectorXd::Constant(n, rounding::kInf), Eigen::VectorXd::Constant(n, -rounding::kInf)};
   BoundingBox box{Eigen::VectorXd(n), Eigen::VectorXd(n)};
-  Eigen::VectorXd rmax(q);
-  for (Eigen::Index i = 0; i < q; ++i) rmax(i) = box_lp_detail::max_abs(A_.row(i));
-  const Eigen::MatrixXd absA = A_.cwiseAbs();
-  Eigen::VectorXd loss(m);
+  Eigen::VectorXd rmax, loss;
+  Eigen::MatrixXd absA;
+  if (sens && q) {
+    rmax.resize(q);
+    for (Eigen::Index i = 0; i < q; ++i) rmax(i) = box_lp_detail::max_abs(A_.row(i));
+    absA = A_.cwiseAbs();
+  }
   for (Eigen::Index i = 0; i < n; ++i) {
     const auto up = lp.maximize(G_.row(i).transpose());
     const auto down = lp.maximize(-G_.row(i).transpose());
     box.hi(i) = rounding::add_up(c_(i), rounding::add_up(up.value, r_(i)));
     box.lo(i) = rounding::sub_down(c_(i), rounding::add_up(down.value, r_(i)));
+    // Without rows boxing a generator costs nothing beyond its own |G_ij| (loss 0): nothing to add.
+    if (!sens || q == 0) continue;
     const double width = std::max(box.hi(i) - box.lo(i), 1e-300);
-    if (q == 0) continue;  // no rows: boxing a generator costs nothing beyond its own |G_ij| (loss 0)
-    sens.row_weight += (up.dual.cwiseAbs() + down.dual.cwiseAbs()).cwiseProduct(rmax) / width;
+    sens->row_weight += (up.dual.cwiseAbs() + down.dual.cwiseAbs()).cwiseProduct(rmax) / width;
     // Column j's term in the dual bound of max ±G_i ξ is |±G_ij − μᵀa_j|; boxed, it becomes
     // |G_ij| + |μ|ᵀ|a_j| (the box in x plus the rows' slack priced by μ). Non-negative by the
     // triangle inequality; rounding can make it a hair negative.
     const auto g = G_.row(i).transpose();
     loss = 2.0 * g.cwiseAbs() + absA.transpose() * (up.dual.cwiseAbs() + down.dual.cwiseAbs());
     loss -= (g - A_.transpose() * up.dual).cwiseAbs() + (-g - A_.transpose() * down.dual).cwiseAbs();
-    sens.box_cost += loss.cwiseMax(0.0) / width;
+    sens->box_cost += loss.cwiseMax(0.0) / width;
   }
   return box;
 }
 
 SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull(BoxLP& lp) const {
-  HullSensitivity unused;
-  return interval_hull(lp, unused);
+  return hull_impl(lp, nullptr);
 }
 
 SETBOUND_INLINE double ConstrainedZonotope::support(const Eigen::Ref<const Eigen::VectorXd>& d) const {
