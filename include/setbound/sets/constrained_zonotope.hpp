@@ -227,6 +227,15 @@ class ConstrainedZonotope {
   /// The interval hull on `lp`; the sensitivity too when asked (it costs O(n q m) more).
   BoundingBox hull_impl(BoxLP& lp, HullSensitivity* sensitivity) const;
   ConstrainedZonotope eliminate_impl(Eigen::Index max_constraints, const Eigen::VectorXd* row_weight) const;
+  // The elimination loop works on one set in place (no set rebuilt, no finiteness scan per row:
+  // the caller checks once at the end with require_no_overflow): rescale() on this set, and the
+  // substitution of ξ_j from row i (pivot A_ij, |ξ_j| <= reach over the box) that drops row i and
+  // column j. The arithmetic is rescale()'s and eliminate_constraints()'s, bit for bit.
+  void rescale_in_place();
+  void eliminate_in_place(Eigen::Index i, Eigen::Index j, double reach);
+  /// Throws NumericalError when an entry is not finite (overflow: operations on validated sets
+  /// have no other way to one).
+  void require_no_overflow() const;
   ConstrainedZonotope reduce_limits_impl(Eigen::Index max_generators, Eigen::Index max_constraints,
                                          ZonotopeReduction technique, const HullSensitivity* sensitivity) const;
   /// box_generators on the generators of least box_cost, as many as reduce_limits needs to meet

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
@@ -84,6 +85,30 @@ SETBOUND_INLINE void absorb_row_slack(Eigen::MatrixXd& G, Eigen::MatrixXd& A, co
   for (Eigen::Index e = 0; e < me; ++e) A(extra[static_cast<size_t>(e)], m + e) = s(extra[static_cast<size_t>(e)]);
 }
 
+/// Removes row i of M (column-major: each column's tail moves up one place).
+SETBOUND_INLINE void drop_row(Eigen::MatrixXd& M, Eigen::Index i) {
+  const Eigen::Index rows = M.rows(), tail = rows - i - 1;
+  if (tail > 0)
+    for (Eigen::Index j = 0; j < M.cols(); ++j)
+      std::memmove(M.col(j).data() + i, M.col(j).data() + i + 1, static_cast<size_t>(tail) * sizeof(double));
+  M.conservativeResize(rows - 1, Eigen::NoChange);
+}
+
+/// Removes column j of M (column-major: the later columns are one contiguous block).
+SETBOUND_INLINE void drop_col(Eigen::MatrixXd& M, Eigen::Index j) {
+  const Eigen::Index cols = M.cols(), tail = cols - j - 1;
+  if (tail > 0 && M.rows() > 0)
+    std::memmove(M.col(j).data(), M.col(j + 1).data(), static_cast<size_t>(tail * M.rows()) * sizeof(double));
+  M.conservativeResize(Eigen::NoChange, cols - 1);
+}
+
+/// Removes entry i of v.
+SETBOUND_INLINE void drop_entry(Eigen::VectorXd& v, Eigen::Index i) {
+  const Eigen::Index tail = v.size() - i - 1;
+  if (tail > 0) std::memmove(v.data() + i, v.data() + i + 1, static_cast<size_t>(tail) * sizeof(double));
+  v.conservativeResize(v.size() - 1);
+}
+
 }  // namespace czono_detail
 
 SETBOUND_INLINE ConstrainedZonotope::ConstrainedZonotope(Eigen::VectorXd c, Eigen::MatrixXd G, Eigen::MatrixXd A,
@@ -109,8 +134,14 @@ SETBOUND_INLINE ConstrainedZonotope::ConstrainedZonotope(Eigen::VectorXd c, Eige
 SETBOUND_INLINE ConstrainedZonotope::ConstrainedZonotope(Eigen::VectorXd c, Eigen::MatrixXd G, Eigen::MatrixXd A,
                                                         Eigen::VectorXd b, Eigen::VectorXd r, bool)
     : c_(std::move(c)), G_(std::move(G)), A_(std::move(A)), b_(std::move(b)), r_(std::move(r)) {
-  // Results of operations on validated sets; overflow is the only way to a non-finite entry.
-  if (!c_.allFinite() || !G_.allFinite() || !A_.allFinite() || !b_.allFinite() || !r_.allFinite())
+  require_no_overflow();  // results of operations on validated sets
+}
+
+SETBOUND_INLINE void ConstrainedZonotope::require_no_overflow() const {
+  // Σ 0·x is 0 when every x is finite and NaN otherwise (0·±inf = NaN), and cannot overflow: one
+  // vectorised pass, where allFinite() took ~5 instructions per entry (every operation runs this).
+  const auto finite = [](const auto& M) { return M.size() == 0 || (M.array() * 0.0).sum() == 0.0; };
+  if (!finite(c_) || !finite(G_) || !finite(A_) || !finite(b_) || !finite(r_))
     throw NumericalError("constrained zonotope: an operation overflowed (entries beyond 1.8e308)");
 }
 
@@ -327,8 +358,15 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::remove_zero_constraints
 }
 
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::rescale() const {
+  ConstrainedZonotope Z = *this;
+  Z.rescale_in_place();
+  Z.require_no_overflow();
+  return Z;
+}
+
+SETBOUND_INLINE void ConstrainedZonotope::rescale_in_place() {
   const Eigen::Index q = num_constraints(), m = num_generators();
-  if (q == 0 || m == 0) return *this;
+  if (q == 0 || m == 0) return;
   Eigen::ArrayXd lo = Eigen::ArrayXd::Constant(m, -1.0), hi = Eigen::ArrayXd::Constant(m, 1.0);
   // Row i keeps a_j ξ_j in b_i − Σ_{k≠j} a_k ξ_k. The row's terms' ends are summed in plain floating
   // point and the whole row's rounding is covered by one a-priori margin E (Higham §3.1: every
@@ -339,51 +377,68 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::rescale() const {
   // move) and a subnormal (underflow).
   const double u = std::ldexp(1.0, -53), tiny = std::numeric_limits<double>::denorm_min();
   const double margin_factor = 4.0 * rounding_bounds::gamma(m + 4);
-  Eigen::ArrayXd a(m), tl(m), tu(m), xl(m), xu(m);
+  // Two passes over each row (its sums, then its variables' bounds), on a transposed copy so a
+  // row is contiguous: an elimination rescales before every row it removes, and this loop was a
+  // fifth of a CZN-A step as a dozen whole-row array expressions (callgrind, pedestrian4).
+  const Eigen::MatrixXd At = A_.transpose();
+  double* lo_ = lo.data();
+  double* hi_ = hi.data();
   for (int sweep = 0; sweep < 4; ++sweep) {
     bool changed = false;
     for (Eigen::Index i = 0; i < q; ++i) {
-      a = A_.row(i).transpose().array();
-      const Eigen::Array<bool, Eigen::Dynamic, 1> pos = a > 0.0;
-      tl = pos.select(a * lo, a * hi);  // the terms' lower ends (0 where a_j = 0)
-      tu = pos.select(a * hi, a * lo);
-      const double L = tl.sum(), U = tu.sum();
-      const double S = tl.abs().sum() + tu.abs().sum() + std::abs(b_(i));
-      const double E = margin_factor * S + static_cast<double>(m + 4) * tiny;
-      // a_j ξ_j ∈ [b_i − (U − tu_j) − E, b_i − (L − tl_j) + E].
-      const Eigen::ArrayXd rl = (b_(i) - (U - tu)) - E, ru = (b_(i) - (L - tl)) + E;
-      xl = pos.select(rl / a, ru / a);
-      xu = pos.select(ru / a, rl / a);
-      xl -= 4.0 * u * xl.abs() + tiny;
-      xu += 4.0 * u * xu.abs() + tiny;
+      const double* a = At.col(i).data();
+      const double bi = b_(i);
+      // The terms' ends: a_j ξ_j in [tl_j, tu_j] (0 where a_j = 0); their sums and magnitudes.
+      double L = 0.0, U = 0.0, S = 0.0;
       for (Eigen::Index j = 0; j < m; ++j) {
-        if (a(j) == 0.0) continue;
-        if (!(xl(j) <= xu(j)) || xl(j) > hi(j) || xu(j) < lo(j)) return *this;  // empty: BoxLP certifies that
-        if (xl(j) > lo(j) + 1e-12 || xu(j) < hi(j) - 1e-12) changed = true;
-        lo(j) = std::max(lo(j), xl(j));
-        hi(j) = std::min(hi(j), xu(j));
+        const double tl = a[j] > 0.0 ? a[j] * lo_[j] : a[j] * hi_[j];
+        const double tu = a[j] > 0.0 ? a[j] * hi_[j] : a[j] * lo_[j];
+        L += tl;
+        U += tu;
+        S += std::abs(tl) + std::abs(tu);
+      }
+      S += std::abs(bi);
+      const double E = margin_factor * S + static_cast<double>(m + 4) * tiny;
+      // a_j ξ_j ∈ [b_i − (U − tu_j) − E, b_i − (L − tl_j) + E], with lo/hi as they were for the sums
+      // (entry j is only changed after its own bounds are computed).
+      for (Eigen::Index j = 0; j < m; ++j) {
+        const double aj = a[j];
+        if (aj == 0.0) continue;
+        const bool pos = aj > 0.0;
+        const double tl = pos ? aj * lo_[j] : aj * hi_[j];
+        const double tu = pos ? aj * hi_[j] : aj * lo_[j];
+        const double rl = (bi - (U - tu)) - E, ru = (bi - (L - tl)) + E;
+        double xl = pos ? rl / aj : ru / aj;
+        double xu = pos ? ru / aj : rl / aj;
+        xl -= 4.0 * u * std::abs(xl) + tiny;
+        xu += 4.0 * u * std::abs(xu) + tiny;
+        if (!(xl <= xu) || xl > hi_[j] || xu < lo_[j]) return;  // empty: BoxLP certifies that
+        if (xl > lo_[j] + 1e-12 || xu < hi_[j] - 1e-12) changed = true;
+        lo_[j] = std::max(lo_[j], xl);
+        hi_[j] = std::min(hi_[j], xu);
       }
     }
     if (!changed) break;
   }
-  if ((lo.array() == -1.0).all() && (hi.array() == 1.0).all()) return *this;
+  if ((lo.array() == -1.0).all() && (hi.array() == 1.0).all()) return;
   // ξ = mid + diag(ρ) ξ' with [mid − ρ, mid + ρ] ⊇ [lo, hi].
   Eigen::VectorXd mid(m), rho(m);
   for (Eigen::Index j = 0; j < m; ++j) {
     mid(j) = 0.5 * lo(j) + 0.5 * hi(j);
     rho(j) = std::max(rounding::sub_up(hi(j), mid(j)), rounding::sub_up(mid(j), lo(j)));
   }
-  const Eigen::VectorXd c = c_ + G_ * mid;
-  Eigen::MatrixXd G = G_ * rho.asDiagonal();
-  Eigen::MatrixXd A = A_ * rho.asDiagonal();
-  const Eigen::VectorXd b = b_ - A_ * mid;
-  // Rounding: the products and sums above, over ξ' in its box.
+  // Rounding: the products and sums below, over ξ' in its box (from the data before the change).
   const Eigen::VectorXd rx = rounding_bounds::gamma(m + 1) *
       czono_detail::inflate(c_.cwiseAbs() + G_.cwiseAbs() * (mid.cwiseAbs() + rho), m + 2);
   const Eigen::VectorXd s = rounding_bounds::gamma(m + 1) *
       czono_detail::inflate(b_.cwiseAbs() + A_.cwiseAbs() * (mid.cwiseAbs() + rho), m + 2);
-  czono_detail::absorb_row_slack(G, A, czono_detail::inflate(s, 2));
-  return ConstrainedZonotope(c, std::move(G), std::move(A), b, czono_detail::inflate(r_ + rx, 2), true);
+  const Eigen::VectorXd Gmid = G_ * mid, Amid = A_ * mid;  // each product first, then the sum
+  c_ += Gmid;
+  b_ -= Amid;
+  G_ = G_ * rho.asDiagonal();  // coefficient-wise: no aliasing
+  A_ = A_ * rho.asDiagonal();
+  czono_detail::absorb_row_slack(G_, A_, czono_detail::inflate(s, 2));
+  r_ = czono_detail::inflate(r_ + rx, 2);
 }
 
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::eliminate_constraints(Eigen::Index max_constraints) const {
@@ -409,10 +464,9 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::eliminate_impl(Eigen::I
       if (b_(i) != 0.0 || box_lp_detail::max_abs(A_.row(i)) > 0.0) weight.push_back((*row_weight)(i));
   }
   ConstrainedZonotope Z = remove_zero_constraints();
-  const double u = std::ldexp(1.0, -53);
   while (Z.num_constraints() > max_constraints) {
-    Z = Z.rescale();
-    const Eigen::Index n = Z.dimension(), q = Z.num_constraints(), m = Z.num_generators();
+    Z.rescale_in_place();
+    const Eigen::Index q = Z.num_constraints(), m = Z.num_generators();
     // Choose (i, j): the smallest ‖(g_j; a_j)‖ · excess_ij, larger |A_ij| among equals.
     Eigen::Index bi = -1, bj = -1;
     double best = rounding::kInf, best_pivot = 0.0, best_reach = 0.0;
@@ -445,51 +499,47 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::eliminate_impl(Eigen::I
     if (bi < 0) {  // every remaining row is (numerically) zero: drop them only if exactly 0 = 0
       break;
     }
-    const double piv = Z.A_(bi, bj);
-    const Eigen::VectorXd rhoG = Z.G_.col(bj) / piv;  // any ρ keeps the identity; only products round
-    const Eigen::VectorXd rhoA = Z.A_.col(bj) / piv;
-    const Eigen::RowVectorXd Ai = Z.A_.row(bi);
-    const double bi_val = Z.b_(bi);
-    const Eigen::VectorXd c = Z.c_ + rhoG * bi_val;
-    Eigen::MatrixXd G = Z.G_ - rhoG * Ai;
-    Eigen::MatrixXd A = Z.A_ - rhoA * Ai;
-    Eigen::VectorXd b = Z.b_ - rhoA * bi_val;
-    // After the substitution ξ_j is free but |ξ_j| <= reach (row i, the others in their box); its
-    // column is exactly G_j − ρ A_ij (a few ulps, not 0) and is dropped with that bound.
-    const double reach = rounding::mul_up(best_reach, 1.0 + 8.0 * u);
-    const Eigen::VectorXd absAi = Ai.transpose().cwiseAbs();
-    const double sumAi = absAi.sum();
-    // x side: |fl(c + ρ b_i) − exact| + |fl(G − ρ A_i) − exact|·1 + dropped column, per row.
-    Eigen::VectorXd rx = Z.c_.cwiseAbs() + rhoG.cwiseAbs() * std::abs(bi_val) +
-                         (m > 0 ? Eigen::VectorXd(Z.G_.cwiseAbs().rowwise().sum()) : Eigen::VectorXd::Zero(n)) +
-                         rhoG.cwiseAbs() * sumAi;
-    rx = rounding_bounds::gamma(2) * czono_detail::inflate(rx, m + 2) + (2.0 * u * reach) * Z.G_.col(bj).cwiseAbs();
-    // constraint side, every row but i: the same for A − ρ A_i and b − ρ b_i.
-    Eigen::VectorXd sk = Z.b_.cwiseAbs() + rhoA.cwiseAbs() * std::abs(bi_val) +
-                         Eigen::VectorXd(Z.A_.cwiseAbs().rowwise().sum()) + rhoA.cwiseAbs() * sumAi;
-    sk = rounding_bounds::gamma(2) * czono_detail::inflate(sk, m + 2) + (2.0 * u * reach) * Z.A_.col(bj).cwiseAbs();
-    // Remove row i and column j.
-    auto drop_row = [bi](const Eigen::MatrixXd& M) {
-      Eigen::MatrixXd out(M.rows() - 1, M.cols());
-      out << M.topRows(bi), M.bottomRows(M.rows() - bi - 1);
-      return out;
-    };
-    auto drop_col = [bj](const Eigen::MatrixXd& M) {
-      Eigen::MatrixXd out(M.rows(), M.cols() - 1);
-      out << M.leftCols(bj), M.rightCols(M.cols() - bj - 1);
-      return out;
-    };
     if (row_weight) weight.erase(weight.begin() + bi);
-    A = drop_col(drop_row(A));
-    G = drop_col(G);
-    Eigen::VectorXd b2(q - 1), s2(q - 1);
-    b2 << b.head(bi), b.tail(q - bi - 1);
-    s2 << sk.head(bi), sk.tail(q - bi - 1);
-    czono_detail::absorb_row_slack(G, A, czono_detail::inflate(s2, 2));
-    const Eigen::VectorXd r = czono_detail::inflate(Z.r_ + czono_detail::inflate(rx, 2), 2);
-    Z = ConstrainedZonotope(c, std::move(G), std::move(A), std::move(b2), r, true);
+    Z.eliminate_in_place(bi, bj, best_reach);
   }
+  Z.require_no_overflow();
   return Z;
+}
+
+SETBOUND_INLINE void ConstrainedZonotope::eliminate_in_place(Eigen::Index bi, Eigen::Index bj, double best_reach) {
+  const Eigen::Index n = dimension(), m = num_generators();
+  const double u = std::ldexp(1.0, -53);
+  const double piv = A_(bi, bj);
+  const Eigen::VectorXd rhoG = G_.col(bj) / piv;  // any ρ keeps the identity; only products round
+  const Eigen::VectorXd rhoA = A_.col(bj) / piv;
+  const Eigen::RowVectorXd Ai = A_.row(bi);
+  const double bi_val = b_(bi);
+  // After the substitution ξ_j is free but |ξ_j| <= reach (row i, the others in their box); its
+  // column is exactly G_j − ρ A_ij (a few ulps, not 0) and is dropped with that bound.
+  const double reach = rounding::mul_up(best_reach, 1.0 + 8.0 * u);
+  const double sumAi = Ai.cwiseAbs().sum();
+  // The rounding of the substitution, from the data before it. x side: |fl(c + ρ b_i) − exact|
+  // + |fl(G − ρ A_i) − exact|·1 + the dropped column, per row.
+  Eigen::VectorXd rx = c_.cwiseAbs() + rhoG.cwiseAbs() * std::abs(bi_val) +
+                       (m > 0 ? Eigen::VectorXd(G_.cwiseAbs().rowwise().sum()) : Eigen::VectorXd::Zero(n)) +
+                       rhoG.cwiseAbs() * sumAi;
+  rx = rounding_bounds::gamma(2) * czono_detail::inflate(rx, m + 2) + (2.0 * u * reach) * G_.col(bj).cwiseAbs();
+  // Constraint side, every row but i: the same for A − ρ A_i and b − ρ b_i.
+  Eigen::VectorXd sk = b_.cwiseAbs() + rhoA.cwiseAbs() * std::abs(bi_val) +
+                       Eigen::VectorXd(A_.cwiseAbs().rowwise().sum()) + rhoA.cwiseAbs() * sumAi;
+  sk = rounding_bounds::gamma(2) * czono_detail::inflate(sk, m + 2) + (2.0 * u * reach) * A_.col(bj).cwiseAbs();
+  const Eigen::VectorXd shift = rhoG * bi_val;
+  c_ += shift;
+  G_.noalias() -= rhoG * Ai;  // entry by entry: G_kl − fl(ρ_k A_il)
+  A_.noalias() -= rhoA * Ai;
+  b_ -= rhoA * bi_val;
+  czono_detail::drop_row(A_, bi);
+  czono_detail::drop_col(A_, bj);
+  czono_detail::drop_col(G_, bj);
+  czono_detail::drop_entry(b_, bi);
+  czono_detail::drop_entry(sk, bi);
+  czono_detail::absorb_row_slack(G_, A_, czono_detail::inflate(sk, 2));
+  r_ = czono_detail::inflate(r_ + czono_detail::inflate(rx, 2), 2);
 }
 
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_limits(Eigen::Index max_generators,
