@@ -8,24 +8,18 @@ cannot run are rows with a reason, not crashes; CORA's saved alamo values that t
 marks reproducible (cora_observers.md §4.3, golden_final_interval_hull of
 alamo2005_2d_cora_unittest.json) are all reproduced with convention="cora".
 """
-import importlib.util
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import setbound.cora as cora
 
+from bench_support import load_bench
 from cora_support import DATA, needs_data
-
-ROOT = Path(__file__).resolve().parents[2]
 
 
 def _bench():
-    spec = importlib.util.spec_from_file_location("bench_cora", ROOT / "bench" / "bench_cora.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_bench("bench_cora")
 
 
 @pytest.fixture(scope="module")

@@ -5,20 +5,14 @@ same LPs (it would fail if the hull, the intersection or the bench's LP formulat
 here: that it runs, writes only its own region, and reports one row per set with positive times
 and the hull difference small (the same optimum by two solvers).
 """
-import importlib.util
 import re
-from pathlib import Path
 
+from bench_support import load_bench
 from cora_support import DATA, needs_data
-
-ROOT = Path(__file__).resolve().parents[2]
 
 
 def _bench():
-    spec = importlib.util.spec_from_file_location("bench_czono", ROOT / "bench" / "bench_czono.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_bench("bench_czono")
 
 
 @needs_data
