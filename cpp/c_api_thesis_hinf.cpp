@@ -438,8 +438,8 @@ int sb_hinf_design_mu0_box(const sb_hinf_design* design, const double* lo, const
   return guard("sb_hinf_design_mu0_box", [&] {
     require_pointer(design, "design");
     require_pointer(mu0, "mu0");
-    *mu0 = mu0_from_vertices(design->design, box_corners(Eigen::VectorXd(vector_arg(lo, design->nx, "lo")),
-                                                         Eigen::VectorXd(vector_arg(hi, design->nx, "hi"))));
+    *mu0 = mu0_from_box(design->design, Eigen::VectorXd(vector_arg(lo, design->nx, "lo")),
+                        Eigen::VectorXd(vector_arg(hi, design->nx, "hi")));
   });
 }
 

@@ -697,7 +697,11 @@ def mu0_from_vertices(design: EllipsoidalSMDesign, vertices) -> float:
 
 
 def mu0_from_box(design: EllipsoidalSMDesign, lo, hi) -> float:
-    """``μ_0`` for an initial error ``e_0 = x_0 − x̂_0`` in the box ``[lo, hi]`` (its ``2^n`` corners).
+    """``μ_0`` for an initial error ``e_0 = x_0 − x̂_0`` in the box ``[lo, hi]``.
+
+    For ``n_x <= 20`` the exact maximum of ``vᵀPv / c̄`` over the box's ``2^n`` corners; beyond,
+    where the corners are too many, a guaranteed upper bound of it (with ``r = max(|lo|, |hi|)``,
+    the smaller of ``rᵀ|P|r / c̄`` and ``λ_max(P) rᵀr / c̄``).
 
     Parameters
     ----------

@@ -443,3 +443,44 @@ TEST(ThesisHinfCapi, DesignObserverAndErrors) {
   EXPECT_NE(std::string(sb_last_error()).find("rho: (1.5, 1.5) is outside"), std::string::npos) << sb_last_error();
   EXPECT_EQ(sb_brl_ellipsoidal_rpi(2, 1, Abad, F, wbar, nullptr, nullptr, nullptr, nullptr), SB_ERR_INFEASIBLE);
 }
+
+// μ0 from a box beyond 20 dimensions (ESO-C on tank30: its 2^30 corners cannot be enumerated):
+// an upper bound of every corner's vᵀPv/c̄ (the guarantee needs μ0 >= the true maximum), equal to
+// the corners' maximum where they can be enumerated, and bad boxes named.
+TEST(ThesisHinf, Mu0FromBoxBoundsEveryCornerBeyondTwentyDimensions) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> N(0.0, 1.0);
+  std::uniform_int_distribution<int> bit(0, 1);
+  for (const Eigen::Index n : {Eigen::Index(6), Eigen::Index(22), Eigen::Index(30)}) {
+    EllipsoidalSMDesign d;
+    MatrixXd M(n, n);
+    for (Eigen::Index i = 0; i < M.size(); ++i) M.data()[i] = N(rng);
+    d.P = M * M.transpose() / static_cast<double>(n) + MatrixXd::Identity(n, n);
+    d.cbar = 0.5;
+    d.lambda_max_P = ell_rounding::lambda_max_upper(d.P);
+    VectorXd lo(n), hi(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      lo(i) = -1.0 - 0.5 * std::abs(N(rng));
+      hi(i) = 0.3 * std::abs(N(rng));
+    }
+    const double mu = mu0_from_box(d, lo, hi);
+    if (n <= 20) {
+      EXPECT_EQ(mu, mu0_from_vertices(d, box_corners(lo, hi)));
+    } else {
+      for (int trial = 0; trial < 2000; ++trial) {  // random corners
+        VectorXd v(n);
+        for (Eigen::Index i = 0; i < n; ++i) v(i) = bit(rng) ? hi(i) : lo(i);
+        EXPECT_GE(mu, v.dot(d.P * v) / d.cbar);
+      }
+      EXPECT_LE(mu, ell_rounding::round_up(d.lambda_max_P * lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).squaredNorm() / d.cbar) * 1.01);
+      EXPECT_THROW(box_corners(lo, hi), DimensionError);
+    }
+    EXPECT_GE(mu, 1.0);
+    VectorXd bad = hi;
+    bad(0) = lo(0) - 1.0;
+    EXPECT_THROW(mu0_from_box(d, lo, bad), InvalidArgumentError);
+    EXPECT_THROW(mu0_from_box(d, lo, VectorXd(hi.head(n - 1))), DimensionError);
+    bad(0) = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_THROW(mu0_from_box(d, lo, bad), NotFiniteError);
+  }
+}

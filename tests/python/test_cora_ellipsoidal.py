@@ -298,7 +298,7 @@ def test_cora_interval_observer_state_and_errors():
 # ---- ESO-C (spec §2.15): CORA's cannot run; the name maps to Loukkas' observer of the thesis ------
 
 @needs_data
-@pytest.mark.parametrize("name", ["vehicle6", "pedestrian4"])
+@pytest.mark.parametrize("name", ["vehicle6", "pedestrian4", "tank30"])  # tank30: μ0 bounded, not 2^30 corners
 def test_eso_c_maps_to_the_thesis_observer_and_contains_the_truth(name):
     m = load_cora(DATA / f"{name}.json")
     r = observe(m, "ESO-C")

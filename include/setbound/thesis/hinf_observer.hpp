@@ -236,8 +236,15 @@ double mu0_from_ball(const EllipsoidalSMDesign& d, double radius);
 /// max(1, max_j v_jᵀPv_j / c̄) (3.73–3.74), rounded up.
 double mu0_from_vertices(const EllipsoidalSMDesign& d, const Eigen::MatrixXd& vertices);
 
-/// The 2ⁿ corners of the box [lo, hi] as columns (for mu0_from_vertices with E_0 = [x_0] − x̂_0).
+/// The 2ⁿ corners of the box [lo, hi] as columns (for mu0_from_vertices with E_0 = [x_0] − x̂_0),
+/// n <= 20.
 Eigen::MatrixXd box_corners(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
+
+/// μ0 for e_0 = x_0 − x̂_0 in the box [lo, hi] (length n each, lo <= hi): for n <= 20 the exact
+/// maximum over its 2ⁿ corners (mu0_from_vertices ∘ box_corners); beyond, where the corners are
+/// too many, the smaller of two upper bounds of max vᵀPv over the box with r = max(|lo|, |hi|):
+/// rᵀ|P|r and λ_max(P) rᵀr (mu0_from_ball) — guaranteed, possibly larger than the corners' max.
+double mu0_from_box(const EllipsoidalSMDesign& d, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi);
 
 namespace hinf_detail {
 

@@ -294,13 +294,36 @@ SETBOUND_INLINE double mu0_from_vertices(const EllipsoidalSMDesign& d, const Eig
 SETBOUND_INLINE Eigen::MatrixXd box_corners(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
   require_finite(lo, "lo");
   require_finite(hi, "hi");
-  if (lo.size() != hi.size() || lo.size() == 0 || lo.size() > 20) throw DimensionError("hi: expected the size of lo (1..20)");
+  if (lo.size() != hi.size())
+    throw DimensionError("hi: expected length " + std::to_string(lo.size()) + " (the length of lo), got " +
+                         std::to_string(hi.size()));
+  if (lo.size() == 0 || lo.size() > 20)
+    throw DimensionError("lo: the box's 2^n corners are enumerated for 1 <= n <= 20, got n = " +
+                         std::to_string(lo.size()) + " (mu0_from_box bounds larger boxes)");
   if ((hi.array() < lo.array()).any()) throw InvalidArgumentError("hi: must be >= lo componentwise");
   const Eigen::Index n = lo.size();
   Eigen::MatrixXd V(n, Eigen::Index(1) << n);
   for (Eigen::Index j = 0; j < V.cols(); ++j)
     for (Eigen::Index i = 0; i < n; ++i) V(i, j) = ((j >> i) & 1) ? hi(i) : lo(i);
   return V;
+}
+
+SETBOUND_INLINE double mu0_from_box(const EllipsoidalSMDesign& d, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
+  const Eigen::Index n = d.P.rows();
+  if (lo.size() != n) throw DimensionError("lo: expected length " + std::to_string(n) + ", got " + std::to_string(lo.size()));
+  if (hi.size() != n) throw DimensionError("hi: expected length " + std::to_string(n) + ", got " + std::to_string(hi.size()));
+  if (n <= 20) return mu0_from_vertices(d, box_corners(lo, hi));
+  require_finite(lo, "lo");
+  require_finite(hi, "hi");
+  if ((hi.array() < lo.array()).any()) throw InvalidArgumentError("hi: must be >= lo componentwise");
+  // 2ⁿ corners are too many: vᵀPv <= |v|ᵀ|P||v| <= rᵀ|P|r for every v in the box (|v| <= r).
+  using ell_rounding::round_up;
+  const Eigen::VectorXd r = lo.cwiseAbs().cwiseMax(hi.cwiseAbs());
+  const double q = r.dot(d.P.cwiseAbs() * r);
+  const double q_up = round_up(q * (1.0 + 2.0 * ell_rounding::gamma(n + 2)));  // sums of non-negative terms
+  const double by_abs = std::max(1.0, round_up(q_up / d.cbar));
+  const double by_ball = mu0_from_ball(d, round_up(std::sqrt(round_up(r.squaredNorm() * (1.0 + 2.0 * ell_rounding::gamma(n + 1))))));
+  return std::min(by_abs, by_ball);
 }
 
 }  // namespace thesis
