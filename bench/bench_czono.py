@@ -22,6 +22,7 @@ import platform
 import statistics
 import sys
 import time
+from importlib.metadata import version
 from pathlib import Path
 
 import numpy as np
@@ -185,7 +186,7 @@ def main(argv=None):
     try:
         import scipy.sparse as sp
         import zonoopt as zo
-        zo_version = zo.__version__ if hasattr(zo, "__version__") else _dist_version("zonoopt")
+        zo_version = version("zonoopt")
     except ImportError:
         sp = zo = None
         zo_version = "not installed"
@@ -236,12 +237,6 @@ def main(argv=None):
     out.write_text(new)
     print(body)
     return rows
-
-
-def _dist_version(dist):
-    from importlib.metadata import version
-
-    return version(dist)
 
 
 if __name__ == "__main__":

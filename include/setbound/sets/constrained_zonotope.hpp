@@ -230,7 +230,7 @@ class ConstrainedZonotope {
   // The elimination loop works on one set in place (no set rebuilt, no finiteness scan per row:
   // the caller checks once at the end with require_no_overflow): rescale() on this set, and the
   // substitution of ξ_j from row i (pivot A_ij, |ξ_j| <= reach over the box) that drops row i and
-  // column j. The arithmetic is rescale()'s and eliminate_constraints()'s, bit for bit.
+  // column j. rescale() is a copy and rescale_in_place(); eliminate_constraints() runs the loop.
   void rescale_in_place();
   void eliminate_in_place(Eigen::Index i, Eigen::Index j, double reach);
   /// Throws NumericalError when an entry is not finite (overflow: operations on validated sets
