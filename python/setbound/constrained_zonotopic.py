@@ -11,7 +11,9 @@ exact consistent set as long as the representation is not reduced.
   only after a reduction);
 * reduction, ``reduction="limits"`` (default): at most ``max_constraints`` constraints (Scott's
   rescaling and constraint elimination) and ``max_generators`` generators, so a run of any length
-  has bounded memory and cost per step, and every set still contains the true state;
+  has bounded memory and cost per step, and every set still contains the true state (CZN-A's
+  new constraints are first written with the least-squares gain ``Λ = P Cᵀ (C P Cᵀ + V Vᵀ)⁻¹``,
+  ``P = G Gᵀ``: the same set, with smaller generators for the reduction to work on);
   ``reduction="cora"``: CORA's ``conZonotope/reduce`` at ``order`` (CORA's ``zonotopeOrder``),
   for CORA's numbers; ``reduction="none"``: the exact consistent set (memory grows every step).
 

@@ -2,7 +2,10 @@
 // §2.18; [Scott2016]; Alanwar et al., arXiv:2010.11097, for CZN-B's gain).
 //
 //   prediction:  X⁺ = A X + B u ⊕ E B^{n_w}                        (W = E·box, exact)
-//   correction (CZN-A, ExactOutput): X ∩ {x : y − D u − C x ∈ F B^{n_w}}  (V used as a set)
+//   correction (CZN-A, ExactOutput): X ∩ {x : y − D u − C x ∈ F B^{n_w}}  (V used as a set);
+//       in the bounded mode (Limits) the new rows are then written with the least-squares gain
+//       Λ = P Cᵀ (C P Cᵀ + V Vᵀ)⁻¹, P = G Gᵀ (substitute_rows: the same set), so the reduction
+//       works on small generators (without it CZN-A drifted on vehicle6; see correct()).
 //   correction (CZN-B, WangStrips):  the same strips |C_i x + D_i u − y_i| <= σ_i, σ_i = Σ_j |F_ij|,
 //       written with CORA's representation change c' = c + Λ(y − Cc), G' = [(I − ΛC)G, Λ diag σ],
 //       Λ = R̄Cᵀ(CR̄Cᵀ + F Fᵀ)⁻¹, R̄ = A GGᵀAᵀ + EEᵀ (A applied twice, as CORA does: sic);
@@ -121,7 +124,8 @@ class ConstrainedZonotopicEstimator {
   StateFingerprint fingerprint() const;
 
   /// One correction of X with (y, u) by the estimator's method, for the outputs in `used`
-  /// (indices into y). No screening, no reduction.
+  /// (indices into y). No screening, no reduction. The set is exact (up to outward rounding);
+  /// its parametrisation depends on the method and, for CZN-A, on the reduction (see above).
   ConstrainedZonotope correct(const ConstrainedZonotope& X, const Eigen::Ref<const Eigen::VectorXd>& y,
                               const Eigen::Ref<const Eigen::VectorXd>& u, const std::vector<Eigen::Index>& used) const;
   /// A X + B u ⊕ E B.
