@@ -312,10 +312,10 @@ SETBOUND_INLINE double mu0_from_box(const EllipsoidalSMDesign& d, const Eigen::V
   const Eigen::Index n = d.P.rows();
   if (lo.size() != n) throw DimensionError("lo: expected length " + std::to_string(n) + ", got " + std::to_string(lo.size()));
   if (hi.size() != n) throw DimensionError("hi: expected length " + std::to_string(n) + ", got " + std::to_string(hi.size()));
-  if (n <= 20) return mu0_from_vertices(d, box_corners(lo, hi));
   require_finite(lo, "lo");
   require_finite(hi, "hi");
   if ((hi.array() < lo.array()).any()) throw InvalidArgumentError("hi: must be >= lo componentwise");
+  if (n <= 20) return mu0_from_vertices(d, box_corners(lo, hi));
   // 2ⁿ corners are too many: vᵀPv <= |v|ᵀ|P||v| <= rᵀ|P|r for every v in the box (|v| <= r).
   using ell_rounding::round_up;
   const Eigen::VectorXd r = lo.cwiseAbs().cwiseMax(hi.cwiseAbs());
