@@ -77,12 +77,7 @@ def predicted_set(system, x0, y, u, k, reduction):
     est = ConstrainedZonotopicEstimator(system, x0, reduction=reduction)
     for j in range(k):
         est.step(y[j], None if u is None else u[j])
-    S = est._last_set()
-    P = system.A @ S
-    if system.nu:
-        P = P.translate(system.B @ u[k - 1])
-    E = system.E[:, np.any(system.E != 0, axis=0)]
-    P = P + Zonotope(np.zeros(system.nx), E)
+    P = est.prediction
     Du = system.D @ u[k] if system.nu else np.zeros(system.ny)
     F = system.F[:, np.any(system.F != 0, axis=0)]
     return P, system.C, y[k] - Du, Zonotope(np.zeros(system.ny), F)

@@ -360,6 +360,12 @@ int sb_czonotopic_last_set(const sb_czonotopic* estimator, int* ng_out, int* nc_
   });
 }
 
+int sb_czonotopic_prediction(const sb_czonotopic* estimator, int* ng_out, int* nc_out, double* c, double* G,
+                             double* A, double* b, double* r) {
+  return guard("sb_czonotopic_prediction",
+               [&] { czono_out(czn_arg(estimator).prediction(), ng_out, nc_out, c, G, A, b, r); });
+}
+
 int sb_czonotopic_set_inconsistency_policy(sb_czonotopic* estimator, int policy, int ng, int nc, const double* c,
                                            const double* G, const double* A, const double* b, const double* r) {
   return guard("sb_czonotopic_set_inconsistency_policy", [&] {

@@ -494,6 +494,10 @@ int sb_czonotopic_step(sb_czonotopic* estimator, const double* y, const double* 
 /* The set of the last step; *ng_out, *nc_out in: capacities, out: sizes (see above). */
 int sb_czonotopic_last_set(const sb_czonotopic* estimator, int* ng_out, int* nc_out, double* c,
                            double* G, double* A, double* b, double* r);
+/* The set the next step corrects: after k steps the prediction A X + B u (+) E B^nw for x_k
+ * (before y_k), before the first step the initial set. Buffers as sb_czonotopic_last_set. */
+int sb_czonotopic_prediction(const sb_czonotopic* estimator, int* ng_out, int* nc_out, double* c,
+                             double* G, double* A, double* b, double* r);
 /* As sb_zonotopic_set_inconsistency_policy; the reset set is a constrained zonotope (c NULL:
  * the initial set). */
 int sb_czonotopic_set_inconsistency_policy(sb_czonotopic* estimator, int policy, int ng, int nc,

@@ -169,6 +169,26 @@ class ConstrainedZonotopicEstimator(ReadingChecks, StateMixin):
         return self._last_set()
 
     @property
+    def prediction(self) -> ConstrainedZonotope:
+        """The set the next step corrects: after ``k`` steps the prediction ``A X_{k−1} ⊕ B u_{k−1} ⊕
+        E B^{n_w}`` for ``x_k``, before its measurement (exact up to outward rounding); the initial set
+        before the first step.
+
+        Examples
+        --------
+        >>> sys = setbound.LinearSystem(A=[[0.9, 0.2], [0.0, 0.7]], C=[[1.0, 0.0]],
+        ...                             E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+        >>> from setbound.constrained_zonotopic import ConstrainedZonotopicEstimator
+        >>> est = ConstrainedZonotopicEstimator(sys, setbound.Box([-1, -1], [1, 1]))
+        >>> X = est.step([0.3])
+        >>> P = est.prediction
+        >>> bool(np.all(P.interval_hull()[1] >= (sys.A @ X).interval_hull()[1]))
+        True
+        """
+        return ConstrainedZonotope._result(lambda *a: lib.sb_czonotopic_prediction(self._handle, *a), (),
+                                           self.system.nx, 0, 0)
+
+    @property
     def steps(self) -> int:
         """Number of steps taken (a filter: the last step's set bounds ``x_{steps−1}``)."""
         s = ffi.new("int*")

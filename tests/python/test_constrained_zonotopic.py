@@ -254,6 +254,34 @@ def test_bad_input_is_named():
         ConstrainedZonotopicEstimator(s, x0, reset_set=x0)
 
 
+@pytest.mark.parametrize("correction", ["CZN-A", "CZN-B"])
+def test_prediction_is_the_set_the_next_step_corrects(correction):
+    # sb_czonotopic_prediction: the initial set before the first step; after k steps A X_{k-1} ⊕ E B
+    # for x_k, whose exact intersection with the output set y_k − F B has the hull the run reports
+    # for step k (taken before the reduction; CZN-B's strips are the same set, F diagonal per output).
+    rng = np.random.default_rng(12)
+    s = random_system(rng, 3)
+    X0 = sb.Box([-1, -1, -1], [1, 1, 1])
+    xs, ys = record(s, 15, rng, vertex=True, x0=(0.5, -0.5, 0.2))
+    traj = ConstrainedZonotopicEstimator(s, X0, correction=correction).run(ys, keep_sets=False)
+    est = ConstrainedZonotopicEstimator(s, X0, correction=correction)
+    lo, hi = est.prediction.interval_hull()
+    np.testing.assert_allclose(np.c_[lo, hi], np.c_[-np.ones(3), np.ones(3)], atol=1e-12)
+    E = s.E[:, np.any(s.E != 0, axis=0)]
+    V = sb.Zonotope(np.zeros(s.ny), s.F[:, np.any(s.F != 0, axis=0)])
+    for k in range(1, len(ys)):
+        X = est.step(ys[k - 1])
+        P = est.prediction
+        assert (P.n, est.steps) == (3, k)
+        scale = 1.0 + np.abs(np.c_[traj.lower[k], traj.upper[k]]).max()
+        np.testing.assert_allclose(np.c_[P.interval_hull()], np.c_[(s.A @ X + sb.Zonotope(np.zeros(3), E)).interval_hull()],
+                                   atol=1e-9 * scale)
+        corrected = P.intersect_output(s.C, ys[k], V)
+        np.testing.assert_allclose(np.c_[corrected.interval_hull()], np.c_[traj.lower[k], traj.upper[k]],
+                                   atol=1e-8 * scale)
+        assert corrected.contains(xs[k][None, :]).all()
+
+
 @pytest.mark.parametrize("reduction", ["limits", "none"])
 def test_rounding_box_does_not_wrap_through_a_stable_A(reduction):
     # A stable A (spectral radius 0.95) whose |A| has row sums near 5: mapping the rounding box as a
