@@ -1185,7 +1185,8 @@ ESTIMATORS = {
     "zono_volume_min": _Spec(7, _run_zonotopic, max_nw=8, horizon=600),
     "pradius": _Spec(8, _run_zonotopic, horizon=1000),
     # CORA's zonotopic catalogue on the shared skeleton (estimators/zonotopic/observer.hpp);
-    # Bravo's candidates cost O(n² m²) per strip
+    # Bravo's horizon (600) dates from when its candidates cost O(n² m²) per strip (now
+    # O(n² m)); kept so that the recorded campaigns stay comparable
     "zono_bravo": _Spec(40, _run_zonotopic, horizon=600),
     "zono_wang": _Spec(41, _run_zonotopic, horizon=1000),
     "zono_combastel": _Spec(42, _run_zonotopic, horizon=1000),

@@ -155,6 +155,69 @@ TEST(ZonotopicObserver, BravoNeverEnlargesTheGeneratorCountAndPredictorStartsAtX
   EXPECT_NEAR(t.upper(0, 0), 1.0, 1e-14);  // row 0 is x0 itself
 }
 
+// VolMin-B's choice scores candidate j by (σ/a)² g_jᵀ S⁻¹ g_j against 1 (observer.ipp,
+// bravo_choice); the definition (spec §2.2) scores det(T_j T_jᵀ) against det(G Gᵀ). On random
+// full-rank zonotopes the chosen column, read back from the gain λ = g_j / cᵀg_j, must be the
+// direct score's first minimiser whenever that minimiser wins by more than rounding. A flat
+// zonotope (fewer generators than states) has every determinant 0: the set itself is kept.
+TEST(ZonotopicObserver, BravoChoiceIsTheMinimumDeterminantCandidate) {
+  std::mt19937 gen(21);
+  std::normal_distribution<double> nrm;
+  int compared = 0, replaced = 0, kept = 0, flat = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const int n = 2 + trial % 4;
+    const int m = trial % 10 == 9 ? n - 1 : n + 1 + trial % 9;  // every tenth: rank-deficient
+    MatrixXd G(n, m), C(1, n);
+    for (int i = 0; i < n; ++i) {
+      C(0, i) = nrm(gen);
+      for (int j = 0; j < m; ++j) G(i, j) = nrm(gen) * (1.0 + j % 3);
+    }
+    const double sig = std::exp(2.0 * nrm(gen));  // strips from much thinner to wider than Z
+    const LinearSystem sys(MatrixXd::Identity(n, n), C, MatrixXd::Zero(n, 1), MatrixXd::Constant(1, 1, sig));
+    const Zonotope X0(VectorXd::Zero(n), G);
+    ZonotopicObserverOptions o;
+    o.rule = ZonotopicRule::Bravo;
+    o.max_generators = 1000;
+    o.convention = Convention::Cora;  // CORA's absolute threshold: every column is a candidate here
+    ZonotopicObserver obs(sys, X0, o);
+    obs.update(VectorXd::Constant(1, 0.1 * nrm(gen)), VectorXd::Zero(0));
+    // The direct scores.
+    const VectorXd cg = G.transpose() * C.row(0).transpose();
+    std::vector<double> d(static_cast<std::size_t>(m + 1));
+    d[0] = (G * G.transpose()).determinant();
+    for (int j = 0; j < m; ++j) {
+      MatrixXd T = G - G.col(j) * (cg.transpose() / cg(j));
+      T.col(j) = (sig / cg(j)) * G.col(j);
+      d[static_cast<std::size_t>(j + 1)] = (T * T.transpose()).determinant();
+    }
+    const VectorXd lam = obs.last_gain().col(0);
+    if (m < n) {
+      ++flat;
+      EXPECT_TRUE(lam.isZero(0)) << "trial " << trial;
+      continue;
+    }
+    const auto best = std::min_element(d.begin(), d.end()) - d.begin();
+    double second = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < d.size(); ++k)
+      if (static_cast<long>(k) != best) second = std::min(second, d[k]);
+    const double scale = std::max(std::abs(d[static_cast<std::size_t>(best)]), std::abs(second));
+    if (!(second - d[static_cast<std::size_t>(best)] > 1e-8 * scale)) continue;  // a near tie
+    ++compared;
+    if (best == 0) {
+      ++kept;
+      EXPECT_TRUE(lam.isZero(0)) << "trial " << trial;
+    } else {
+      ++replaced;
+      const Eigen::Index j = best - 1;
+      EXPECT_EIGEN_NEAR(lam, VectorXd(G.col(j) / cg(j)), 1e-12 * (1.0 + lam.norm())) << "trial " << trial;
+    }
+  }
+  EXPECT_EQ(flat, 30);
+  EXPECT_GE(compared, 240);
+  EXPECT_GE(replaced, 50);  // both outcomes occur
+  EXPECT_GE(kept, 20);
+}
+
 TEST(ZonotopicObserver, MissingOutputsAreSkipped) {
   std::mt19937 gen(9);
   const LinearSystem sys = random_system(1, gen);  // two outputs

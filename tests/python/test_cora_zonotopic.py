@@ -103,8 +103,6 @@ def test_recursions_with_coras_saved_gains_reproduce_vehicle2(alg):
 @pytest.mark.parametrize("cls", [WangEstimator, CombastelObserver, BravoEstimator])
 def test_true_trajectories_stay_inside(name, cls):
     b = load_cora(DATA / f"{name}.json")
-    if cls is BravoEstimator and b.system.nx > 6:
-        pytest.skip("VolMin-B costs O(n² m²) per strip; tank30 is out of its range")
     n = b.system.nx
     t = cls(b.system, b.x0, max_generators=4 * n, reduction="girard").run(b.y, b.u)
     assert_truth_inside(name, b.truth, t.lower, t.upper)
