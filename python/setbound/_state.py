@@ -93,9 +93,15 @@ def reconstructible(cls):
 
     @functools.wraps(init)
     def __init__(self, *args, **kwargs):
-        if "_ctor" not in self.__dict__:
+        outermost = "_ctor" not in self.__dict__
+        if outermost:
             self.__dict__["_ctor"] = (args, dict(kwargs))
         init(self, *args, **kwargs)
+        if outermost and isinstance(self, StateMixin) and "_initial_state" not in self.__dict__:
+            # the state of construction, for reset() (and run()): a twin built again would
+            # repeat a design made inside the library (e.g. the H∞ gain of an interval
+            # observer built without L: seconds on tank30, once per run)
+            self.__dict__["_initial_state"] = self.save_state()
 
     cls.__init__ = __init__
     if "__reduce__" not in cls.__dict__:
@@ -354,7 +360,7 @@ class StateMixin(ThreadSafe):
     def reset(self) -> None:
         """Back to the state of construction: the initial set, no step taken (``run()`` starts
         with it, so the same record always gives the same result)."""
-        state = self.__dict__.get("_initial_state")
+        state = self.__dict__.get("_initial_state")  # recorded by @reconstructible
         if state is None:
             # a twin made with the same construction arguments (designs are immutable objects,
             # so this does not design again) gives the state of construction; kept for later

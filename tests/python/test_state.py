@@ -353,6 +353,28 @@ def test_interval_luenberger_observer(variant):
     _check(Case(make, lambda e, i: _box_step(e, ys[i], us[i]), lambda: make(4.0), _bad_yu(ys, us)), 4, 6)
 
 
+def test_run_restarts_from_the_recorded_state_without_designing_again(monkeypatch):
+    # An interval observer built without L designs its H∞ gain inside the library (seconds on
+    # tank30). run() restarts from the state recorded at construction: building a twin (the old
+    # reset) would design again on every run. Here building another one fails, so a run that
+    # tried would raise.
+    p = _ex451()
+    ys, us = _plant_data(p, 12)
+    obs = iobs.IntervalLuenbergerObserver(p, sb.Box(-3 * np.ones(2), 3 * np.ones(2)))
+    x0_state = obs.save_state()
+
+    def no_second_design(*args, **kwargs):
+        raise AssertionError("the observer was built again")
+
+    monkeypatch.setattr(iobs.IntervalLuenbergerObserver, "__init__", no_second_design)
+    first = obs.run(ys, us)
+    again = obs.run(ys, us)
+    obs.reset()
+    assert obs.save_state() == x0_state
+    np.testing.assert_array_equal(first.lower, again.lower)
+    np.testing.assert_array_equal(first.upper, again.upper)
+
+
 def _h_box(x_box, k):  # module level: picklable
     r = 0.2 + 0.15 * math.sin(0.9 * k)
     c = 0.1 * math.cos(k)

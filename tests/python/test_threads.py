@@ -423,19 +423,22 @@ def test_every_class_holding_a_mutable_handle_is_threadsafe():
 class _LoggingLib:
     """Stands for the cffi library in the setbound modules while the threads run: every call
     of a marker (or save-state) function is logged with its thread before it enters C. The
-    calls happen inside the locked public method, so the log is the order of admission."""
+    calls happen inside the locked public method, so the log is the order of admission. Only
+    calls on ``handle`` (the shared object's; None: all) are logged: a deep copy, once built, saves its own
+    state of construction (for its reset)."""
 
-    def __init__(self, real, markers, log):
-        self._real, self._markers, self._log = real, markers, log
+    def __init__(self, real, markers, log, handle):
+        self._real, self._markers, self._log, self._handle = real, markers, log, handle
 
     def __getattr__(self, name):
         attr = getattr(self._real, name)
         if name in self._markers or name.endswith("_save_state"):
             kind = "save" if name.endswith("_save_state") else "op"
-            log = self._log
+            log, handle = self._log, self._handle
 
             def logged(*args):
-                log.append((kind, threading.get_ident()))
+                if handle is None or (args and args[0] == handle):
+                    log.append((kind, threading.get_ident()))
                 return attr(*args)
 
             return logged
@@ -463,7 +466,8 @@ def test_one_object_shared_by_eight_threads_equals_replay_in_admission_order(nam
         except Exception as exc:  # noqa: BLE001 - reported below
             errors.append((t, exc))
 
-    logging_lib = _LoggingLib(lib, case.markers, log)
+    handle = shared._state_handle() if case.saves else None
+    logging_lib = _LoggingLib(lib, case.markers, log, handle)
     with monkeypatch.context() as m:
         for module in [mod for key, mod in sys.modules.items() if key.startswith("setbound")]:
             if getattr(module, "lib", None) is lib:
