@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "c_api_common.hpp"
+#include "setbound/sets/generator_kernels.hpp"
 #include "setbound/sets/zonotope.hpp"
 #include "test_helpers.hpp"
 
@@ -771,4 +772,32 @@ TEST(ZonotopeCApi, ErrorPaths) {
   int inside[1];
   EXPECT_EQ(sb_zonotope_contains(2, 3, p, H, 1, nullptr, 0.0, inside), SB_ERR_INVALID_ARGUMENT);
   EXPECT_EQ(sb_zonotope_contains(2, 3, p, H, 1, p, -1.0, inside), SB_ERR_INVALID_ARGUMENT);
+}
+
+// The generator kernels (sets/generator_kernels.hpp) have fixed-size paths for n <= 8 and a
+// dynamic one above: every path against Eigen's plain expressions, on the first m of more columns.
+TEST(GeneratorKernels, FixedAndDynamicPathsAgreeWithEigen) {
+  std::mt19937 gen(3);
+  std::normal_distribution<double> nrm;
+  for (int n = 1; n <= 11; ++n) {
+    const Eigen::Index m = 37, cap = 45;
+    Eigen::MatrixXd G(n, cap), T(n, n), W(n, cap);
+    Eigen::VectorXd t(n);
+    for (Eigen::Index j = 0; j < cap; ++j)
+      for (int i = 0; i < n; ++i) G(i, j) = nrm(gen);
+    for (int i = 0; i < n; ++i) {
+      t(i) = nrm(gen);
+      for (int j = 0; j < n; ++j) T(i, j) = nrm(gen);
+    }
+    const auto Gm = G.leftCols(m);
+    const double s = setbound::detail::abs_projection_sum(G, m, t);
+    const double s_ref = (Gm.transpose() * t).cwiseAbs().sum();
+    EXPECT_NEAR(s, s_ref, 1e-12 * s_ref) << "n " << n;
+    setbound::detail::transform_generators(T, G, W, m);
+    EXPECT_LE((W.leftCols(m) - T * Gm).cwiseAbs().maxCoeff(), 1e-12 * (T.cwiseAbs() * Gm.cwiseAbs()).maxCoeff()) << "n " << n;
+    Eigen::MatrixXd S;
+    setbound::detail::gram(G, m, S);
+    const Eigen::MatrixXd S_ref = Gm * Gm.transpose();
+    EXPECT_LE((S - S_ref).cwiseAbs().maxCoeff(), 1e-12 * S_ref.cwiseAbs().maxCoeff()) << "n " << n;
+  }
 }

@@ -1,11 +1,13 @@
-// setbound — the two generator-matrix kernels every zonotopic estimator runs once per step: the
-// product T·G of a small n × n transform with the n × m generators, and the pass that drops
-// exactly-zero columns while summing |G| by rows. Eigen's blocked product packs its operands,
+// setbound — the generator-matrix kernels every zonotopic estimator runs once per step: the
+// product T·G of a small n × n transform with the n × m generators, the Gram matrix G Gᵀ, the
+// support ‖Gᵀt‖₁ of G B^m in a direction, and the pass that drops exactly-zero columns while
+// summing |G| by rows. Eigen's blocked product packs its operands,
 // which costs more than the product itself for a few rows; fixed-size kernels for n <= 8 keep
 // the columns in registers (vehicle6: n = 6, m = 600).
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <limits>
 
 namespace setbound {
@@ -16,6 +18,10 @@ void transform_generators(const Eigen::MatrixXd& T, const Eigen::MatrixXd& G, Ei
 
 /// S = G.leftCols(m) G.leftCols(m)ᵀ (n × n, symmetric; the Gram matrix the gain rules use).
 void gram(const Eigen::MatrixXd& G, Eigen::Index m, Eigen::MatrixXd& S);
+
+/// Σ_j |g_jᵀ t| over the first m columns of G (t of length n): the support of G B^m in the
+/// direction t, in one pass without a temporary.
+double abs_projection_sum(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& t);
 
 /// Removes exactly-zero columns among the first m of W (keeping the order) when `drop_zeros`,
 /// and sets w = rs|W| over the kept columns, rounded up (a bound of the computed sums). Returns
@@ -42,6 +48,17 @@ void gram_fixed(const Eigen::MatrixXd& G, Eigen::Index m, Eigen::MatrixXd& S) {
     Sf.noalias() += g * g.transpose();
   }
   S = Sf;
+}
+
+template <int N>
+double abs_projection_sum_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& t) {
+  using Col = Eigen::Matrix<double, N, 1>;
+  const Eigen::Index n = G.rows();
+  const Col tf = t;
+  const double* const base = G.data();
+  double s = 0.0;
+  for (Eigen::Index j = 0; j < m; ++j) s += std::abs(Eigen::Map<const Col>(base + j * n, n).dot(tf));
+  return s;
 }
 
 template <int N>

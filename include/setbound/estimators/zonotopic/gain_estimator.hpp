@@ -283,7 +283,7 @@ class ZonotopicEstimator {
   MeasurementCheck chk_, last_check_;
 
   // Scratch.
-  Vec sg_, pc_, rc_, wH_, wGA_, lam_, sc_, v_, t_, e_, cN_, uabs_;
+  Vec pc_, rc_, wH_, wGA_, lam_, sc_, v_, t_, e_, cN_, uabs_;
   Mat Tc_, Nc_, Sc_, absT_;
   detail::ReductionWorkspace rws_;
 };

@@ -44,6 +44,27 @@ SETBOUND_INLINE void gram(const Eigen::MatrixXd& G, Eigen::Index m, Eigen::Matri
   }
 }
 
+SETBOUND_INLINE double abs_projection_sum(const Eigen::MatrixXd& G, Eigen::Index m,
+                                          const Eigen::Ref<const Eigen::VectorXd>& t) {
+  // Eigen's GEMV Gᵀt runs a dot product of length n per column with its blocking overhead:
+  // for a few rows the fixed-size loop below is about 3× fewer instructions (vehicle6).
+  switch (G.rows()) {
+    case 1: return abs_projection_sum_fixed<1>(G, m, t);
+    case 2: return abs_projection_sum_fixed<2>(G, m, t);
+    case 3: return abs_projection_sum_fixed<3>(G, m, t);
+    case 4: return abs_projection_sum_fixed<4>(G, m, t);
+    case 5: return abs_projection_sum_fixed<5>(G, m, t);
+    case 6: return abs_projection_sum_fixed<6>(G, m, t);
+    case 7: return abs_projection_sum_fixed<7>(G, m, t);
+    case 8: return abs_projection_sum_fixed<8>(G, m, t);
+    default: {
+      double s = 0.0;
+      for (Eigen::Index j = 0; j < m; ++j) s += std::abs(G.col(j).dot(t));
+      return s;
+    }
+  }
+}
+
 SETBOUND_INLINE Eigen::Index compact_and_sum(Eigen::MatrixXd& W, Eigen::Index m, Eigen::VectorXd& w, bool drop_zeros) {
   switch (W.rows()) {
     case 1: return compact_and_sum_fixed<1>(W, m, w, drop_zeros);

@@ -380,7 +380,6 @@ SETBOUND_INLINE void ZonotopicEstimator::allocate(Eigen::Index m0) {
   uabs_ = Vec::Zero(sys_.nu());
   absT_ = Mat::Zero(n_, n_);
   cN_ = Vec::Zero(capN_);
-  sg_ = Vec::Zero(cap_);
   detail::reserve_reduction_workspace(rws_, n_, cap_);
 }
 
@@ -439,11 +438,7 @@ SETBOUND_INLINE void ZonotopicEstimator::correct_and_reduce(const Eigen::Ref<con
           magnitude += v_.dot(wGA_);
         }
         radius += t_.cwiseAbs().dot(rA_);
-        if (mG_ > 0) {
-          if (sg_.size() < mG_) sg_.resize(cap_);  // restore_state() may have grown the capacity
-          sg_.head(mG_).noalias() = G().leftCols(mG_).transpose() * t_;
-          radius += sg_.head(mG_).cwiseAbs().sum();
-        }
+        if (mG_ > 0) radius += detail::abs_projection_sum(G(), mG_, t_);
         if (mN > 0) {
           cN_.head(mN).noalias() = Nc_.leftCols(mN).transpose() * c;
           radius += cN_.head(mN).cwiseAbs().sum();

@@ -331,8 +331,8 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Set& X, const
   // Cholesky factor and one triangular solve per strip, O(n² m), instead of m determinants of
   // n × m products, O(n² m²) (vehicle6 at CORA's order 100: 600 columns). Only the choice uses
   // the score; every candidate is an outer bound, so its rounding cannot break the guarantee.
-  Mat S = Mat::Zero(n_, n_);
-  S.selfadjointView<Eigen::Lower>().rankUpdate(G);
+  Mat S;
+  detail::gram(G, m, S);
   Eigen::LLT<Mat, Eigen::Lower> llt(S);
   const Vec piv = llt.info() == Eigen::Success ? Vec(llt.matrixLLT().diagonal()) : Vec();
   const bool well_posed = piv.size() == n_ && piv.allFinite() &&
