@@ -131,6 +131,23 @@ int sb_zono_observer_last_gain(const sb_zono_observer* observer, double* gain) {
   });
 }
 
+int sb_zono_observer_set_inconsistency_policy(sb_zono_observer* observer, int policy) {
+  return guard("sb_zono_observer_set_inconsistency_policy", [&] {
+    require_pointer(observer, "observer");
+    if (policy < SB_ON_INCONSISTENCY_FLAG || policy > SB_ON_INCONSISTENCY_RESET)
+      throw InvalidArgumentError("policy: expected SB_ON_INCONSISTENCY_FLAG (0), _RAISE (1) or _RESET (2), got " +
+                                 std::to_string(policy));
+    observer->observer.set_inconsistency_policy(static_cast<OnInconsistency>(policy));
+  });
+}
+
+int sb_zono_observer_last_check(const sb_zono_observer* observer, int* status, double* margin, int* reset) {
+  return guard("sb_zono_observer_last_check", [&] {
+    require_pointer(observer, "observer");
+    check_out(observer->observer.last_check(), status, margin, reset);
+  });
+}
+
 int sb_zono_observer_reset(sb_zono_observer* observer) {
   return guard("sb_zono_observer_reset", [&] {
     require_pointer(observer, "observer");

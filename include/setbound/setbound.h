@@ -1067,6 +1067,16 @@ int sb_zono_observer_step(sb_zono_observer* observer, const double* y, const dou
 int sb_zono_observer_current_set(const sb_zono_observer* observer, int* m, double* p, double* H);
 /* The weight of the last step (nx x ny row-major; zero columns: missing or unused outputs). */
 int sb_zono_observer_last_gain(const sb_zono_observer* observer, double* gain);
+/* What a reading outside the output set of the set a step corrects (filters: the prior;
+ * predictors: the current set, with F's bound) does, from the next step on: SB_ON_INCONSISTENCY_FLAG
+ * (default: skipped, reported), _RAISE (SB_ERR_INCONSISTENT, the observer unchanged) or _RESET
+ * (restart from x0, corrected with the readings consistent with it). Convention CORA tests
+ * nothing and accepts only FLAG. */
+int sb_zono_observer_set_inconsistency_policy(sb_zono_observer* observer, int policy);
+/* The screening of the last step (status: ny SB_OUTPUT_* codes; margin: ny, in units of the
+ * output's noise bound, NaN when missing or not tested; *reset: 1 after a restart). A margin
+ * <= 0 may be an upper bound: a reading well inside is decided by a lower bound of the radius. */
+int sb_zono_observer_last_check(const sb_zono_observer* observer, int* status, double* margin, int* reset);
 int sb_zono_observer_reset(sb_zono_observer* observer);
 int sb_zono_observer_steps(const sb_zono_observer* observer, int* steps);
 /* Saved state (see "saved states" above). */

@@ -519,7 +519,7 @@ class PRadiusEstimator(_ZonotopicEstimator):
 CONVENTIONS = {"setbound": lib.SB_CONVENTION_SETBOUND, "cora": lib.SB_CONVENTION_CORA}
 
 
-class _ZonotopicObserver(StateMixin):
+class _ZonotopicObserver(ReadingChecks, StateMixin):
     """The shared zonotopic skeleton of CORA's catalogue with one gain rule (the varying part).
 
     Strip-based rules are filters (row ``k`` of a run is the set for ``x_k`` after ``y_k``);
@@ -527,15 +527,24 @@ class _ZonotopicObserver(StateMixin):
     Every rule is guaranteed: the correction is an outer bound for any weight, and rounding is
     carried in a pending box that the reduction absorbs. ``convention="cora"`` reproduces CORA's
     behaviour where it differs from the papers (see each class). NaN entries of ``y`` are missing
-    outputs (their strips or gain columns are not used)."""
+    outputs (their strips or gain columns are not used).
+
+    Real data (:mod:`setbound.measurement`, ``convention="setbound"``): every reading is tested
+    against the output set of the set the step corrects (a filter's prior, a predictor's current
+    set, widened by the noise bound); one outside it is never used and is handled by
+    ``on_inconsistency``: ``"flag"`` (default), ``"raise"`` or ``"reset"`` (restart from ``x0``).
+    ``last_check`` and the trajectory's ``status`` and ``margin`` report it (a margin <= 0 may be an
+    upper bound: readings well inside are decided by a cheap lower bound of the radius).
+    ``convention="cora"`` tests nothing, as CORA, and accepts only ``"flag"``."""
 
     _rule: int
     _takes_gain = False
     _state_prefix = "sb_zono_observer"
+    _last_check_fn = lib.sb_zono_observer_last_check
     is_filter = True
 
     def __init__(self, system: LinearSystem, x0: Zonotope, *, gain=None, max_generators: int = 20,
-                 reduction: str = "combastel", convention: str = "setbound"):
+                 reduction: str = "combastel", convention: str = "setbound", on_inconsistency: str = "flag"):
         system = as_system(system)
         x0 = _check_system_and_x0(system, x0)
         max_generators = as_int(max_generators, "max_generators", lo=1, hi=MAX_GENERATORS)
@@ -543,6 +552,7 @@ class _ZonotopicObserver(StateMixin):
                      4 * 8.0 * system.nx * (max_generators + system.nx + system.ny + system.nw))
         reduction = as_choice(reduction, "reduction", REDUCTIONS)
         convention = as_choice(convention, "convention", CONVENTIONS)
+        on_inconsistency = as_choice(on_inconsistency, "on_inconsistency", POLICIES)
         if system.A_rad is not None and np.any(np.asarray(system.A_rad) != 0):
             raise InvalidArgumentError(f"system: {type(self).__name__} needs a known A (an interval A is not supported)")
         gptr = ffi.NULL
@@ -558,7 +568,10 @@ class _ZonotopicObserver(StateMixin):
         check(lib.sb_zono_observer_create(system._handle, self._rule, gptr, max_generators, REDUCTIONS[reduction],
                                           CONVENTIONS[convention], x0.m, dptr(x0.center), dptr(x0.generators), handle))
         self._handle = ffi.gc(handle[0], lib.sb_zono_observer_free)
+        check(lib.sb_zono_observer_set_inconsistency_policy(self._handle, POLICIES[on_inconsistency]))
+        self.on_inconsistency = on_inconsistency
         self._m = ffi.new("int*")
+        self._init_checks()
 
     @property
     def steps(self) -> int:
@@ -640,21 +653,26 @@ class _ZonotopicObserver(StateMixin):
         -------
         Trajectory
             Filters: row ``k`` used ``y_0 … y_k``; predictors: ``y_0 … y_{k−1}`` (row 0 is ``x0``).
+            ``status``, ``margin`` and ``resets``: what step ``k`` did with ``y_k`` (for a
+            predictor, the step that made row ``k + 1``).
         """
         s = self.system
         y, u = run_inputs(s, y, u)
         N = y.shape[0]
         centers, lows, highs, sets = np.empty((N, s.nx)), np.empty((N, s.nx)), np.empty((N, s.nx)), []
+        status, margin = np.empty((N, s.ny), dtype=np.int8), np.empty((N, s.ny))
+        resets = np.zeros(N, dtype=bool)
         for k in range(N):
             if not self.is_filter:
                 z = self.current_set()
                 centers[k], lows[k], highs[k] = z.center, *self._hull()
                 sets.append(z)
             c, lo, hi = self._step(y[k], u[k] if s.nu > 0 else None)
+            resets[k] = self._check_into(status[k], margin[k])
             if self.is_filter:
                 centers[k], lows[k], highs[k] = c, lo, hi
                 sets.append(self.current_set())
-        return Trajectory(centers, lows, highs, sets)
+        return Trajectory(centers, lows, highs, sets, status=status, margin=margin, resets=resets)
 
     def _hull(self):
         # The C library's hull of the current set (outward rounded); before a predictor's first
@@ -671,7 +689,11 @@ _OBSERVER_PARAMETERS = """    max_generators : int, optional
         Order-reduction method (:meth:`~setbound.sets.Zonotope.reduce`; CORA's models use
         ``"girard"`` or ``"pca"``).
     convention : {"setbound", "cora"}, optional
-        The papers' algorithm (default) or CORA's behaviour where it differs."""
+        The papers' algorithm (default) or CORA's behaviour where it differs.
+    on_inconsistency : {"flag", "raise", "reset"}, optional
+        What a reading outside the output set of the set a step corrects does (skipped and
+        flagged, an :class:`~setbound.errors.InconsistentMeasurementError`, or a restart from
+        ``x0``); only ``"flag"`` with ``convention="cora"``, which tests nothing."""
 
 
 @reconstructible
@@ -708,8 +730,9 @@ class BravoEstimator(_ZonotopicObserver):
     _rule = lib.SB_ZOBS_BRAVO
 
     def __init__(self, system: LinearSystem, x0: Zonotope, *, max_generators: int = 20, reduction: str = "combastel",
-                 convention: str = "setbound"):
-        super().__init__(system, x0, max_generators=max_generators, reduction=reduction, convention=convention)
+                 convention: str = "setbound", on_inconsistency: str = "flag"):
+        super().__init__(system, x0, max_generators=max_generators, reduction=reduction, convention=convention,
+                         on_inconsistency=on_inconsistency)
 
 
 @reconstructible
@@ -743,8 +766,9 @@ class WangEstimator(_ZonotopicObserver):
     _rule = lib.SB_ZOBS_WANG
 
     def __init__(self, system: LinearSystem, x0: Zonotope, *, max_generators: int = 20, reduction: str = "combastel",
-                 convention: str = "setbound"):
-        super().__init__(system, x0, max_generators=max_generators, reduction=reduction, convention=convention)
+                 convention: str = "setbound", on_inconsistency: str = "flag"):
+        super().__init__(system, x0, max_generators=max_generators, reduction=reduction, convention=convention,
+                         on_inconsistency=on_inconsistency)
 
 
 @reconstructible
@@ -781,8 +805,9 @@ class CombastelObserver(_ZonotopicObserver):
     is_filter = False
 
     def __init__(self, system: LinearSystem, x0: Zonotope, *, max_generators: int = 20, reduction: str = "combastel",
-                 convention: str = "setbound"):
-        super().__init__(system, x0, max_generators=max_generators, reduction=reduction, convention=convention)
+                 convention: str = "setbound", on_inconsistency: str = "flag"):
+        super().__init__(system, x0, max_generators=max_generators, reduction=reduction, convention=convention,
+                         on_inconsistency=on_inconsistency)
 
 
 @reconstructible
@@ -819,11 +844,11 @@ class StripGainEstimator(_ZonotopicObserver):
     _takes_gain = True
 
     def __init__(self, system: LinearSystem, x0: Zonotope, gain, *, all_strips: bool = True, max_generators: int = 20,
-                 reduction: str = "combastel", convention: str = "setbound"):
+                 reduction: str = "combastel", convention: str = "setbound", on_inconsistency: str = "flag"):
         self.all_strips = as_bool(all_strips, "all_strips")
         self._rule = lib.SB_ZOBS_FIXED_LAMBDA if self.all_strips else lib.SB_ZOBS_FIXED_STRIPS
         super().__init__(system, x0, gain=gain, max_generators=max_generators, reduction=reduction,
-                         convention=convention)
+                         convention=convention, on_inconsistency=on_inconsistency)
 
     @property
     def gain(self) -> np.ndarray:
@@ -863,9 +888,9 @@ class PropagationObserver(_ZonotopicObserver):
     is_filter = False
 
     def __init__(self, system: LinearSystem, x0: Zonotope, gain, *, max_generators: int = 20,
-                 reduction: str = "combastel", convention: str = "setbound"):
+                 reduction: str = "combastel", convention: str = "setbound", on_inconsistency: str = "flag"):
         super().__init__(system, x0, gain=gain, max_generators=max_generators, reduction=reduction,
-                         convention=convention)
+                         convention=convention, on_inconsistency=on_inconsistency)
 
     @property
     def gain(self) -> np.ndarray:

@@ -70,6 +70,7 @@ Stats simulate(const LinearSystem& sys, const ZonotopicObserverOptions& opt, boo
     if (!Z.contains(truth, 1e-9) || (truth.array() < obs.current_lower().array()).any() ||
         (truth.array() > obs.current_upper().array()).any())
       ++st.violations;
+    if (obs.last_check().flagged()) ++st.violations;  // a consistent reading declared impossible
     x = xn;
   }
   return st;
@@ -216,6 +217,107 @@ TEST(ZonotopicObserver, BravoChoiceIsTheMinimumDeterminantCandidate) {
   EXPECT_GE(compared, 240);
   EXPECT_GE(replaced, 50);  // both outcomes occur
   EXPECT_GE(kept, 20);
+}
+
+// The screening (Setbound convention): an outlier at step 12 is skipped and flagged under Flag
+// (the truth stays inside at every step), raises and leaves the observer as it was under Raise,
+// and restarts from x0 under Reset; the Cora convention tests nothing and refuses Raise.
+TEST(ZonotopicObserver, InconsistentReadingsFollowThePolicy) {
+  for (ZonotopicRule rule : kRules) {
+    std::mt19937 gen(17);
+    const LinearSystem sys = random_system(1, gen);  // two outputs
+    const Eigen::Index n = sys.nx();
+    const Zonotope X0(VectorXd::Zero(n), MatrixXd::Identity(n, n));
+    const std::string name = "rule " + std::to_string(static_cast<int>(rule));
+    for (OnInconsistency pol : {OnInconsistency::Flag, OnInconsistency::Raise, OnInconsistency::Reset}) {
+      auto opt = options_for(sys, rule, ZonotopeReduction::Girard, 4 * n);
+      opt.on_inconsistency = pol;
+      ZonotopicObserver obs(sys, X0, opt);
+      std::mt19937 g2(5);
+      VectorXd x = 0.5 * draw_disturbance(g2, n, false);
+      for (int k = 0; k < 30; ++k) {
+        const VectorXd w = draw_disturbance(g2, sys.nw(), false);
+        const VectorXd u = VectorXd::Constant(sys.nu(), std::sin(0.3 * k));
+        VectorXd y = sys.C() * x + sys.D() * u + sys.F() * w;
+        const VectorXd xn = sys.A() * x + sys.B() * u + sys.E() * w;
+        if (k == 12) y(1) += 1e3;  // far outside any output set
+        if (k == 12 && pol == OnInconsistency::Raise) {
+          const auto before = obs.save_state();
+          EXPECT_THROW(obs.update(y, u), InconsistentMeasurementError) << name;
+          EXPECT_EQ(obs.save_state(), before) << name;
+          break;
+        }
+        obs.update(y, u);
+        const MeasurementCheck& chk = obs.last_check();
+        if (k == 12) {
+          EXPECT_EQ(chk.status[1], OutputStatus::Inconsistent) << name;
+          EXPECT_GT(chk.margin(1), 100.0) << name;  // in units of σ = 0.1
+          EXPECT_TRUE(obs.last_gain().col(1).isZero(0)) << name;
+          EXPECT_EQ(chk.reset, pol == OnInconsistency::Reset) << name;
+          EXPECT_EQ(obs.steps_taken(), 13) << name;
+        } else if (k < 12 || pol == OnInconsistency::Flag) {
+          // (after a reset the set is x0 again, which need not hold the truth any more)
+          EXPECT_FALSE(chk.flagged()) << name << " step " << k;
+          EXPECT_LE(chk.margin(0), 1e-9) << name;
+        }
+        if (pol == OnInconsistency::Flag) {
+          const VectorXd& truth = obs.is_filter() ? x : xn;
+          EXPECT_TRUE(((truth - obs.current_lower()).array() >= 0).all() &&
+                      ((obs.current_upper() - truth).array() >= 0).all())
+              << name << " step " << k;
+        }
+        x = xn;
+      }
+    }
+    auto cora = options_for(sys, rule, ZonotopeReduction::Girard, 4 * n, Convention::Cora);
+    ZonotopicObserver obs(sys, X0, cora);
+    obs.update(VectorXd::Constant(sys.ny(), 1e3), VectorXd::Zero(sys.nu()));
+    EXPECT_FALSE(obs.last_check().flagged()) << name;
+    EXPECT_TRUE(std::isnan(obs.last_check().margin(0))) << name;
+    cora.on_inconsistency = OnInconsistency::Raise;
+    EXPECT_THROW(ZonotopicObserver(sys, X0, cora), InvalidArgumentError) << name;
+  }
+}
+
+// A predictor's screening tests y_k against its current set C X_k ⊕ ±σ: the margin it reports is
+// the exact one when the reading is outside or undecided, and an upper bound (<= 0) when the
+// cheap lower bound of the radius decided it: never below the exact margin, never of the other sign.
+TEST(ZonotopicObserver, ScreeningMarginsBoundTheExactOnes) {
+  for (ZonotopicRule rule : {ZonotopicRule::Combastel, ZonotopicRule::FixedGain}) {
+    std::mt19937 gen(23);
+    int exact = 0, bounded = 0;
+    for (int trial = 0; trial < 8; ++trial) {
+      const LinearSystem sys = random_system(trial, gen);
+      const Eigen::Index n = sys.nx();
+      ZonotopicObserver obs(sys, Zonotope(VectorXd::Zero(n), MatrixXd::Identity(n, n)),
+                            options_for(sys, rule, ZonotopeReduction::Pca, 5 * n));
+      std::mt19937 g2(trial);
+      VectorXd x = 0.5 * draw_disturbance(g2, n, false);
+      for (int k = 0; k < 60; ++k) {
+        const VectorXd w = draw_disturbance(g2, sys.nw(), k % 2 == 0);
+        const VectorXd u = VectorXd::Constant(sys.nu(), std::sin(0.3 * k));
+        VectorXd y = sys.C() * x + sys.D() * u + sys.F() * w;
+        if (k % 4 == 1) y(0) += k % 8 == 1 ? 0.5 : -0.5;  // some readings near or beyond the edge
+        const Zonotope Z = obs.current_set();
+        obs.update(y, u);
+        for (Eigen::Index i = 0; i < sys.ny(); ++i) {
+          const double sig = sys.F().row(i).cwiseAbs().sum();
+          const double yi = y(i) - sys.D().row(i).dot(u);
+          const double radius = (sys.C().row(i) * Z.generators()).cwiseAbs().sum();
+          const double m_exact = (std::abs(yi - sys.C().row(i).dot(Z.center())) - radius - sig) / sig;
+          const double m = obs.last_check().margin(i);
+          const double tol = 1e-9 * (1.0 + std::abs(m_exact));
+          EXPECT_GE(m, m_exact - tol) << "trial " << trial << " step " << k;
+          if (m_exact > tol) EXPECT_NEAR(m, m_exact, tol) << "trial " << trial << " step " << k;
+          if (std::abs(m - m_exact) <= tol) ++exact;
+          else ++bounded;
+        }
+        x = sys.A() * x + sys.B() * u + sys.E() * w;
+      }
+    }
+    EXPECT_GT(exact, 20);
+    EXPECT_GT(bounded, 100);  // the cheap bound decides most readings
+  }
 }
 
 TEST(ZonotopicObserver, MissingOutputsAreSkipped) {

@@ -53,7 +53,7 @@ FINITE_FILLS = ("normal", "zeros", "ones", "eye1", "eye2", "eye3", "huge", "tiny
 NAN_OUTPUT_OK = re.compile(
     r"^sb_(lmi_solve|lmi_solve_class|lmi_solve_gevp|lmi_dual|lmi_dual_eq|hinf_design_pass|hinf_design_get"
     r"|zonotopic_last_check|czonotopic_last_check|ellipsoidal_last_check|hinf_observer_last_check|interval_luenberger_last_check"
-    r"|interval_nonlinear_last_check|interval_invariant_last_check|ropo_last_check"
+    r"|interval_nonlinear_last_check|interval_invariant_last_check|ropo_last_check|zono_observer_last_check"
     r"|interval_luenberger_info|interval_nonlinear_info|interval_luenberger_gain|interval_nonlinear_gain)$")
 
 

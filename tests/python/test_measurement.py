@@ -1,5 +1,6 @@
 """Missing and impossible readings through Python (issue 24, setbound.measurement), for the
-zonotopic family (segment minimisation, volume minimisation, P-radius) and the ellipsoidal
+zonotopic family (segment minimisation, volume minimisation, P-radius; the observers of CORA's
+catalogue: Bravo, Wang, Combastel, fixed strip weights, fixed propagation gain) and the ellipsoidal
 family (offline, online, scaled predictors, the improved filter; Kalman): NaN outputs and
 ``step(None)`` are skipped with the truth kept inside, an impossible reading is never used and
 is handled by ``on_inconsistency`` ("flag", "raise", "reset"), ``run()`` starts from the initial
@@ -15,7 +16,9 @@ from setbound.measurement import INCONSISTENT, MISSING, USED, MeasurementCheck
 from setbound.ellipsoidal import (DescriptorEstimator, ImprovedEstimator, KalmanFilter, OfflineEstimator,
                                   OnlineEstimator, design_offline)
 from setbound.sets import Ellipsoid, Zonotope
-from setbound.zonotopic import PRadiusEstimator, SegmentMinEstimator, VolumeMinEstimator, design_pradius, exact_hull
+from setbound.zonotopic import (BravoEstimator, CombastelObserver, PRadiusEstimator, PropagationObserver,
+                                SegmentMinEstimator, StripGainEstimator, VolumeMinEstimator, WangEstimator,
+                                design_pradius, exact_hull)
 from zono_examples import LE13_JOB_SYSTEM, ex_le13 as le13, record
 
 
@@ -38,6 +41,14 @@ def make(kind, s, **kw):
         return VolumeMinEstimator(s, X0, **kw)
     if kind == "pradius":
         return PRadiusEstimator(design_pradius(s, approach=2), X0, **kw)
+    observers = {"bravo": BravoEstimator, "wang": WangEstimator, "combastel": CombastelObserver}
+    if kind in observers:
+        return observers[kind](s, X0, **kw)
+    if kind in ("strip_gain", "propagation"):
+        K = s.C.T @ np.linalg.inv(s.C @ s.C.T + np.eye(s.ny))
+        if kind == "strip_gain":
+            return StripGainEstimator(s, X0, K, all_strips=False, **kw)
+        return PropagationObserver(s, X0, 0.5 * s.A @ K, **kw)
     if "reset_set" in kw and isinstance(kw["reset_set"], Zonotope):
         Z = kw["reset_set"]
         kw["reset_set"] = Ellipsoid(np.eye(2), Z.center, float(np.sum(np.abs(Z.generators)) ** 2))
@@ -51,7 +62,7 @@ def make(kind, s, **kw):
     return ImprovedEstimator(d, E0, **kw)
 
 
-ZONOTOPIC = ["segment", "volume", "pradius"]
+ZONOTOPIC = ["segment", "volume", "pradius", "bravo", "wang", "combastel", "strip_gain", "propagation"]
 ELLIPSOIDAL = ["offline", "online", "scaled", "improved"]
 KINDS = ZONOTOPIC + ELLIPSOIDAL
 
@@ -98,7 +109,7 @@ def test_a_glitch_is_flagged_and_the_truth_stays_inside(kind, glitch, rng):
     assert np.all(traj.lower <= traj.upper)
 
 
-@pytest.mark.parametrize("kind", ["segment", "online", "improved"])
+@pytest.mark.parametrize("kind", ["segment", "online", "improved", "wang", "propagation"])
 def test_raise_names_the_step_and_leaves_the_estimator_unchanged(kind, rng):
     s = le13()
     xs, ys = record(s, 30, rng, vertex=False)

@@ -86,6 +86,11 @@ struct ZonotopicObserverOptions {
   Eigen::Index max_generators = 20;   ///< reduction limit (>= n_x), rounding box not counted
   ZonotopeReduction reduction = ZonotopeReduction::Combastel;
   Convention convention = Convention::Setbound;
+  /// Setbound only (CORA tests nothing, so Cora accepts only Flag): what a reading outside the
+  /// output set of the set it corrects (filter: the prior; predictor: the current set) does
+  /// (measurement_check.hpp): skipped and flagged, an InconsistentMeasurementError, or a
+  /// restart from x0 corrected with the readings consistent with it.
+  OnInconsistency on_inconsistency = OnInconsistency::Flag;
 };
 
 /// Sets of one run: row k of center/lower/upper and element k of `sets` bound x_k.
@@ -124,6 +129,13 @@ class ZonotopicObserver {
   /// The weight of the last correction (n × n_y; Λ, the λ_i as columns, or L; zero columns for
   /// missing outputs). For Bravo, column i is the λ of the chosen candidate (zero: no change).
   const Eigen::MatrixXd& last_gain() const { return gain_last_; }
+  /// Screening of the last update: per output used / missing / inconsistent, and its margin
+  /// (NaN: missing, or not tested under the Cora convention). A margin <= 0 may be an upper
+  /// bound (the reading is inside by at least |margin|): a reading well inside is decided by a
+  /// cheap lower bound of the output set's radius, the exact radius is computed otherwise.
+  const MeasurementCheck& last_check() const { return last_check_; }
+  /// Changes the inconsistency policy from the next step on (Setbound convention only).
+  void set_inconsistency_policy(OnInconsistency policy);
 
   /// Back to the state of construction (options kept).
   void reset();
@@ -151,6 +163,11 @@ class ZonotopicObserver {
 
   void setup();
   void load_initial();
+  /// One step with the screened readings (inconsistent ones already NaN).
+  void advance(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u);
+  /// Tests every present reading against the output set of the set this step corrects
+  /// (filter: the prior, explicit or A·cur ⊕ E; predictor: the current set); Raise throws here.
+  void screen(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, MeasurementCheck& chk);
   /// Whether the filter keeps its prior implicit (A·X̂ ⊕ E, composed with the strips into one
   /// map per step): every strip-based rule but Bravo, whose candidates need the prior's columns.
   bool lazy_prior() const { return is_filter() && opt_.rule != ZonotopicRule::Bravo; }
@@ -221,13 +238,14 @@ class ZonotopicObserver {
   Eigen::Index k_ = 0;
   Vec lo_, hi_;
   Mat gain_last_;
+  MeasurementCheck chk_, last_check_;  // the step's screening (scratch), the last one reported
   detail::ReductionWorkspace rws_;
 
   // Scratch of one step (sized once; the steady state does not allocate).
   Mat W_, N_, T_, Snew_, dT_, absT_, R_, RC_, Sq_, CS_, CSA_, CSE_, ARC_, Lam_, absL_, absCS_, K_, dK_, gainw_;
   Vec pw_, rw_, ww_, pc_, pn_, ec_, dN_, lam_, al_, t_, v_, sc_, cN_, innov_, yfull_, yabs_, tmp_;
-  std::vector<Eigen::Index> rows_;
-  Vec ys_, sig_;
+  std::vector<Eigen::Index> rows_, screen_rows_;
+  Vec ys_, sig_, screen_ys_, screen_sig_, yscr_, ta_, wp_;
 };
 
 }  // namespace setbound

@@ -47,6 +47,7 @@ SETBOUND_INLINE ZonotopicObserver::ZonotopicObserver(LinearSystem system, const 
   if (opt_.max_generators < n)
     throw InvalidArgumentError("max_generators: must be >= n_x = " + std::to_string(n) + ", got " +
                                std::to_string(opt_.max_generators));
+  set_inconsistency_policy(opt_.on_inconsistency);
   setup();
   load_initial();
 }
@@ -75,8 +76,13 @@ SETBOUND_INLINE void ZonotopicObserver::setup() {
   absB_ = sys_.B().cwiseAbs();
   absC_ = sys_.C().cwiseAbs();
   rsE_ = Enz_.cols() > 0 ? Vec(Enz_.cwiseAbs().rowwise().sum()) : Vec(Vec::Zero(n_));
+  // The gains of Wang, segment minimisation and Combastel need the Gram matrix; the screening
+  // (Setbound) uses it for a cheap lower bound of the output set's radius (screen()).
   needs_gram_ = opt_.rule == ZonotopicRule::Wang || opt_.rule == ZonotopicRule::SegmentMin ||
-                opt_.rule == ZonotopicRule::Combastel;
+                opt_.rule == ZonotopicRule::Combastel ||
+                (opt_.convention == Convention::Setbound && opt_.rule != ZonotopicRule::Bravo);
+  chk_.clear(ny, OutputStatus::Unused);
+  last_check_.clear(ny, OutputStatus::Unused);
   gain_last_ = Mat::Zero(n_, ny);
   gainw_ = Mat::Zero(n_, ny);
   lo_ = hi_ = Vec::Zero(n_);
@@ -133,6 +139,111 @@ SETBOUND_INLINE void ZonotopicObserver::update(const Eigen::Ref<const Eigen::Vec
     throw DimensionError("u: expected length " + std::to_string(sys_.nu()) + ", got " + std::to_string(u.size()));
   require_no_infinity(y, "y");
   require_finite(u, "u");
+  const Eigen::Index ny = sys_.ny();
+  chk_.clear(ny, OutputStatus::Used);  // same sizes every step: no allocation
+  for (Eigen::Index i = 0; i < ny; ++i)
+    if (std::isnan(y(i))) chk_.status[static_cast<std::size_t>(i)] = OutputStatus::Missing;
+  yscr_ = y;
+  if (opt_.convention == Convention::Setbound) {
+    screen(y, u, chk_);  // policy Raise throws here: nothing has changed yet
+    for (Eigen::Index i = 0; i < ny; ++i)
+      if (chk_.status[static_cast<std::size_t>(i)] == OutputStatus::Inconsistent) yscr_(i) = std::nan("");
+  }
+  if (opt_.on_inconsistency == OnInconsistency::Reset && chk_.flagged()) {
+    // Restart from x0 and use this step's readings that are consistent with it; the report keeps
+    // the test that triggered the restart. Built aside, so an error leaves this observer as it was.
+    ZonotopicObserver next(*this);
+    next.load_initial();
+    next.chk_.clear(ny, OutputStatus::Used);
+    next.yscr_ = y;
+    next.screen(y, u, next.chk_);
+    for (Eigen::Index i = 0; i < ny; ++i)
+      if (std::isnan(y(i)) || next.chk_.status[static_cast<std::size_t>(i)] == OutputStatus::Inconsistent)
+        next.yscr_(i) = std::nan("");
+    const Vec yr = next.yscr_;
+    next.advance(yr, u);
+    next.k_ = k_ + 1;
+    next.last_check_ = chk_;
+    next.last_check_.reset = true;
+    *this = std::move(next);
+    return;
+  }
+  advance(yscr_, u);
+  last_check_.status = chk_.status;  // same sizes: no allocation
+  last_check_.margin = chk_.margin;
+  last_check_.reset = false;
+}
+
+SETBOUND_INLINE void ZonotopicObserver::set_inconsistency_policy(OnInconsistency policy) {
+  const int pol = static_cast<int>(policy);
+  if (pol < 0 || pol > 2) throw InvalidArgumentError("on_inconsistency: must be Flag, Raise or Reset");
+  if (opt_.convention == Convention::Cora && policy != OnInconsistency::Flag)
+    throw InvalidArgumentError(
+        "on_inconsistency: CORA's observers do not test their readings (convention Cora); only Flag is accepted");
+  opt_.on_inconsistency = policy;
+}
+
+SETBOUND_INLINE void ZonotopicObserver::screen(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u,
+                                               MeasurementCheck& chk) {
+  shifted(y, u, screen_rows_, screen_ys_, screen_sig_);
+  const Eigen::Index q = static_cast<Eigen::Index>(screen_rows_.size());
+  if (q == 0) return;
+  // The set this step corrects: a filter's prior (after the first step of a lazy filter the
+  // implicit A·cur ⊕ E with its centre prior_.p and that centre's error prior_.r), a
+  // predictor's current set (y_k and x_k; the output set adds F B, i.e. ±σ_i).
+  const bool implicit = is_filter() && lazy_prior() && k_ > 0;
+  const Set& X = is_filter() ? prior_ : cur_;
+  const Mat& G = implicit ? cur_.G : X.G;
+  const Vec& r = implicit ? cur_.r : X.r;
+  const Eigen::Index m = G.cols(), ne = implicit ? Enz_.cols() : 0;
+  const bool kept = implicit || !is_filter();  // row sums and Gram matrix of G are kept
+  if (!kept) wp_ = m > 0 ? Vec(G.cwiseAbs().rowwise().sum()) : Vec(Vec::Zero(n_));
+  const Vec& w = kept ? w_cur_ : wp_;
+  const bool low_bound = kept && needs_gram_ && S_cur_.rows() == n_;
+  const Eigen::Index terms = 2 * n_ + m + ne + sys_.nu() + 4;
+  const Mat& C = sys_.C();
+  for (Eigen::Index s = 0; s < q; ++s) {
+    const Eigen::Index i = screen_rows_[static_cast<std::size_t>(s)];
+    const auto c = C.row(i).transpose();
+    const auto ac = absC_.row(i).transpose();
+    // Support of the set in ±c: centre cᵀp, radius Σ_j |tᵀg_j| + |t|ᵀ r (+ E, + the centre's
+    // error), t = Aᵀc for the implicit prior (c otherwise); `magnitude` bounds every term.
+    double center = c.dot(X.p), fixed = 0.0, magnitude = ac.dot(X.p.cwiseAbs());
+    if (implicit) {
+      ta_.noalias() = sys_.A().transpose() * c;
+      v_.noalias() = absA_.transpose() * ac;
+      fixed = ac.dot(prior_.r) + ta_.cwiseAbs().dot(r);
+      for (Eigen::Index k = 0; k < ne; ++k) fixed += std::abs(c.dot(Enz_.col(k)));
+      magnitude += ac.dot(prior_.r) + v_.dot(w + r) + ac.dot(rsE_);
+    } else {
+      ta_ = c;
+      fixed = ac.dot(r);
+      magnitude += ac.dot(w + r);
+    }
+    const double sig = screen_sig_(s), ys = screen_ys_(s);
+    if (low_bound) {
+      // ‖Gᵀt‖₁ >= ‖Gᵀt‖₂ = (tᵀ S t)^½ with the kept Gram matrix S ≈ G Gᵀ (O(n²)): a reading
+      // inside that smaller output set is consistent without the O(n m) pass. S is kept by rank
+      // updates: 0.9 and the 1e-10 ‖S‖ ‖t‖² term leave room for its rounding.
+      const double q2 = ta_.dot(S_cur_ * ta_) - 1e-10 * S_cur_.cwiseAbs().maxCoeff() * ta_.squaredNorm();
+      const double low = q2 > 0 ? 0.9 * std::sqrt(q2) : 0.0;
+      const OutputTest t = test_output(ys, center, fixed + low, sig, magnitude, terms);
+      if (t.margin <= 0) {
+        chk.margin(i) = t.margin;  // an upper bound of the exact margin
+        continue;
+      }
+    }
+    const double radius = fixed + (m > 0 ? detail::abs_projection_sum(G, m, ta_) : 0.0);
+    const OutputTest t = test_output(ys, center, radius, sig, magnitude, terms);
+    chk.margin(i) = t.margin;
+    if (!t.inconsistent) continue;
+    if (opt_.on_inconsistency == OnInconsistency::Raise)
+      throw_inconsistent(k_, i, y(i), center + (y(i) - ys), radius, sig, t.margin);
+    chk.status[static_cast<std::size_t>(i)] = OutputStatus::Inconsistent;
+  }
+}
+
+SETBOUND_INLINE void ZonotopicObserver::advance(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u) {
   gainw_.setZero();
   // The new set is built in pw_ ⊕ W_.leftCols(m) B ⊕ box(rw_); the observer's state is only
   // written at the end (nothing after the commit throws).
