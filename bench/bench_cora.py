@@ -70,8 +70,6 @@ def skip_reason(alg: str, n: int) -> str | None:
     if alg == "VolMin-A" and n > 2:
         return ("exact-volume LP over all (n−1)-subsets of the generators: exponential in n_x "
                 "(spec §2.1; CORA's tests skip it too)")
-    if alg == "VolMin-B" and n > 6:
-        return "m + 1 candidate determinants per strip, O(n² m²) with m = 100·n_x generators (spec §2.2)"
     return None
 
 
