@@ -165,6 +165,9 @@ class ZonotopicObserver {
   void load_initial();
   /// One step with the screened readings (inconsistent ones already NaN).
   void advance(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u);
+  /// chk_ and yscr_ for this step: missing outputs, then (Setbound) screen() with the impossible
+  /// readings turned into missing ones in yscr_.
+  void screen_readings(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u);
   /// Tests every present reading against the output set of the set this step corrects
   /// (filter: the prior, explicit or A·cur ⊕ E; predictor: the current set); Raise throws here.
   void screen(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, MeasurementCheck& chk);

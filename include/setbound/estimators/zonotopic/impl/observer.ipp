@@ -139,29 +139,14 @@ SETBOUND_INLINE void ZonotopicObserver::update(const Eigen::Ref<const Eigen::Vec
     throw DimensionError("u: expected length " + std::to_string(sys_.nu()) + ", got " + std::to_string(u.size()));
   require_no_infinity(y, "y");
   require_finite(u, "u");
-  const Eigen::Index ny = sys_.ny();
-  chk_.clear(ny, OutputStatus::Used);  // same sizes every step: no allocation
-  for (Eigen::Index i = 0; i < ny; ++i)
-    if (std::isnan(y(i))) chk_.status[static_cast<std::size_t>(i)] = OutputStatus::Missing;
-  yscr_ = y;
-  if (opt_.convention == Convention::Setbound) {
-    screen(y, u, chk_);  // policy Raise throws here: nothing has changed yet
-    for (Eigen::Index i = 0; i < ny; ++i)
-      if (chk_.status[static_cast<std::size_t>(i)] == OutputStatus::Inconsistent) yscr_(i) = std::nan("");
-  }
+  screen_readings(y, u);  // policy Raise throws here: nothing has changed yet
   if (opt_.on_inconsistency == OnInconsistency::Reset && chk_.flagged()) {
     // Restart from x0 and use this step's readings that are consistent with it; the report keeps
     // the test that triggered the restart. Built aside, so an error leaves this observer as it was.
     ZonotopicObserver next(*this);
     next.load_initial();
-    next.chk_.clear(ny, OutputStatus::Used);
-    next.yscr_ = y;
-    next.screen(y, u, next.chk_);
-    for (Eigen::Index i = 0; i < ny; ++i)
-      if (std::isnan(y(i)) || next.chk_.status[static_cast<std::size_t>(i)] == OutputStatus::Inconsistent)
-        next.yscr_(i) = std::nan("");
-    const Vec yr = next.yscr_;
-    next.advance(yr, u);
+    next.screen_readings(y, u);
+    next.advance(next.yscr_, u);
     next.k_ = k_ + 1;
     next.last_check_ = chk_;
     next.last_check_.reset = true;
@@ -181,6 +166,18 @@ SETBOUND_INLINE void ZonotopicObserver::set_inconsistency_policy(OnInconsistency
     throw InvalidArgumentError(
         "on_inconsistency: CORA's observers do not test their readings (convention Cora); only Flag is accepted");
   opt_.on_inconsistency = policy;
+}
+
+SETBOUND_INLINE void ZonotopicObserver::screen_readings(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u) {
+  const Eigen::Index ny = sys_.ny();
+  chk_.clear(ny, OutputStatus::Used);  // same sizes every step: no allocation
+  for (Eigen::Index i = 0; i < ny; ++i)
+    if (std::isnan(y(i))) chk_.status[static_cast<std::size_t>(i)] = OutputStatus::Missing;
+  yscr_ = y;
+  if (opt_.convention != Convention::Setbound) return;  // CORA tests nothing
+  screen(y, u, chk_);
+  for (Eigen::Index i = 0; i < ny; ++i)
+    if (chk_.status[static_cast<std::size_t>(i)] == OutputStatus::Inconsistent) yscr_(i) = std::nan("");
 }
 
 SETBOUND_INLINE void ZonotopicObserver::screen(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u,
