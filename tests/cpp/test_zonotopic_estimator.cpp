@@ -328,3 +328,56 @@ TEST(LinearSystem, DetectabilityIsThePbhTest) {
   C << 0, 0;
   EXPECT_FALSE(check_detectability(A, C).detectable);
 }
+
+// Segment minimisation screens a reading with a cheap lower bound of the output set's radius
+// from its kept Gram matrix first: the margin it reports is exact when the reading is outside or
+// undecided, and an upper bound (<= 0) otherwise: never below the exact margin, never of the
+// other sign. One output, so the set tested is the prior A X̂ ⊕ B u ⊕ E B^{n_ω}.
+TEST(ZonotopicEstimator, ScreeningMarginsBoundTheExactOnes) {
+  std::mt19937 gen(31);
+  std::normal_distribution<double> nrm;
+  int exact = 0, bounded = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    const int n = 2 + trial % 3, nw = n + 1;
+    Eigen::MatrixXd A(n, n), C(1, n), B(n, 1), E = Eigen::MatrixXd::Zero(n, nw), F = Eigen::MatrixXd::Zero(1, nw);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) A(i, j) = nrm(gen) / std::sqrt(double(n));
+    for (int j = 0; j < n; ++j) C(0, j) = nrm(gen);
+    for (int i = 0; i < n; ++i) B(i, 0) = nrm(gen), E(i, i) = 0.05;
+    F(0, n) = 0.1;
+    const LinearSystem sys(A, C, E, F, B);
+    ZonotopicEstimator est(sys, Zonotope(Eigen::VectorXd::Zero(n), Eigen::MatrixXd::Identity(n, n)), segment_min_gain,
+                           with_reduction(kReductions[trial % 3], 4 * n));
+    std::mt19937 g2(trial);
+    Eigen::VectorXd x = 0.5 * setbound::testing::draw_disturbance(g2, n, false);
+    for (int k = 0; k < 80; ++k) {
+      const Eigen::VectorXd w = setbound::testing::draw_disturbance(g2, nw, k % 2 == 0);
+      const Eigen::VectorXd u = Eigen::VectorXd::Constant(1, std::sin(0.3 * k));
+      Eigen::VectorXd y = C * x + F * w;
+      if (k % 4 == 1) y(0) += k % 8 == 1 ? 0.5 : -0.5;  // some readings near or beyond the edge
+      const bool first = k == 0;
+      Eigen::VectorXd center;
+      double radius = 0.0;
+      if (!first) {
+        const Zonotope Z = est.current_set();
+        const Eigen::VectorXd uprev = Eigen::VectorXd::Constant(1, std::sin(0.3 * (k - 1)));
+        center = A * Z.center() + B * uprev;
+        radius = (C * A * Z.generators()).cwiseAbs().sum() + (C * E).cwiseAbs().sum();
+      }
+      est.step(y, u);
+      if (first) continue;
+      const double sig = 0.1;
+      const double m_exact = (std::abs(y(0) - C.row(0).dot(center)) - radius - sig) / sig;
+      const double m = est.last_check().margin(0);
+      // Rounding differs between the two computations in proportion to the numbers involved.
+      const double tol = 1e-9 * (1.0 + std::abs(m_exact) + (radius + std::abs(C.row(0).dot(center))) / sig);
+      EXPECT_GE(m, m_exact - tol) << "trial " << trial << " step " << k;
+      if (m_exact > tol) EXPECT_NEAR(m, m_exact, tol) << "trial " << trial << " step " << k;
+      if (std::abs(m - m_exact) <= tol) ++exact;
+      else ++bounded;
+      x = A * x + B * u + E * w;
+    }
+  }
+  EXPECT_GT(exact, 20);
+  EXPECT_GT(bounded, 100);  // the cheap bound decides most readings
+}

@@ -166,6 +166,9 @@ class ZonotopicEstimator {
   const Eigen::VectorXd& current_lower() const { return cur_lo_; }
   const Eigen::VectorXd& current_upper() const { return cur_hi_; }
   /// Screening of the last update: per output used / missing / inconsistent / unused, margins.
+  /// A margin > 0 is exact. With segment minimisation (which keeps the Gram matrix) a margin
+  /// <= 0 may be an upper bound (the reading is inside by at least |margin|): a reading well
+  /// inside is decided by a cheap lower bound of the output set's radius, as the observers do.
   const MeasurementCheck& last_check() const { return last_check_; }
   /// Whether the last update ran the order reduction.
   bool reduced_last_step() const { return reduced_; }

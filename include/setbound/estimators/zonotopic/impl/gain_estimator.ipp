@@ -438,13 +438,32 @@ SETBOUND_INLINE void ZonotopicEstimator::correct_and_reduce(const Eigen::Ref<con
           magnitude += v_.dot(wGA_);
         }
         radius += t_.cwiseAbs().dot(rA_);
-        if (mG_ > 0) radius += detail::abs_projection_sum(G(), mG_, t_);
+        double cN2 = 0.0;  // ‖Nᵀc‖₂²
         if (mN > 0) {
           cN_.head(mN).noalias() = Nc_.leftCols(mN).transpose() * c;
           radius += cN_.head(mN).cwiseAbs().sum();
+          cN2 = cN_.head(mN).squaredNorm();
           for (Eigen::Index j = 0; j < mN; ++j) magnitude += ac.dot(Nc_.col(j).cwiseAbs());
         }
-        if (!screen_output(i, yi, phi, c.dot(pc_), radius, magnitude, n_ + mG_ + mN + 4, y)) continue;
+        const double center = c.dot(pc_);
+        const Eigen::Index terms = n_ + mG_ + mN + 4;
+        if (want_S_ && mG_ > 0) {
+          // ‖Gᵀt‖₁ >= ‖Gᵀt‖₂ = (cᵀ S c − ‖Nᵀc‖²)^½ with the kept Gram matrix S of T G ⊕ N (O(n²)):
+          // a reading inside that smaller output set is consistent without the O(n m) pass
+          // (the observers' screening, observer.ipp). S is kept by rank updates: 0.9 and the
+          // 1e-10 ‖S‖ ‖c‖² term leave room for its rounding. A reading taken as consistent
+          // wrongly would only lose its flag: a strip update is an outer bound for any reading.
+          sc_.noalias() = Sc_ * c;
+          const double q2 = c.dot(sc_) - cN2 - 1e-10 * Sc_.cwiseAbs().maxCoeff() * c.squaredNorm();
+          const double low = q2 > 0 ? 0.9 * std::sqrt(q2) : 0.0;
+          const OutputTest t = test_output(yi, center, radius + low, phi, magnitude, terms);
+          if (t.margin <= 0) chk_.margin(i) = t.margin;  // an upper bound of the exact margin
+          else if (!screen_output(i, yi, phi, center, radius + detail::abs_projection_sum(G(), mG_, t_), magnitude, terms, y))
+            continue;
+        } else {
+          if (mG_ > 0) radius += detail::abs_projection_sum(G(), mG_, t_);
+          if (!screen_output(i, yi, phi, center, radius, magnitude, terms, y)) continue;
+        }
       }
       if (c_zero_[static_cast<std::size_t>(i)]) continue;  // tested, carries no information on x
       if (want_S_) {
