@@ -801,3 +801,73 @@ TEST(GeneratorKernels, FixedAndDynamicPathsAgreeWithEigen) {
     EXPECT_LE((S - S_ref).cwiseAbs().maxCoeff(), 1e-12 * S_ref.cwiseAbs().maxCoeff()) << "n " << n;
   }
 }
+
+// The passes of a step's end (sets/zonotope_reduction.hpp): the fused compaction + keys pass and
+// the reduction's gather + row-sum pass give exactly what the separate passes give (same keys,
+// so the same columns are reduced; same sums in the same order), on the fixed-size paths (n <= 8)
+// and the dynamic one, with zero columns to drop; add_gram is the Gram matrix's rank update.
+TEST(GeneratorKernels, FusedPassesEqualTheSeparateOnes) {
+  using setbound::ZonotopeReduction;
+  namespace d = setbound::detail;
+  std::mt19937 gen(5);
+  std::normal_distribution<double> nrm;
+  for (int n = 1; n <= 11; ++n) {
+    for (auto method : {ZonotopeReduction::Combastel, ZonotopeReduction::Girard, ZonotopeReduction::Pca}) {
+      const Eigen::Index m = 40, limit = 2 * n + 1;  // below the ~34 non-zero columns: always reduces
+      MatrixXd W(n, m + n);
+      for (Eigen::Index j = 0; j < m + n; ++j)
+        for (int i = 0; i < n; ++i) W(i, j) = (j % 7 == 3) ? 0.0 : nrm(gen) * (1.0 + j % 5);
+      W(0, 10) = 1e-200;  // tiny but not zero: kept (its square underflows)
+      // compact_sum_keys against compact_and_sum + reduction_keys.
+      MatrixXd A = W, B = W;
+      VectorXd wa, wb, ka, kb;
+      const Eigen::Index k = d::compact_sum_keys(method, A, m, wa, ka);
+      const Eigen::Index k2 = d::compact_and_sum(B, m, wb, true);
+      d::reduction_keys(method, B, k2, kb);
+      ASSERT_EQ(k, k2) << "n " << n;
+      EXPECT_EQ(A.leftCols(k), B.leftCols(k)) << "n " << n;
+      EXPECT_EQ(wa, wb) << "n " << n;
+      EXPECT_EQ(ka.head(k), kb.head(k)) << "n " << n;
+      // reduce_in_place with the keys given and the row sums asked for, against the plain call.
+      const VectorXd r = VectorXd::Constant(n, 1e-3);
+      d::ReductionWorkspace w1, w2;
+      w1.key = ka;
+      VectorXd wr, wc;
+      MatrixXd A2 = A, B2 = B;
+      const Eigen::Index ra = d::reduce_in_place(method, A2, k, limit, &r, w1, false, true, &wr);
+      const Eigen::Index rb = d::reduce_in_place(method, B2, k, limit, &r, w2);
+      ASSERT_EQ(ra, rb) << "n " << n;
+      EXPECT_EQ(A2.leftCols(ra), B2.leftCols(rb)) << "n " << n;
+      d::compact_and_sum(B2, rb, wc, false);
+      EXPECT_EQ(wr, wc) << "n " << n;
+      // add_gram: a rank update of a symmetric matrix.
+      MatrixXd S = MatrixXd::Identity(n, n), S_ref = S;
+      d::add_gram(W, 5, 9, S);
+      S_ref += W.middleCols(5, 9) * W.middleCols(5, 9).transpose();
+      EXPECT_LE((S - S_ref).cwiseAbs().maxCoeff(), 1e-12 * S_ref.cwiseAbs().maxCoeff()) << "n " << n;
+      // finish_generators: its Gram matrix follows the box columns and the reduction, w is the
+      // row sums of what it returns, and the result contains the input with the box.
+      MatrixXd F = W;
+      VectorXd rf = VectorXd::Constant(n, 0.5), wf;
+      MatrixXd Sf = W.leftCols(m) * W.leftCols(m).transpose();
+      d::ReductionWorkspace w3;
+      const Eigen::Index kf = d::finish_generators(method, F, m, limit, true, 1e-6, rf, wf, w3, &Sf);
+      ASSERT_LE(kf, limit);
+      EXPECT_GT(w3.reduced_count, 0);
+      EXPECT_TRUE(rf.isZero(0));
+      VectorXd wf_ref;
+      MatrixXd Fc = F;
+      d::compact_and_sum(Fc, kf, wf_ref, false);
+      EXPECT_EQ(wf, wf_ref) << "n " << n;
+      const MatrixXd Sf_ref = F.leftCols(kf) * F.leftCols(kf).transpose();
+      EXPECT_LE((Sf - Sf_ref).cwiseAbs().maxCoeff(), 1e-10 * Sf_ref.cwiseAbs().maxCoeff()) << "n " << n;
+      for (int trial = 0; trial < 20; ++trial) {
+        VectorXd t(n);
+        for (int i = 0; i < n; ++i) t(i) = nrm(gen);
+        const double before = (W.leftCols(m).transpose() * t).cwiseAbs().sum() + 0.5 * t.cwiseAbs().sum();
+        const double after = (F.leftCols(kf).transpose() * t).cwiseAbs().sum();
+        EXPECT_GE(after, before * (1.0 - 1e-12)) << "n " << n;
+      }
+    }
+  }
+}

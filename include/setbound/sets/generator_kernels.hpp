@@ -19,9 +19,20 @@ void transform_generators(const Eigen::MatrixXd& T, const Eigen::MatrixXd& G, Ei
 /// S = G.leftCols(m) G.leftCols(m)ᵀ (n × n, symmetric; the Gram matrix the gain rules use).
 void gram(const Eigen::MatrixXd& G, Eigen::Index m, Eigen::MatrixXd& S);
 
+/// S += G.middleCols(from, count) G.middleCols(from, count)ᵀ (S n × n; the rank updates of a
+/// kept Gram matrix: a step's new columns, a reduction's box columns).
+void add_gram(const Eigen::MatrixXd& G, Eigen::Index from, Eigen::Index count, Eigen::MatrixXd& S);
+
 /// Σ_j |g_jᵀ t| over the first m columns of G (t of length n): the support of G B^m in the
 /// direction t, in one pass without a temporary.
 double abs_projection_sum(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& t);
+
+/// One pass over the first m columns of G for the strip with normal c (Bravo's candidates,
+/// estimators/zonotopic/observer.hpp): a_j = cᵀg_j, b_j = |c|ᵀ|g_j|, h_j = ‖L g_j‖² with L
+/// lower triangular (n × n; only its lower triangle is read), and w = rs|G| rounded up as
+/// compact_and_sum gives it.
+void strip_candidates(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
+                      const Eigen::MatrixXd& L, double* a, double* b, double* h, Eigen::VectorXd& w);
 
 /// Removes exactly-zero columns among the first m of W (keeping the order) when `drop_zeros`,
 /// and sets w = rs|W| over the kept columns, rounded up (a bound of the computed sums). Returns
@@ -37,17 +48,26 @@ void transform_generators_fixed(const Eigen::MatrixXd& T, const Eigen::MatrixXd&
 }
 
 template <int N>
-void gram_fixed(const Eigen::MatrixXd& G, Eigen::Index m, Eigen::MatrixXd& S) {
+Eigen::Matrix<double, N, N> gram_of_columns(const double* base, Eigen::Index count) {
   // Column by column (rank-1 updates of a register-sized matrix): the row-times-row form of
   // Gm Gmᵀ reads the columns with a stride of N and was 3× slower.
   using Col = Eigen::Matrix<double, N, 1>;
   Eigen::Matrix<double, N, N> Sf = Eigen::Matrix<double, N, N>::Zero();
-  const double* const base = G.data();
-  for (Eigen::Index j = 0; j < m; ++j) {
+  for (Eigen::Index j = 0; j < count; ++j) {
     const Eigen::Map<const Col> g(base + j * N);
     Sf.noalias() += g * g.transpose();
   }
-  S = Sf;
+  return Sf;
+}
+
+template <int N>
+void gram_fixed(const Eigen::MatrixXd& G, Eigen::Index m, Eigen::MatrixXd& S) {
+  S = gram_of_columns<N>(G.data(), m);
+}
+
+template <int N>
+void add_gram_fixed(const Eigen::MatrixXd& G, Eigen::Index from, Eigen::Index count, Eigen::MatrixXd& S) {
+  S += gram_of_columns<N>(G.data() + from * N, count);
 }
 
 template <int N>
@@ -59,6 +79,41 @@ double abs_projection_sum_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const 
   double s = 0.0;
   for (Eigen::Index j = 0; j < m; ++j) s += std::abs(Eigen::Map<const Col>(base + j * n, n).dot(tf));
   return s;
+}
+
+template <int N>
+void strip_candidates_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
+                            const Eigen::MatrixXd& L, double* a, double* b, double* h, Eigen::VectorXd& w) {
+  // Plain loops over a compile-time N: the column, c and the triangle stay in registers.
+  double cf[N], acf[N], Lf[N * N], acc[N];
+  for (int i = 0; i < N; ++i) {
+    cf[i] = c(i);
+    acf[i] = std::abs(c(i));
+    acc[i] = 0.0;
+    for (int k = 0; k < N; ++k) Lf[i * N + k] = L(i, k);
+  }
+  const double* const base = G.data();
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const double* g = base + j * N;
+    double s = 0.0, sa = 0.0, hh = 0.0;
+    for (int i = 0; i < N; ++i) {
+      const double ag = std::abs(g[i]);
+      s += cf[i] * g[i];
+      sa += acf[i] * ag;
+      acc[i] += ag;
+    }
+    for (int r = 0; r < N; ++r) {
+      double z = 0.0;
+      for (int k = 0; k <= r; ++k) z += Lf[r * N + k] * g[k];
+      hh += z * z;
+    }
+    a[j] = s;
+    b[j] = sa;
+    h[j] = hh;
+  }
+  const double infl = 1.0 + static_cast<double>(m + 2) * std::numeric_limits<double>::epsilon();
+  w.resize(N);
+  for (int i = 0; i < N; ++i) w(i) = acc[i] * infl;
 }
 
 template <int N>

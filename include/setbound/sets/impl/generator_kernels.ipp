@@ -6,6 +6,8 @@
 #include "setbound/sets/generator_kernels.hpp"
 #include "setbound/core/config.hpp"
 
+#include <algorithm>
+
 namespace setbound {
 namespace detail {
 
@@ -44,6 +46,22 @@ SETBOUND_INLINE void gram(const Eigen::MatrixXd& G, Eigen::Index m, Eigen::Matri
   }
 }
 
+SETBOUND_INLINE void add_gram(const Eigen::MatrixXd& G, Eigen::Index from, Eigen::Index count, Eigen::MatrixXd& S) {
+  if (count <= 0) return;
+  // Eigen sends a product with more than ~20 rows + columns + depth to its blocked GEMM, whose
+  // packing costs more than a few rank-1 updates (a step adds ~10 columns to a 6-state set).
+  switch (G.rows()) {
+    case 2: return add_gram_fixed<2>(G, from, count, S);
+    case 3: return add_gram_fixed<3>(G, from, count, S);
+    case 4: return add_gram_fixed<4>(G, from, count, S);
+    case 5: return add_gram_fixed<5>(G, from, count, S);
+    case 6: return add_gram_fixed<6>(G, from, count, S);
+    case 7: return add_gram_fixed<7>(G, from, count, S);
+    case 8: return add_gram_fixed<8>(G, from, count, S);
+    default: S.noalias() += G.middleCols(from, count) * G.middleCols(from, count).transpose();
+  }
+}
+
 SETBOUND_INLINE double abs_projection_sum(const Eigen::MatrixXd& G, Eigen::Index m,
                                           const Eigen::Ref<const Eigen::VectorXd>& t) {
   // Eigen's GEMV Gᵀt runs a dot product of length n per column with its blocking overhead:
@@ -63,6 +81,38 @@ SETBOUND_INLINE double abs_projection_sum(const Eigen::MatrixXd& G, Eigen::Index
       return s;
     }
   }
+}
+
+SETBOUND_INLINE void strip_candidates(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
+                                      const Eigen::MatrixXd& L, double* a, double* b, double* h, Eigen::VectorXd& w) {
+  switch (G.rows()) {
+    case 1: return strip_candidates_fixed<1>(G, m, c, L, a, b, h, w);
+    case 2: return strip_candidates_fixed<2>(G, m, c, L, a, b, h, w);
+    case 3: return strip_candidates_fixed<3>(G, m, c, L, a, b, h, w);
+    case 4: return strip_candidates_fixed<4>(G, m, c, L, a, b, h, w);
+    case 5: return strip_candidates_fixed<5>(G, m, c, L, a, b, h, w);
+    case 6: return strip_candidates_fixed<6>(G, m, c, L, a, b, h, w);
+    case 7: return strip_candidates_fixed<7>(G, m, c, L, a, b, h, w);
+    case 8: return strip_candidates_fixed<8>(G, m, c, L, a, b, h, w);
+    default: break;
+  }
+  // Blocked products for larger n (tank30: n = 30, m ≈ 3 000): L G through Eigen's triangular
+  // product, a column block at a time so the temporary stays small.
+  const Eigen::Index n = G.rows();
+  const Eigen::VectorXd ac = c.cwiseAbs();
+  w.setZero(n);
+  constexpr Eigen::Index kBlock = 256;
+  Eigen::MatrixXd Z;
+  for (Eigen::Index j0 = 0; j0 < m; j0 += kBlock) {
+    const Eigen::Index nb = std::min(kBlock, m - j0);
+    const auto Gb = G.middleCols(j0, nb);
+    Eigen::Map<Eigen::VectorXd>(a + j0, nb).noalias() = Gb.transpose() * c;
+    Eigen::Map<Eigen::VectorXd>(b + j0, nb).noalias() = Gb.cwiseAbs().transpose() * ac;
+    w.noalias() += Gb.cwiseAbs().rowwise().sum();
+    Z.noalias() = L.triangularView<Eigen::Lower>() * Gb;
+    Eigen::Map<Eigen::VectorXd>(h + j0, nb) = Z.colwise().squaredNorm().transpose();
+  }
+  w *= 1.0 + static_cast<double>(m + 2) * std::numeric_limits<double>::epsilon();
 }
 
 SETBOUND_INLINE Eigen::Index compact_and_sum(Eigen::MatrixXd& W, Eigen::Index m, Eigen::VectorXd& w, bool drop_zeros) {

@@ -527,37 +527,10 @@ SETBOUND_INLINE void ZonotopicEstimator::correct_and_reduce(const Eigen::Ref<con
     if (correct) mW = explicit_strips(W, mW, y, u);
     if (want_S_) Sc_.noalias() = W.leftCols(mW) * W.leftCols(mW).transpose();
   }
-  // Drop zero columns (CORA never counts them) and take the row sums of |W|.
-  mW = detail::compact_and_sum(W, mW, wH_);
-  // A pending box that is no longer negligible becomes generators (counted). On CORA's data
-  // it stays below 2e-10 of the largest radius; the threshold only stops a long growth
-  // without reductions.
-  const double scale = mW > 0 ? wH_.maxCoeff() : 0.0;
-  if (rc_.maxCoeff() > kBoxToGenerators * scale) {
-    for (Eigen::Index i = 0; i < n_; ++i)
-      if (rc_(i) > 0) {
-        W.col(mW).setZero();
-        W(i, mW++) = rc_(i);
-        wH_(i) += rc_(i);
-        if (want_S_) Sc_(i, i) += rc_(i) * rc_(i);
-      }
-    rc_.setZero();
-  }
-  bool reduced = false;
-  if (correct && mW > opt_.max_generators) {
-    const Eigen::Index m_before = mW;
-    mW = detail::reduce_in_place(opt_.reduction, W, mW, opt_.max_generators, &rc_, rws_, want_S_);
-    reduced = rws_.reduced_count > 0;
-    if (reduced) {
-      rc_.setZero();
-      if (want_S_) {
-        const Eigen::Index boxed = mW - (m_before - rws_.reduced_count);
-        Sc_ -= rws_.gram;
-        Sc_.noalias() += W.middleCols(mW - boxed, boxed) * W.middleCols(mW - boxed, boxed).transpose();
-      }
-      mW = detail::compact_and_sum(W, mW, wH_, false);  // no zero columns left; the new row sums
-    }
-  }
+  // Drop zero columns, turn a large pending box into generators, reduce after a correction.
+  mW = detail::finish_generators(opt_.reduction, W, mW, opt_.max_generators, correct, kBoxToGenerators, rc_, wH_, rws_,
+                                 want_S_ ? &Sc_ : nullptr);
+  const bool reduced = rws_.reduced_count > 0;
   // Commit the current set (nothing below throws).
   cur_ = work;
   m_ = mW;

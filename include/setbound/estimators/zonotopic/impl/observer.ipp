@@ -268,7 +268,7 @@ SETBOUND_INLINE void ZonotopicObserver::advance(const Eigen::Ref<const Vec>& y, 
     const Eigen::Index nN = m - cur_.G.cols();
     K_.noalias() = T_ * S_cur_;
     Snew_.noalias() = K_ * T_.transpose();
-    if (nN > 0) Snew_.noalias() += N_.leftCols(nN) * N_.leftCols(nN).transpose();
+    detail::add_gram(N_, 0, nN, Snew_);
   }
   m = finish_set(W_, m, rw_, ww_, reduce, needs_gram_ && !fresh_gram ? &Snew_ : nullptr);
   if (needs_gram_ && fresh_gram) detail::gram(W_, m, Snew_);
@@ -823,37 +823,7 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::propagate(const Eigen::Ref<const
 }
 
 SETBOUND_INLINE Eigen::Index ZonotopicObserver::finish_set(Mat& W, Eigen::Index m, Vec& r, Vec& w, bool reduce, Mat* S) {
-  // Drop exactly-zero columns (CORA never counts them), keeping the order.
-  Eigen::Index k = detail::compact_and_sum(W, m, w, true);
-  bool changed = false;
-  // A pending box that is no longer negligible becomes generators (counted).
-  const double scale = k > 0 ? w.maxCoeff() : 0.0;
-  if (r.maxCoeff() > kBoxToGenerators * scale) {
-    for (Eigen::Index i = 0; i < n_; ++i)
-      if (r(i) > 0) {
-        W.col(k).setZero();
-        W(i, k++) = r(i);
-        if (S) (*S)(i, i) += r(i) * r(i);
-      }
-    r.setZero();
-    changed = true;
-  }
-  if (reduce && k > opt_.max_generators) {
-    const Eigen::Index before = k;
-    k = detail::reduce_in_place(opt_.reduction, W, k, opt_.max_generators, &r, rws_, S != nullptr);
-    if (rws_.reduced_count > 0) {
-      r.setZero();
-      if (S) {
-        // The reduced columns leave, their box columns (the last ones) come in.
-        const Eigen::Index boxed = k - (before - rws_.reduced_count);
-        *S -= rws_.gram;
-        S->noalias() += W.middleCols(k - boxed, boxed) * W.middleCols(k - boxed, boxed).transpose();
-      }
-    }
-    changed = true;
-  }
-  if (changed) k = detail::compact_and_sum(W, k, w, false);
-  return k;
+  return detail::finish_generators(opt_.reduction, W, m, opt_.max_generators, reduce, kBoxToGenerators, r, w, rws_, S);
 }
 
 SETBOUND_INLINE void ZonotopicObserver::refresh_current(bool row_sums, bool gram) {
