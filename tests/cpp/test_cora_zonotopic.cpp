@@ -156,6 +156,33 @@ TEST(ZonotopicObserver, BravoNeverEnlargesTheGeneratorCountAndPredictorStartsAtX
   EXPECT_NEAR(t.upper(0, 0), 1.0, 1e-14);  // row 0 is x0 itself
 }
 
+// Bravo's candidates by their definition (spec §2.2): d[0] = det(G Gᵀ) for the set itself and
+// d[j + 1] = det(T_j T_jᵀ) with T_j = G − g_j (cᵀG)/a, column j = (σ/a) g_j, a = cᵀg_j. Returns the
+// first minimiser and whether it wins by more than 1e-8 relative (no near tie).
+namespace {
+struct BravoDirect {
+  long best;
+  bool clear;
+};
+BravoDirect bravo_direct(const MatrixXd& G, const VectorXd& c, double sig) {
+  const Eigen::Index m = G.cols();
+  const VectorXd cg = G.transpose() * c;
+  std::vector<double> d(static_cast<std::size_t>(m + 1));
+  d[0] = (G * G.transpose()).determinant();
+  for (Eigen::Index j = 0; j < m; ++j) {
+    MatrixXd T = G - G.col(j) * (cg.transpose() / cg(j));
+    T.col(j) = (sig / cg(j)) * G.col(j);
+    d[static_cast<std::size_t>(j + 1)] = (T * T.transpose()).determinant();
+  }
+  const long best = std::min_element(d.begin(), d.end()) - d.begin();
+  double second = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < d.size(); ++k)
+    if (static_cast<long>(k) != best) second = std::min(second, d[k]);
+  const double scale = std::max(std::abs(d[static_cast<std::size_t>(best)]), std::abs(second));
+  return {best, second - d[static_cast<std::size_t>(best)] > 1e-8 * scale};
+}
+}  // namespace
+
 // VolMin-B's choice scores candidate j by (σ/a)² g_jᵀ S⁻¹ g_j against 1 (observer.ipp,
 // bravo_choice); the definition (spec §2.2) scores det(T_j T_jᵀ) against det(G Gᵀ). On random
 // full-rank zonotopes the chosen column, read back from the gain λ = g_j / cᵀg_j, must be the
@@ -182,27 +209,15 @@ TEST(ZonotopicObserver, BravoChoiceIsTheMinimumDeterminantCandidate) {
     o.convention = Convention::Cora;  // CORA's absolute threshold: every column is a candidate here
     ZonotopicObserver obs(sys, X0, o);
     obs.update(VectorXd::Constant(1, 0.1 * nrm(gen)), VectorXd::Zero(0));
-    // The direct scores.
     const VectorXd cg = G.transpose() * C.row(0).transpose();
-    std::vector<double> d(static_cast<std::size_t>(m + 1));
-    d[0] = (G * G.transpose()).determinant();
-    for (int j = 0; j < m; ++j) {
-      MatrixXd T = G - G.col(j) * (cg.transpose() / cg(j));
-      T.col(j) = (sig / cg(j)) * G.col(j);
-      d[static_cast<std::size_t>(j + 1)] = (T * T.transpose()).determinant();
-    }
     const VectorXd lam = obs.last_gain().col(0);
     if (m < n) {
       ++flat;
       EXPECT_TRUE(lam.isZero(0)) << "trial " << trial;
       continue;
     }
-    const auto best = std::min_element(d.begin(), d.end()) - d.begin();
-    double second = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < d.size(); ++k)
-      if (static_cast<long>(k) != best) second = std::min(second, d[k]);
-    const double scale = std::max(std::abs(d[static_cast<std::size_t>(best)]), std::abs(second));
-    if (!(second - d[static_cast<std::size_t>(best)] > 1e-8 * scale)) continue;  // a near tie
+    const auto [best, clear] = bravo_direct(G, C.row(0).transpose(), sig);
+    if (!clear) continue;  // a near tie
     ++compared;
     if (best == 0) {
       ++kept;
@@ -217,6 +232,67 @@ TEST(ZonotopicObserver, BravoChoiceIsTheMinimumDeterminantCandidate) {
   EXPECT_GE(compared, 240);
   EXPECT_GE(replaced, 50);  // both outcomes occur
   EXPECT_GE(kept, 20);
+}
+
+// With several outputs, Bravo's strips follow one another within a step: each choice is made on
+// the set the previous strips left, whose Gram matrix the observer carries by rank updates
+// (K S Kᵀ + σ²λλᵀ) instead of recomputing it. Against a direct reference that recomputes every
+// determinant on the updated generators: the same candidate (read from the gain) at every strip,
+// and the same generators afterwards. Trials with a near tie at some strip are skipped.
+TEST(ZonotopicObserver, BravoStripsChooseOnTheUpdatedSet) {
+  std::mt19937 gen(29);
+  std::normal_distribution<double> nrm;
+  int compared = 0, replaced = 0;
+  for (int trial = 0; trial < 120; ++trial) {
+    const int n = 2 + trial % 5, p = 2 + trial % 3, m = n + 2 + trial % 7;
+    MatrixXd G(n, m), C(p, n), F = MatrixXd::Zero(p, p);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < m; ++j) G(i, j) = nrm(gen) * (1.0 + j % 3);
+    for (int i = 0; i < p; ++i) {
+      for (int j = 0; j < n; ++j) C(i, j) = nrm(gen);
+      F(i, i) = std::exp(1.5 * nrm(gen));
+    }
+    const LinearSystem sys(MatrixXd::Identity(n, n), C, MatrixXd::Zero(n, p), F);
+    ZonotopicObserverOptions o;
+    o.rule = ZonotopicRule::Bravo;
+    o.max_generators = 1000;
+    o.convention = Convention::Cora;
+    ZonotopicObserver obs(sys, Zonotope(VectorXd::Zero(n), G), o);
+    VectorXd y(p);
+    for (int i = 0; i < p; ++i) y(i) = 0.1 * nrm(gen);
+    obs.update(y, VectorXd::Zero(0));
+    // The reference, strip after strip on explicit generators.
+    MatrixXd R = G;
+    bool tie = false;
+    std::vector<VectorXd> lams;
+    for (int i = 0; i < p && !tie; ++i) {
+      const VectorXd c = C.row(i).transpose();
+      const double sig = F(i, i);
+      const VectorXd cg = R.transpose() * c;
+      const auto [best, clear] = bravo_direct(R, c, sig);
+      if (!clear) tie = true;
+      if (best == 0) {
+        lams.push_back(VectorXd::Zero(n));
+        continue;
+      }
+      const Eigen::Index j = best - 1;
+      const VectorXd lam = R.col(j) / cg(j);
+      R -= lam * cg.transpose();
+      R.col(j) = sig * lam;
+      lams.push_back(lam);
+    }
+    if (tie) continue;
+    ++compared;
+    for (int i = 0; i < p; ++i) {
+      EXPECT_EIGEN_NEAR(obs.last_gain().col(i), lams[static_cast<std::size_t>(i)], 1e-9 * (1.0 + lams[static_cast<std::size_t>(i)].norm()))
+          << "trial " << trial << " output " << i;
+      if (!lams[static_cast<std::size_t>(i)].isZero(0)) ++replaced;
+    }
+    const MatrixXd Gobs = obs.current_set().generators().leftCols(m);
+    EXPECT_LE((Gobs - R).cwiseAbs().maxCoeff(), 1e-9 * (1.0 + R.cwiseAbs().maxCoeff())) << "trial " << trial;
+  }
+  EXPECT_GE(compared, 60);
+  EXPECT_GE(replaced, 60);
 }
 
 // The screening (Setbound convention): an outlier at step 12 is skipped and flagged under Flag

@@ -187,10 +187,14 @@ class ZonotopicObserver {
   /// (row sums dN) and of the products into r. X is overwritten.
   static void affine(Set& X, const Mat& M, const Mat& dM, const Vec& t, const Vec& dt, const Mat& N,
                      const Vec& dN);
-  /// The Bravo candidate for one strip: λ (zero: Z itself) and the column it replaces (−1).
-  Eigen::Index bravo_choice(const Set& X, const Eigen::Ref<const Vec>& c, double y, double sig, Vec& lam) const;
+  /// The Bravo candidate for one strip of X, whose Gram matrix is bravo_S_: λ (zero: X itself)
+  /// and the column it replaces (−1). Leaves cᵀg_j in bravo_a_ and rs|G| in bravo_w_ for the update.
+  Eigen::Index bravo_choice(const Set& X, const Eigen::Ref<const Vec>& c, double sig, Vec& lam);
+  /// Bravo's strip update in place: p + λ(y − cᵀp), g_i − λ cᵀg_i, column j replaced by σλ, with
+  /// the rounding bounds of strip_update; bravo_S_ follows (K S Kᵀ + σ² λλᵀ, exact since K g_j = 0).
+  void bravo_update(Set& X, const Vec& lam, const Eigen::Ref<const Vec>& c, double y, double sig, Eigen::Index j);
   /// The strip-based correction of X with y_k; the weight used goes to `gain` (n × n_y).
-  void correct(Set& X, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, Mat& gain) const;
+  void correct(Set& X, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, Mat& gain);
   void predict(Set& X, const Eigen::Ref<const Vec>& u) const;
 
   // ---- one map per step from the current set (no copy, no allocation in the steady state) --
@@ -248,6 +252,10 @@ class ZonotopicObserver {
   Mat W_, N_, T_, Snew_, dT_, absT_, R_, RC_, Sq_, CS_, CSA_, CSE_, ARC_, Lam_, absL_, absCS_, K_, dK_, gainw_;
   Vec pw_, rw_, ww_, pc_, pn_, ec_, dN_, lam_, al_, t_, v_, sc_, cN_, innov_, yfull_, yabs_, tmp_;
   std::vector<Eigen::Index> rows_, screen_rows_;
+  // Bravo: the Gram matrix of the set being corrected (fresh each step, then rank updates
+  // through its strips), L⁻¹ of its Cholesky factor, and the candidate pass's per-column values.
+  Mat bravo_S_, bravo_Linv_;
+  Vec bravo_a_, bravo_b_, bravo_h_, bravo_w_;
   Vec ys_, sig_, screen_ys_, screen_sig_, yscr_, ta_, wp_;
 };
 

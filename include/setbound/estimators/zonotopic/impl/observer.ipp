@@ -408,25 +408,19 @@ SETBOUND_INLINE void ZonotopicObserver::affine(Set& X, const Mat& M, const Mat& 
   Vec pn = M * X.p + t;
   Vec r = (absM + dM) * X.r + dM * (w + absp) + g * (absM * (w + absp)) + g * pn.cwiseAbs() + dt + dN;
   Mat Gn(n, m + k);
-  if (m > 0) Gn.leftCols(m).noalias() = M * X.G;
+  if (m > 0) detail::transform_generators(M, X.G, Gn, m);
   if (k > 0) Gn.rightCols(k) = N;
   X.p.swap(pn);
   X.G.swap(Gn);
   X.r = r * (1.0 + g);
 }
 
-SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Set& X, const Eigen::Ref<const Vec>& c, double y, double sig,
-                                                             Vec& lam) const {
-  (void)y;
-  lam = Vec::Zero(n_);
+SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Set& X, const Eigen::Ref<const Vec>& c, double sig,
+                                                             Vec& lam) {
+  lam.setZero(n_);
   const Eigen::Index m = X.G.cols();
   if (m == 0) return -1;
   const Mat& G = X.G;
-  const Vec cg = G.transpose() * c;
-  // CORA's threshold on |cᵀg_j| is absolute; setbound's is relative to |c|ᵀ|g_j| (spec §2.2).
-  const double base = 1e10 * std::numeric_limits<double>::epsilon();
-  const Vec thr = opt_.convention == Convention::Cora ? Vec(Vec::Constant(m, base))
-                                                      : Vec(base * (G.cwiseAbs().transpose() * c.cwiseAbs()));
   // Candidate 0 is the set itself; candidate j (Bravo 2006, Property 1) replaces g_j by the strip
   // direction: T_j = [g_i − (cᵀg_i / a) g_j for i ≠ j, (σ / a) g_j for i = j], a = cᵀg_j. Score:
   // det(T Tᵀ) (a volume proxy); the first minimiser wins (candidate 0 wins exact ties, spec §2.2).
@@ -436,12 +430,11 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Set& X, const
   // block-triangular, and the Schur complement gives
   //     det(T_j T_jᵀ) = (σ/a)² · det(S) · g_jᵀ S⁻¹ g_j,
   // so candidate j beats the set itself exactly when (σ/a)² ‖L⁻¹ g_j‖² < 1 (S = L Lᵀ): one
-  // Cholesky factor and one triangular solve per strip, O(n² m), instead of m determinants of
-  // n × m products, O(n² m²) (vehicle6 at CORA's order 100: 600 columns). Only the choice uses
+  // Cholesky factor and one pass over the columns per strip, O(n² m), instead of m determinants
+  // of n × m products, O(n² m²) (vehicle6 at CORA's order 100: 600 columns). Only the choice uses
   // the score; every candidate is an outer bound, so its rounding cannot break the guarantee.
-  Mat S;
-  detail::gram(G, m, S);
-  Eigen::LLT<Mat, Eigen::Lower> llt(S);
+  // S = bravo_S_ is computed once per step and follows the strips by rank updates (bravo_update).
+  Eigen::LLT<Mat, Eigen::Lower> llt(bravo_S_);
   const Vec piv = llt.info() == Eigen::Success ? Vec(llt.matrixLLT().diagonal()) : Vec();
   const bool well_posed = piv.size() == n_ && piv.allFinite() &&
                           piv.minCoeff() > 1e-6 * piv.maxCoeff();  // cond(S) below ~1e12
@@ -450,24 +443,62 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Set& X, const
   // all tie and candidate 0, the set itself, wins. (Scoring noise-level determinants instead
   // would pick a column by rounding.)
   if (!well_posed) return -1;
-  // ‖L⁻¹ g_j‖² for all j: L⁻¹ (n × n) once, then one triangular product with G.
-  const Mat Linv = llt.matrixL().solve(Mat::Identity(n_, n_));
-  Mat H(n_, m);
-  H.noalias() = Linv.triangularView<Eigen::Lower>() * G;
-  const Vec h = H.colwise().squaredNorm().transpose();
+  bravo_Linv_ = llt.matrixL().solve(Mat::Identity(n_, n_));
+  for (Vec* v : {&bravo_a_, &bravo_b_, &bravo_h_})
+    if (v->size() < m) v->resize(std::max<Eigen::Index>(m, 2 * v->size()));
+  // cᵀg_j, |c|ᵀ|g_j|, ‖L⁻¹g_j‖² and rs|G| in one pass.
+  detail::strip_candidates(G, m, c, bravo_Linv_, bravo_a_.data(), bravo_b_.data(), bravo_h_.data(), bravo_w_);
+  // CORA's threshold on |cᵀg_j| is absolute; setbound's is relative to |c|ᵀ|g_j| (spec §2.2).
+  const double base = 1e10 * std::numeric_limits<double>::epsilon();
+  const bool cora = opt_.convention == Convention::Cora;
   Eigen::Index bestj = -1;
   double best = 1.0;
   for (Eigen::Index j = 0; j < m; ++j) {
-    if (!(std::abs(cg(j)) > thr(j))) continue;
-    const double s = sig / cg(j);
-    const double score = s * s * h(j);
+    const double a = bravo_a_(j);
+    if (!(std::abs(a) > (cora ? base : base * bravo_b_(j)))) continue;
+    const double s = sig / a;
+    const double score = s * s * bravo_h_(j);
     if (score < best) {
       best = score;
       bestj = j;
     }
   }
-  if (bestj >= 0) lam = G.col(bestj) / cg(bestj);
+  if (bestj >= 0) lam = G.col(bestj) / bravo_a_(bestj);
   return bestj;
+}
+
+SETBOUND_INLINE void ZonotopicObserver::bravo_update(Set& X, const Vec& lam, const Eigen::Ref<const Vec>& c, double y,
+                                                     double sig, Eigen::Index j) {
+  using rounding_bounds::gamma;
+  const Eigen::Index m = X.G.cols();
+  const double g = gamma(n_ + 1 + 4);
+  const Vec& w = bravo_w_;  // rs|G| (rounded up) from the candidate pass
+  // The bounds of strip_update for one strip: K = I − λcᵀ and its rounding g (I + |λ||c|ᵀ), the
+  // centre's, the generators' 2g (|G| + |λ||c|ᵀ|G|) by rows and the new column's g |λ| σ.
+  al_ = lam.cwiseAbs();
+  const Vec ac = c.cwiseAbs();
+  const double innov = y - c.dot(X.p);
+  pn_ = X.p + lam * innov;
+  t_ = X.p.cwiseAbs();
+  Vec r = X.r + al_ * ac.dot(X.r);                     // |K| r <= r + |λ| (|c|ᵀ r)
+  r += g * (X.r + al_ * ac.dot(X.r));                  // dK r
+  r += 2.0 * g * (t_ + al_ * (std::abs(y) + ac.dot(t_)) + pn_.cwiseAbs());
+  r += 2.0 * g * (w + al_ * ac.dot(w));
+  r += (g * sig) * al_;
+  // G ← G − λ (cᵀG) in place (cᵀg_i from the candidate pass).
+  X.G.noalias() -= lam * Eigen::Map<const Eigen::RowVectorXd>(bravo_a_.data(), m);
+  // (I − λcᵀ) g_j is zero in exact arithmetic with λ = g_j / cᵀg_j; its computed value (and the
+  // rounding bound above) stays in the box, the new column σλ takes its place.
+  r += X.G.col(j).cwiseAbs();
+  X.G.col(j) = sig * lam;
+  X.p.swap(pn_);
+  X.r = r * (1.0 + g);
+  // S ← K S Kᵀ + σ² λλᵀ with S c = sc.
+  sc_.noalias() = bravo_S_ * c;
+  const double csc = c.dot(sc_);
+  bravo_S_.noalias() -= lam * sc_.transpose();
+  bravo_S_.noalias() -= sc_ * lam.transpose();
+  bravo_S_.noalias() += (csc + sig * sig) * (lam * lam.transpose());
 }
 
 SETBOUND_INLINE void ZonotopicObserver::gather_rows(const Mat& C, const std::vector<Eigen::Index>& rows, Mat& CS) {
@@ -497,7 +528,7 @@ SETBOUND_INLINE ZonotopicObserver::Mat ZonotopicObserver::solve_gain(const Mat& 
 }
 
 SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u,
-                                                Mat& gain) const {
+                                                Mat& gain) {
   std::vector<Eigen::Index> rows;
   Vec ys, sig;
   shifted(y, u, rows, ys, sig);
@@ -509,6 +540,7 @@ SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const V
     case ZonotopicRule::Bravo:
     case ZonotopicRule::FixedStrips: {
       // S-I: one strip at a time, in the order of the outputs.
+      if (opt_.rule == ZonotopicRule::Bravo) detail::gram(X.G, X.G.cols(), bravo_S_);
       for (Eigen::Index t = 0; t < q; ++t) {
         const Eigen::Index i = rows[static_cast<std::size_t>(t)];
         const Vec c = C.row(i).transpose();
@@ -520,8 +552,13 @@ SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const V
           const double den = c.dot(v) + sig(t) * sig(t);
           lam = den > 0 ? Vec(v / den) : Vec(Vec::Zero(n_));
         } else if (opt_.rule == ZonotopicRule::Bravo) {
-          replace = bravo_choice(X, c, ys(t), sig(t), lam);
+          replace = bravo_choice(X, c, sig(t), lam);
           if (replace < 0) continue;  // the set itself is the best candidate
+          if (!lam.allFinite())
+            throw NumericalError("gain rule: non-finite weight for output " + std::to_string(i));
+          bravo_update(X, lam, c, ys(t), sig(t), replace);
+          gain.col(i) = lam;
+          continue;
         } else {
           lam = opt_.gain.col(i);
         }
