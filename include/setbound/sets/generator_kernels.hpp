@@ -34,6 +34,18 @@ double abs_projection_sum(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen:
 void strip_candidates(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
                       const Eigen::MatrixXd& L, double* a, double* b, double* h, Eigen::VectorXd& w);
 
+/// Bravo's strip update and the next strip's candidate values in one pass over the first m
+/// columns of G (estimators/zonotopic/observer.hpp, bravo_update): g_i ← g_i − λ a_i with
+/// a_i = cᵀg_i given; column j is the replaced one: its computed residual's |·| goes to
+/// `residual` and it becomes σλ. The leverage scores h_i = g_iᵀ S⁻¹ g_i follow without
+/// S'⁻¹: h_i ← h_i − (zᵀg_i)² / h_j (z = S⁻¹g_j, g_i before the update), h_j ← 1; an h_i
+/// that loses more than 8 digits to that cancellation becomes NaN (the caller recomputes it).
+/// With cn (the next strip's normal, may be null): a_i ← cnᵀg_i, b_i ← |cn|ᵀ|g_i| and w = rs|G|
+/// (rounded up as compact_and_sum) of the updated columns.
+void bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::VectorXd& lam, double sig, Eigen::Index j,
+                   const Eigen::VectorXd& z, double* a, double* b, double* h, Eigen::VectorXd& residual,
+                   const Eigen::VectorXd* cn, Eigen::VectorXd& w);
+
 /// Removes exactly-zero columns among the first m of W (keeping the order) when `drop_zeros`,
 /// and sets w = rs|W| over the kept columns, rounded up (a bound of the computed sums). Returns
 /// the kept column count.
@@ -111,6 +123,56 @@ void strip_candidates_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const Eige
     b[j] = sa;
     h[j] = hh;
   }
+  const double infl = 1.0 + static_cast<double>(m + 2) * std::numeric_limits<double>::epsilon();
+  w.resize(N);
+  for (int i = 0; i < N; ++i) w(i) = acc[i] * infl;
+}
+
+template <int N>
+void bravo_advance_fixed(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::VectorXd& lam, double sig, Eigen::Index j,
+                         const Eigen::VectorXd& z, double* a, double* b, double* h, Eigen::VectorXd& residual,
+                         const Eigen::VectorXd* cn, Eigen::VectorXd& w) {
+  double lf[N], zf[N], cf[N], acf[N], acc[N];
+  for (int i = 0; i < N; ++i) {
+    lf[i] = lam(i);
+    zf[i] = z(i);
+    cf[i] = cn ? (*cn)(i) : 0.0;
+    acf[i] = std::abs(cf[i]);
+    acc[i] = 0.0;
+  }
+  const double hj = h[j];
+  double* const base = G.data();
+  for (Eigen::Index k = 0; k < m; ++k) {
+    double* g = base + k * N;
+    const double ak = a[k];
+    double e = 0.0;
+    for (int i = 0; i < N; ++i) {
+      e += zf[i] * g[i];
+      g[i] -= lf[i] * ak;
+    }
+    if (k == j) {
+      residual.resize(N);
+      for (int i = 0; i < N; ++i) {
+        residual(i) = std::abs(g[i]);
+        g[i] = sig * lf[i];
+      }
+      h[k] = 1.0;
+    } else {
+      const double hk = h[k] - e * e / hj;
+      h[k] = hk > 1e-8 * h[k] ? hk : std::numeric_limits<double>::quiet_NaN();
+    }
+    if (!cn) continue;
+    double s = 0.0, sa = 0.0;
+    for (int i = 0; i < N; ++i) {
+      const double ag = std::abs(g[i]);
+      s += cf[i] * g[i];
+      sa += acf[i] * ag;
+      acc[i] += ag;
+    }
+    a[k] = s;
+    b[k] = sa;
+  }
+  if (!cn) return;
   const double infl = 1.0 + static_cast<double>(m + 2) * std::numeric_limits<double>::epsilon();
   w.resize(N);
   for (int i = 0; i < N; ++i) w(i) = acc[i] * infl;

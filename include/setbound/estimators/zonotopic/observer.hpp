@@ -191,8 +191,10 @@ class ZonotopicObserver {
   /// and the column it replaces (−1). Leaves cᵀg_j in bravo_a_ and rs|G| in bravo_w_ for the update.
   Eigen::Index bravo_choice(const Set& X, const Eigen::Ref<const Vec>& c, double sig, Vec& lam);
   /// Bravo's strip update in place: p + λ(y − cᵀp), g_i − λ cᵀg_i, column j replaced by σλ, with
-  /// the rounding bounds of strip_update; bravo_S_ follows (K S Kᵀ + σ² λλᵀ, exact since K g_j = 0).
-  void bravo_update(Set& X, const Vec& lam, const Eigen::Ref<const Vec>& c, double y, double sig, Eigen::Index j);
+  /// the rounding bounds of strip_update; bravo_S_ follows (K S Kᵀ + σ² λλᵀ, exact since K g_j = 0)
+  /// and, in the same pass, the scores of the next strip (normal cn, null after the last strip).
+  void bravo_update(Set& X, const Vec& lam, const Eigen::Ref<const Vec>& c, double y, double sig, Eigen::Index j,
+                    const Vec* cn);
   /// The strip-based correction of X with y_k; the weight used goes to `gain` (n × n_y).
   void correct(Set& X, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, Mat& gain);
   void predict(Set& X, const Eigen::Ref<const Vec>& u) const;
@@ -254,8 +256,11 @@ class ZonotopicObserver {
   std::vector<Eigen::Index> rows_, screen_rows_;
   // Bravo: the Gram matrix of the set being corrected (fresh each step, then rank updates
   // through its strips), L⁻¹ of its Cholesky factor, and the candidate pass's per-column values.
+  // bravo_ready_: a, b, w are those of the next strip's normal and h the current leverage scores
+  // (NaN where the update's cancellation asks for a recomputation), from bravo_update's pass.
   Mat bravo_S_, bravo_Linv_;
-  Vec bravo_a_, bravo_b_, bravo_h_, bravo_w_;
+  Vec bravo_a_, bravo_b_, bravo_h_, bravo_w_, bravo_z_, bravo_res_, bravo_cn_;
+  bool bravo_ready_ = false;
   Vec ys_, sig_, screen_ys_, screen_sig_, yscr_, ta_, wp_;
 };
 

@@ -115,6 +115,42 @@ SETBOUND_INLINE void strip_candidates(const Eigen::MatrixXd& G, Eigen::Index m, 
   w *= 1.0 + static_cast<double>(m + 2) * std::numeric_limits<double>::epsilon();
 }
 
+SETBOUND_INLINE void bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::VectorXd& lam, double sig,
+                                   Eigen::Index j, const Eigen::VectorXd& z, double* a, double* b, double* h,
+                                   Eigen::VectorXd& residual, const Eigen::VectorXd* cn, Eigen::VectorXd& w) {
+  switch (G.rows()) {
+    case 1: return bravo_advance_fixed<1>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
+    case 2: return bravo_advance_fixed<2>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
+    case 3: return bravo_advance_fixed<3>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
+    case 4: return bravo_advance_fixed<4>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
+    case 5: return bravo_advance_fixed<5>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
+    case 6: return bravo_advance_fixed<6>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
+    case 7: return bravo_advance_fixed<7>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
+    case 8: return bravo_advance_fixed<8>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
+    default: break;
+  }
+  // Larger n: O(n m) products over the whole matrix (tank30: n = 30, m ≈ 3 000), instead of
+  // the O(n² m) triangular product a fresh score would cost.
+  Eigen::Map<Eigen::VectorXd> av(a, m), bv(b, m), hv(h, m);
+  const double hj = hv(j);
+  const Eigen::VectorXd e = G.leftCols(m).transpose() * z;
+  G.leftCols(m).noalias() -= lam * av.transpose();
+  residual = G.col(j).cwiseAbs();
+  G.col(j) = sig * lam;
+  for (Eigen::Index k = 0; k < m; ++k) {
+    if (k == j) {
+      hv(k) = 1.0;
+      continue;
+    }
+    const double hk = hv(k) - e(k) * e(k) / hj;
+    hv(k) = hk > 1e-8 * hv(k) ? hk : std::numeric_limits<double>::quiet_NaN();
+  }
+  if (!cn) return;
+  av.noalias() = G.leftCols(m).transpose() * *cn;
+  bv.noalias() = G.leftCols(m).cwiseAbs().transpose() * cn->cwiseAbs();
+  compact_and_sum(G, m, w, false);
+}
+
 SETBOUND_INLINE Eigen::Index compact_and_sum(Eigen::MatrixXd& W, Eigen::Index m, Eigen::VectorXd& w, bool drop_zeros) {
   switch (W.rows()) {
     case 1: return compact_and_sum_fixed<1>(W, m, w, drop_zeros);

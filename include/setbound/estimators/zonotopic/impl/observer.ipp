@@ -220,10 +220,9 @@ SETBOUND_INLINE void ZonotopicObserver::screen(const Eigen::Ref<const Vec>& y, c
     const double sig = screen_sig_(s), ys = screen_ys_(s);
     if (low_bound) {
       // ‖Gᵀt‖₁ >= ‖Gᵀt‖₂ = (tᵀ S t)^½ with the kept Gram matrix S ≈ G Gᵀ (O(n²)): a reading
-      // inside that smaller output set is consistent without the O(n m) pass. S is kept by rank
-      // updates: 0.9 and the 1e-10 ‖S‖ ‖t‖² term leave room for its rounding.
-      const double q2 = ta_.dot(S_cur_ * ta_) - 1e-10 * S_cur_.cwiseAbs().maxCoeff() * ta_.squaredNorm();
-      const double low = q2 > 0 ? 0.9 * std::sqrt(q2) : 0.0;
+      // inside that smaller output set is consistent without the O(n m) pass.
+      const double low =
+          gram_radius_lower_bound(ta_.dot(S_cur_ * ta_), S_cur_.cwiseAbs().maxCoeff(), ta_.squaredNorm());
       const OutputTest t = test_output(ys, center, fixed + low, sig, magnitude, terms);
       if (t.margin <= 0) {
         chk.margin(i) = t.margin;  // an upper bound of the exact margin
@@ -434,6 +433,10 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Set& X, const
   // of n × m products, O(n² m²) (vehicle6 at CORA's order 100: 600 columns). Only the choice uses
   // the score; every candidate is an outer bound, so its rounding cannot break the guarantee.
   // S = bravo_S_ is computed once per step and follows the strips by rank updates (bravo_update).
+  // The scores h_j = g_jᵀS⁻¹g_j too: after candidate j, with z = S⁻¹g_j,
+  //     S'⁻¹ = S⁻¹ − z zᵀ/h_j + c cᵀ/σ²,  h'_i = h_i − (zᵀg_i)²/h_j (i ≠ j),  h'_j = 1
+  // (cᵀg'_i = 0 for the updated columns), O(n) per column instead of the O(n²) of L⁻¹g_i; a score
+  // that lost more than 8 digits to the subtraction is recomputed from L⁻¹ below.
   Eigen::LLT<Mat, Eigen::Lower> llt(bravo_S_);
   const Vec piv = llt.info() == Eigen::Success ? Vec(llt.matrixLLT().diagonal()) : Vec();
   const bool well_posed = piv.size() == n_ && piv.allFinite() &&
@@ -442,12 +445,19 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Set& X, const
   // adj(S) g_j = 0 for every candidate (g_j lies in the range of S, adj(S) maps onto its kernel):
   // all tie and candidate 0, the set itself, wins. (Scoring noise-level determinants instead
   // would pick a column by rounding.)
+  const bool ready = bravo_ready_;
+  bravo_ready_ = false;  // the next strip needs a fresh pass unless bravo_update says otherwise
   if (!well_posed) return -1;
   bravo_Linv_ = llt.matrixL().solve(Mat::Identity(n_, n_));
-  for (Vec* v : {&bravo_a_, &bravo_b_, &bravo_h_})
-    if (v->size() < m) v->resize(std::max<Eigen::Index>(m, 2 * v->size()));
-  // cᵀg_j, |c|ᵀ|g_j|, ‖L⁻¹g_j‖² and rs|G| in one pass.
-  detail::strip_candidates(G, m, c, bravo_Linv_, bravo_a_.data(), bravo_b_.data(), bravo_h_.data(), bravo_w_);
+  if (!ready) {
+    for (Vec* v : {&bravo_a_, &bravo_b_, &bravo_h_})
+      if (v->size() < m) v->resize(std::max<Eigen::Index>(m, 2 * v->size()));
+    // cᵀg_j, |c|ᵀ|g_j|, ‖L⁻¹g_j‖² and rs|G| in one pass.
+    detail::strip_candidates(G, m, c, bravo_Linv_, bravo_a_.data(), bravo_b_.data(), bravo_h_.data(), bravo_w_);
+  } else {
+    for (Eigen::Index j = 0; j < m; ++j)
+      if (std::isnan(bravo_h_(j))) bravo_h_(j) = (bravo_Linv_.triangularView<Eigen::Lower>() * G.col(j)).squaredNorm();
+  }
   // CORA's threshold on |cᵀg_j| is absolute; setbound's is relative to |c|ᵀ|g_j| (spec §2.2).
   const double base = 1e10 * std::numeric_limits<double>::epsilon();
   const bool cora = opt_.convention == Convention::Cora;
@@ -463,12 +473,15 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Set& X, const
       bestj = j;
     }
   }
-  if (bestj >= 0) lam = G.col(bestj) / bravo_a_(bestj);
+  if (bestj >= 0) {
+    lam = G.col(bestj) / bravo_a_(bestj);
+    bravo_z_ = llt.solve(G.col(bestj));  // S⁻¹g_j for the scores' update
+  }
   return bestj;
 }
 
 SETBOUND_INLINE void ZonotopicObserver::bravo_update(Set& X, const Vec& lam, const Eigen::Ref<const Vec>& c, double y,
-                                                     double sig, Eigen::Index j) {
+                                                     double sig, Eigen::Index j, const Vec* cn) {
   using rounding_bounds::gamma;
   const Eigen::Index m = X.G.cols();
   const double g = gamma(n_ + 1 + 4);
@@ -485,12 +498,13 @@ SETBOUND_INLINE void ZonotopicObserver::bravo_update(Set& X, const Vec& lam, con
   r += 2.0 * g * (t_ + al_ * (std::abs(y) + ac.dot(t_)) + pn_.cwiseAbs());
   r += 2.0 * g * (w + al_ * ac.dot(w));
   r += (g * sig) * al_;
-  // G ← G − λ (cᵀG) in place (cᵀg_i from the candidate pass).
-  X.G.noalias() -= lam * Eigen::Map<const Eigen::RowVectorXd>(bravo_a_.data(), m);
+  // G ← G − λ (cᵀG) in place (cᵀg_i from the candidate pass), and the next strip's values.
   // (I − λcᵀ) g_j is zero in exact arithmetic with λ = g_j / cᵀg_j; its computed value (and the
   // rounding bound above) stays in the box, the new column σλ takes its place.
-  r += X.G.col(j).cwiseAbs();
-  X.G.col(j) = sig * lam;
+  detail::bravo_advance(X.G, m, lam, sig, j, bravo_z_, bravo_a_.data(), bravo_b_.data(), bravo_h_.data(), bravo_res_, cn,
+                        bravo_w_);
+  bravo_ready_ = cn != nullptr;
+  r += bravo_res_;
   X.p.swap(pn_);
   X.r = r * (1.0 + g);
   // S ← K S Kᵀ + σ² λλᵀ with S c = sc.
@@ -540,7 +554,10 @@ SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const V
     case ZonotopicRule::Bravo:
     case ZonotopicRule::FixedStrips: {
       // S-I: one strip at a time, in the order of the outputs.
-      if (opt_.rule == ZonotopicRule::Bravo) detail::gram(X.G, X.G.cols(), bravo_S_);
+      if (opt_.rule == ZonotopicRule::Bravo) {
+        detail::gram(X.G, X.G.cols(), bravo_S_);
+        bravo_ready_ = false;
+      }
       for (Eigen::Index t = 0; t < q; ++t) {
         const Eigen::Index i = rows[static_cast<std::size_t>(t)];
         const Vec c = C.row(i).transpose();
@@ -556,7 +573,8 @@ SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const V
           if (replace < 0) continue;  // the set itself is the best candidate
           if (!lam.allFinite())
             throw NumericalError("gain rule: non-finite weight for output " + std::to_string(i));
-          bravo_update(X, lam, c, ys(t), sig(t), replace);
+          if (t + 1 < q) bravo_cn_ = C.row(rows[static_cast<std::size_t>(t + 1)]).transpose();
+          bravo_update(X, lam, c, ys(t), sig(t), replace, t + 1 < q ? &bravo_cn_ : nullptr);
           gain.col(i) = lam;
           continue;
         } else {
