@@ -80,6 +80,14 @@ struct OutputTest {
 /// (2γ_terms + kReadingSlack)(magnitude + |y| + φ).
 OutputTest test_output(double y, double center, double radius, double phi, double magnitude, Eigen::Index terms);
 
+/// A lower bound of Σ_j |tᵀg_j| (the part of an output set's radius from generators g_j) from a
+/// Gram matrix S ≈ G Gᵀ kept by rank updates: Σ_j |tᵀg_j| >= ‖Gᵀt‖₂ = (tᵀ S t)^½. `tSt` is tᵀ S t
+/// computed with the kept S, minus the squares of projections it also holds but the radius
+/// counts exactly elsewhere; `S_max` = max |S_ij|, `t2` = ‖t‖². The kept S drifts from G Gᵀ by
+/// rounding: 0.9 and 1e-10 S_max t2 leave room for it (both screens that use this only decide
+/// "consistent" with it; a wrong decision would lose a flag, never the guarantee).
+double gram_radius_lower_bound(double tSt, double S_max, double t2);
+
 /// The ±inf check of a measurement vector: NaN means missing and is accepted, ±inf is an error
 /// naming the entry ("y: entry 3 is inf; ...").
 void require_no_infinity(const Eigen::Ref<const Eigen::VectorXd>& y, const std::string& name);

@@ -6,6 +6,8 @@
 #include "setbound/estimators/measurement_check.hpp"
 #include "setbound/core/config.hpp"
 
+#include <cmath>
+
 #include <algorithm>
 #include <sstream>
 
@@ -19,6 +21,11 @@ SETBOUND_INLINE Eigen::Index MeasurementCheck::first_inconsistent() const {
   for (std::size_t i = 0; i < status.size(); ++i)
     if (status[i] == OutputStatus::Inconsistent) return static_cast<Eigen::Index>(i);
   return -1;
+}
+
+SETBOUND_INLINE double gram_radius_lower_bound(double tSt, double S_max, double t2) {
+  const double q2 = tSt - 1e-10 * S_max * t2;
+  return q2 > 0 ? 0.9 * std::sqrt(q2) : 0.0;
 }
 
 SETBOUND_INLINE OutputTest test_output(double y, double center, double radius, double phi, double magnitude,

@@ -450,12 +450,9 @@ SETBOUND_INLINE void ZonotopicEstimator::correct_and_reduce(const Eigen::Ref<con
         if (want_S_ && mG_ > 0) {
           // ‖Gᵀt‖₁ >= ‖Gᵀt‖₂ = (cᵀ S c − ‖Nᵀc‖²)^½ with the kept Gram matrix S of T G ⊕ N (O(n²)):
           // a reading inside that smaller output set is consistent without the O(n m) pass
-          // (the observers' screening, observer.ipp). S is kept by rank updates: 0.9 and the
-          // 1e-10 ‖S‖ ‖c‖² term leave room for its rounding. A reading taken as consistent
-          // wrongly would only lose its flag: a strip update is an outer bound for any reading.
+          // (as the observers' screening, observer.ipp).
           sc_.noalias() = Sc_ * c;
-          const double q2 = c.dot(sc_) - cN2 - 1e-10 * Sc_.cwiseAbs().maxCoeff() * c.squaredNorm();
-          const double low = q2 > 0 ? 0.9 * std::sqrt(q2) : 0.0;
+          const double low = gram_radius_lower_bound(c.dot(sc_) - cN2, Sc_.cwiseAbs().maxCoeff(), c.squaredNorm());
           const OutputTest t = test_output(yi, center, radius + low, phi, magnitude, terms);
           if (t.margin <= 0) chk_.margin(i) = t.margin;  // an upper bound of the exact margin
           else if (!screen_output(i, yi, phi, center, radius + detail::abs_projection_sum(G(), mG_, t_), magnitude, terms, y))
