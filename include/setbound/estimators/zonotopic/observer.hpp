@@ -180,9 +180,8 @@ class ZonotopicObserver {
 
   // ---- explicit sets (the filter's first step from x0, and Bravo) --------------------------
   /// The strip update of X with weight Lam (n × q) on rows `rows` (values ys, half-widths sig);
-  /// with `replace` >= 0 the new column (q = 1) takes the place of that column of G (Bravo).
-  static void strip_update(Set& X, const Mat& Lam, const Mat& CS, const Vec& ys, const Vec& sig,
-                           Eigen::Index replace);
+  /// the columns Λ diag(σ) are appended (Bravo's replacing update is bravo_update).
+  static void strip_update(Set& X, const Mat& Lam, const Mat& CS, const Vec& ys, const Vec& sig);
   /// x' = M x + t ⊕ N B: G' = [M G, N]; the rounding of M (bound dM), of t (bound dt), of N
   /// (row sums dN) and of the products into r. X is overwritten.
   static void affine(Set& X, const Mat& M, const Mat& dM, const Vec& t, const Vec& dt, const Mat& N,

@@ -353,8 +353,7 @@ SETBOUND_INLINE void ZonotopicObserver::shifted(const Eigen::Ref<const Vec>& y, 
   }
 }
 
-SETBOUND_INLINE void ZonotopicObserver::strip_update(Set& X, const Mat& Lam, const Mat& CS, const Vec& ys, const Vec& sig,
-                                                     Eigen::Index replace) {
+SETBOUND_INLINE void ZonotopicObserver::strip_update(Set& X, const Mat& Lam, const Mat& CS, const Vec& ys, const Vec& sig) {
   using rounding_bounds::gamma;
   const Eigen::Index n = X.p.size(), m = X.G.cols(), q = Lam.cols();
   const double g = gamma(n + q + 4);
@@ -384,13 +383,6 @@ SETBOUND_INLINE void ZonotopicObserver::strip_update(Set& X, const Mat& Lam, con
   // New columns Λ diag(σ_S) (rounding u |Λ| σ).
   for (Eigen::Index j = 0; j < q; ++j) Gn.col(m + j) = Lam.col(j) * sig(j);
   r += g * (absL * sig);
-  if (replace >= 0) {
-    // Bravo: (I − λcᵀ)g_j is zero in exact arithmetic with λ = g_j / cᵀg_j; its computed value
-    // (and the rounding bound above) stays in the box, the new column takes its place.
-    r += Gn.col(replace).cwiseAbs();
-    Gn.col(replace) = Gn.col(m);
-    Gn.conservativeResize(n, m);
-  }
   X.p.swap(pn);
   X.G.swap(Gn);
   X.r = r * (1.0 + g);
@@ -493,8 +485,7 @@ SETBOUND_INLINE void ZonotopicObserver::bravo_update(Set& X, const Vec& lam, con
   const double innov = y - c.dot(X.p);
   pn_ = X.p + lam * innov;
   t_ = X.p.cwiseAbs();
-  Vec r = X.r + al_ * ac.dot(X.r);                     // |K| r <= r + |λ| (|c|ᵀ r)
-  r += g * (X.r + al_ * ac.dot(X.r));                  // dK r
+  Vec r = (1.0 + g) * (X.r + al_ * ac.dot(X.r));  // (|K| + dK) r, |K| <= I + |λ||c|ᵀ
   r += 2.0 * g * (t_ + al_ * (std::abs(y) + ac.dot(t_)) + pn_.cwiseAbs());
   r += 2.0 * g * (w + al_ * ac.dot(w));
   r += (g * sig) * al_;
@@ -571,19 +562,19 @@ SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const V
         } else if (opt_.rule == ZonotopicRule::Bravo) {
           replace = bravo_choice(X, c, sig(t), lam);
           if (replace < 0) continue;  // the set itself is the best candidate
-          if (!lam.allFinite())
-            throw NumericalError("gain rule: non-finite weight for output " + std::to_string(i));
-          if (t + 1 < q) bravo_cn_ = C.row(rows[static_cast<std::size_t>(t + 1)]).transpose();
-          bravo_update(X, lam, c, ys(t), sig(t), replace, t + 1 < q ? &bravo_cn_ : nullptr);
-          gain.col(i) = lam;
-          continue;
         } else {
           lam = opt_.gain.col(i);
         }
         if (!lam.allFinite())
           throw NumericalError("gain rule: non-finite weight for output " + std::to_string(i));
         if (lam.cwiseAbs().maxCoeff() == 0) continue;  // nothing changes (CORA's zero column is dropped)
-        strip_update(X, lam, C.row(i), ys.segment(t, 1), sig.segment(t, 1), replace);
+        if (replace >= 0) {
+          // Bravo: in place, the next strip's scores from the same pass.
+          if (t + 1 < q) bravo_cn_ = C.row(rows[static_cast<std::size_t>(t + 1)]).transpose();
+          bravo_update(X, lam, c, ys(t), sig(t), replace, t + 1 < q ? &bravo_cn_ : nullptr);
+        } else {
+          strip_update(X, lam, C.row(i), ys.segment(t, 1), sig.segment(t, 1));
+        }
         gain.col(i) = lam;
       }
       return;
@@ -615,7 +606,7 @@ SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const V
       } else {
         for (Eigen::Index t = 0; t < q; ++t) Lam.col(t) = opt_.gain.col(rows[static_cast<std::size_t>(t)]);
       }
-      strip_update(X, Lam, CS, ys, sig, -1);
+      strip_update(X, Lam, CS, ys, sig);
       for (Eigen::Index t = 0; t < q; ++t) gain.col(rows[static_cast<std::size_t>(t)]) = Lam.col(t);
       return;
     }

@@ -69,7 +69,7 @@ SETBOUND_INLINE bool vz_cora(Eigen::VectorXd& theta, Eigen::MatrixXd& t, const E
 }
 
 /// The strip update x' = x + λ(y − cᵀx − v) of X = (p, G, r) with column `replace` of G taken by
-/// the new column λσ (Bravo's / Vicino–Zappa's swap), as observer.ipp's strip_update for one
+/// the new column λσ (Bravo's / Vicino–Zappa's swap), as observer.ipp's bravo_update for one
 /// strip: every rounding error bounded and added to the box, the box carried by |I − λcᵀ|.
 SETBOUND_INLINE void strip_swap(ParallelotopeEstimator::Set& X, const Eigen::VectorXd& lam,
                                 const Eigen::Ref<const Eigen::VectorXd>& c, double y, double sig,
