@@ -33,7 +33,10 @@
 // the gains come from the n × n Gram matrix S = G Gᵀ kept with the current set (R̄ = A S Aᵀ +
 // E Eᵀ), never from products with G. The rounding of T, N and the centre are carried as bounds
 // dT, dN, e and land in the box: |T_exact − T| <= dT gives dT (rs|G| + r) + |T| (γ rs|G| + r).
-// Bravo's candidates need the prior's columns: it keeps the explicit prior.
+// Bravo's candidates are not a linear map of the set (a column is replaced), so Bravo keeps the
+// prior implicit too but forms its columns [A G, E] once per step (map_current) and runs its
+// strips on them in place; its Gram matrix follows the set (A S Aᵀ + E Eᵀ, then the strips'
+// and the reduction's rank updates) instead of being recomputed from the columns.
 //
 // Conventions (Convention): Setbound (default) runs the papers' algorithms; Cora
 // reproduces CORA's behaviour where it differs and stays guaranteed:
@@ -171,38 +174,40 @@ class ZonotopicObserver {
   /// Tests every present reading against the output set of the set this step corrects
   /// (filter: the prior, explicit or A·cur ⊕ E; predictor: the current set); Raise throws here.
   void screen(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, MeasurementCheck& chk);
-  /// Whether the filter keeps its prior implicit (A·X̂ ⊕ E, composed with the strips into one
-  /// map per step): every strip-based rule but Bravo, whose candidates need the prior's columns.
-  bool lazy_prior() const { return is_filter() && opt_.rule != ZonotopicRule::Bravo; }
   /// y_i − D_i u for the present outputs and their half-widths (widened by that rounding).
   void shifted(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, std::vector<Eigen::Index>& rows,
                Vec& ys, Vec& sig) const;
 
-  // ---- explicit sets (the filter's first step from x0, and Bravo) --------------------------
+  // ---- explicit sets (the filter's first step from x0) and Bravo's in-place strips ----------
   /// The strip update of X with weight Lam (n × q) on rows `rows` (values ys, half-widths sig);
   /// the columns Λ diag(σ) are appended (Bravo's replacing update is bravo_update).
   static void strip_update(Set& X, const Mat& Lam, const Mat& CS, const Vec& ys, const Vec& sig);
-  /// x' = M x + t ⊕ N B: G' = [M G, N]; the rounding of M (bound dM), of t (bound dt), of N
-  /// (row sums dN) and of the products into r. X is overwritten.
-  static void affine(Set& X, const Mat& M, const Mat& dM, const Vec& t, const Vec& dt, const Mat& N,
-                     const Vec& dN);
-  /// The Bravo candidate for one strip of X, whose Gram matrix is bravo_S_: λ (zero: X itself)
-  /// and the column it replaces (−1). Leaves cᵀg_j in bravo_a_ and rs|G| in bravo_w_ for the update.
-  Eigen::Index bravo_choice(const Set& X, const Eigen::Ref<const Vec>& c, double sig, Vec& lam);
+  /// Bravo's strips (present outputs `rows`, values ys, half-widths sig) on the set
+  /// p ⊕ G.leftCols(m) B ⊕ box(r) in place, whose Gram matrix is bravo_S_ (kept up to date);
+  /// the λ of each chosen candidate goes to `gain`. The column count does not change.
+  void bravo_correct(Mat& G, Eigen::Index m, Vec& p, Vec& r, const std::vector<Eigen::Index>& rows, const Vec& ys,
+                     const Vec& sig, Mat& gain);
+  /// The Bravo candidate for one strip of G.leftCols(m), whose Gram matrix is bravo_S_: λ (zero:
+  /// the set itself) and the column it replaces (−1). Leaves cᵀg_j in bravo_a_ and rs|G| in
+  /// bravo_w_ for the update.
+  Eigen::Index bravo_choice(const Mat& G, Eigen::Index m, const Eigen::Ref<const Vec>& c, double sig, Vec& lam);
   /// Bravo's strip update in place: p + λ(y − cᵀp), g_i − λ cᵀg_i, column j replaced by σλ, with
   /// the rounding bounds of strip_update; bravo_S_ follows (K S Kᵀ + σ² λλᵀ, exact since K g_j = 0)
   /// and, in the same pass, the scores of the next strip (normal cn, null after the last strip).
-  void bravo_update(Set& X, const Vec& lam, const Eigen::Ref<const Vec>& c, double y, double sig, Eigen::Index j,
-                    const Vec* cn);
+  void bravo_update(Mat& G, Eigen::Index m, Vec& p, Vec& r, const Vec& lam, const Eigen::Ref<const Vec>& c, double y,
+                    double sig, Eigen::Index j, const Vec* cn);
   /// The strip-based correction of X with y_k; the weight used goes to `gain` (n × n_y).
   void correct(Set& X, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, Mat& gain);
-  void predict(Set& X, const Eigen::Ref<const Vec>& u) const;
 
   // ---- one map per step from the current set (no copy, no allocation in the steady state) --
   /// Filter, k >= 1: the corrected set for x_k straight from the one for x_{k−1}: the prediction
   /// A and the strips compose into one n × n map T (and the columns N of E and of the strips),
   /// applied to the generators once. Writes the new set (map_current); returns its column count.
   Eigen::Index correct_from_current(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, Mat& gain);
+  /// Bravo's filter, k >= 1: the prior's columns [A G, E] written once into W_ (map_current),
+  /// its Gram matrix A S Aᵀ + E Eᵀ from the kept one, then bravo_correct in place. Returns the
+  /// column count of W_.
+  Eigen::Index bravo_from_current(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, Mat& gain);
   /// Predictor: the set for x_{k+1} from the current one; returns its column count.
   Eigen::Index propagate(const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, Mat& gain);
   /// The new set pw_ ⊕ [T G, N_] B ⊕ box(rw_) from the current set p ⊕ G B ⊕ box(r), given the
@@ -237,11 +242,11 @@ class ZonotopicObserver {
   Vec rsE_;           // rs|Enz|
   std::vector<Eigen::Index> fcols_, ecols_;  // ω columns with F ≠ 0, then those with F = 0, E ≠ 0
 
-  // filter: prior_ = the set for x_0 before y_0 (and, for Bravo, for x_k before y_k); with a
-  // lazy prior it is A·cur_ ⊕ E after the first step and prior_ is empty. Predictor: cur_ only.
+  // filter: prior_ = the set for x_0 before y_0; after the first step the prior is implicit,
+  // A·cur_ ⊕ E, and prior_ holds its centre and that centre's error only. Predictor: cur_ only.
   Set prior_, cur_;
   Vec w_cur_;          // rs|cur_.G| rounded up
-  Mat S_cur_;          // ≈ cur_.G cur_.Gᵀ, updated per step (Wang, segment minimisation, Combastel)
+  Mat S_cur_;          // ≈ cur_.G cur_.Gᵀ, updated per step (the gains, Bravo, the screening)
   bool has_current_ = false;
   Eigen::Index k_ = 0;
   Vec lo_, hi_;
@@ -253,12 +258,12 @@ class ZonotopicObserver {
   Mat W_, N_, T_, Snew_, dT_, absT_, R_, RC_, Sq_, CS_, CSA_, CSE_, ARC_, Lam_, absL_, absCS_, K_, dK_, gainw_;
   Vec pw_, rw_, ww_, pc_, pn_, ec_, dN_, lam_, al_, t_, v_, sc_, cN_, innov_, yfull_, yabs_, tmp_;
   std::vector<Eigen::Index> rows_, screen_rows_;
-  // Bravo: the Gram matrix of the set being corrected (fresh each step, then rank updates
+  // Bravo: the Gram matrix of the set being corrected (from the kept S_cur_, then rank updates
   // through its strips), L⁻¹ of its Cholesky factor, and the candidate pass's per-column values.
   // bravo_ready_: a, b, w are those of the next strip's normal and h the current leverage scores
   // (NaN where the update's cancellation asks for a recomputation), from bravo_update's pass.
   Mat bravo_S_, bravo_Linv_;
-  Vec bravo_a_, bravo_b_, bravo_h_, bravo_w_, bravo_z_, bravo_res_, bravo_cn_;
+  Vec bravo_a_, bravo_b_, bravo_h_, bravo_w_, bravo_z_, bravo_res_, bravo_c_, bravo_cn_;
   bool bravo_ready_ = false;
   Vec ys_, sig_, screen_ys_, screen_sig_, yscr_, ta_, wp_;
 };

@@ -78,9 +78,10 @@ SETBOUND_INLINE void ZonotopicObserver::setup() {
   rsE_ = Enz_.cols() > 0 ? Vec(Enz_.cwiseAbs().rowwise().sum()) : Vec(Vec::Zero(n_));
   // The gains of Wang, segment minimisation and Combastel need the Gram matrix; the screening
   // (Setbound) uses it for a cheap lower bound of the output set's radius (screen()).
+  // Bravo's candidate scores need it too (kept, not recomputed from the columns each step).
   needs_gram_ = opt_.rule == ZonotopicRule::Wang || opt_.rule == ZonotopicRule::SegmentMin ||
-                opt_.rule == ZonotopicRule::Combastel ||
-                (opt_.convention == Convention::Setbound && opt_.rule != ZonotopicRule::Bravo);
+                opt_.rule == ZonotopicRule::Combastel || opt_.rule == ZonotopicRule::Bravo ||
+                opt_.convention == Convention::Setbound;
   chk_.clear(ny, OutputStatus::Unused);
   last_check_.clear(ny, OutputStatus::Unused);
   gain_last_ = Mat::Zero(n_, ny);
@@ -188,7 +189,7 @@ SETBOUND_INLINE void ZonotopicObserver::screen(const Eigen::Ref<const Vec>& y, c
   // The set this step corrects: a filter's prior (after the first step of a lazy filter the
   // implicit A·cur ⊕ E with its centre prior_.p and that centre's error prior_.r), a
   // predictor's current set (y_k and x_k; the output set adds F B, i.e. ±σ_i).
-  const bool implicit = is_filter() && lazy_prior() && k_ > 0;
+  const bool implicit = is_filter() && k_ > 0;
   const Set& X = is_filter() ? prior_ : cur_;
   const Mat& G = implicit ? cur_.G : X.G;
   const Vec& r = implicit ? cur_.r : X.r;
@@ -245,11 +246,12 @@ SETBOUND_INLINE void ZonotopicObserver::advance(const Eigen::Ref<const Vec>& y, 
   // written at the end (nothing after the commit throws).
   Eigen::Index m = 0;
   bool fresh_gram = false;
-  if (is_filter() && lazy_prior() && k_ > 0) {
-    m = correct_from_current(y, u, gainw_);
+  const bool bravo = opt_.rule == ZonotopicRule::Bravo;
+  if (is_filter() && k_ > 0) {
+    m = bravo ? bravo_from_current(y, u, gainw_) : correct_from_current(y, u, gainw_);
   } else if (is_filter()) {
     fresh_gram = true;
-    Set X = prior_;  // explicit: x0 before the first step, and every prior of Bravo
+    Set X = prior_;  // explicit: x0 before the first step
     correct(X, y, u, gainw_);
     m = X.G.cols();
     ensure_columns(W_, m + n_);
@@ -263,7 +265,10 @@ SETBOUND_INLINE void ZonotopicObserver::advance(const Eigen::Ref<const Vec>& y, 
   const bool reduce = !(is_filter() && opt_.convention == Convention::Cora && k_ == 0);
   // The Gram matrix of the new set without touching its columns: T S Tᵀ + N Nᵀ, then
   // finish_set's box columns and reduction as rank updates.
-  if (needs_gram_ && !fresh_gram) {
+  // (Bravo's bravo_S_ has followed its prior and strips already.)
+  if (needs_gram_ && !fresh_gram && bravo) {
+    Snew_ = bravo_S_;
+  } else if (needs_gram_ && !fresh_gram) {
     const Eigen::Index nN = m - cur_.G.cols();
     K_.noalias() = T_ * S_cur_;
     Snew_.noalias() = K_ * T_.transpose();
@@ -275,22 +280,13 @@ SETBOUND_INLINE void ZonotopicObserver::advance(const Eigen::Ref<const Vec>& y, 
   // ww_ = rs|W| is finite exactly when every generator is.
   if (!pw_.allFinite() || !rw_.allFinite() || !ww_.allFinite())
     throw NumericalError("observer: the set overflowed (non-finite values) at step " + std::to_string(k_));
-  Set P;
-  if (is_filter() && !lazy_prior()) {
-    P = Set{pw_, rw_, W_.leftCols(m)};
-    predict(P, u);
-    if (!P.p.allFinite() || !P.G.allFinite() || !P.r.allFinite())
-      throw NumericalError("observer: the set overflowed (non-finite values) at step " + std::to_string(k_));
-  }
   // Commit (nothing below throws but memory; same sizes as the last step: no allocation).
   cur_.p.swap(pw_);
   cur_.r.swap(rw_);
   cur_.G = W_.leftCols(m);
   w_cur_.swap(ww_);
   if (needs_gram_) S_cur_.swap(Snew_);
-  if (is_filter() && !lazy_prior()) {
-    prior_ = std::move(P);
-  } else if (is_filter()) {
+  if (is_filter()) {
     // The implicit prior A·X̂ ⊕ B u_k ⊕ E: its centre and the bound of that centre's error
     // (the generators are cur_'s through A, composed with the next step's strips).
     if (k_ == 0) prior_.G.resize(n_, 0);
@@ -388,30 +384,10 @@ SETBOUND_INLINE void ZonotopicObserver::strip_update(Set& X, const Mat& Lam, con
   X.r = r * (1.0 + g);
 }
 
-SETBOUND_INLINE void ZonotopicObserver::affine(Set& X, const Mat& M, const Mat& dM, const Vec& t, const Vec& dt, const Mat& N,
-                                               const Vec& dN) {
-  using rounding_bounds::gamma;
-  const Eigen::Index n = X.p.size(), m = X.G.cols(), k = N.cols();
-  const double g = gamma(n + 4);
-  const Vec w = X.G.cwiseAbs().rowwise().sum();
-  const Mat absM = M.cwiseAbs();
-  const Vec absp = X.p.cwiseAbs();
-  Vec pn = M * X.p + t;
-  Vec r = (absM + dM) * X.r + dM * (w + absp) + g * (absM * (w + absp)) + g * pn.cwiseAbs() + dt + dN;
-  Mat Gn(n, m + k);
-  if (m > 0) detail::transform_generators(M, X.G, Gn, m);
-  if (k > 0) Gn.rightCols(k) = N;
-  X.p.swap(pn);
-  X.G.swap(Gn);
-  X.r = r * (1.0 + g);
-}
-
-SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Set& X, const Eigen::Ref<const Vec>& c, double sig,
-                                                             Vec& lam) {
+SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Mat& G, Eigen::Index m, const Eigen::Ref<const Vec>& c,
+                                                             double sig, Vec& lam) {
   lam.setZero(n_);
-  const Eigen::Index m = X.G.cols();
   if (m == 0) return -1;
-  const Mat& G = X.G;
   // Candidate 0 is the set itself; candidate j (Bravo 2006, Property 1) replaces g_j by the strip
   // direction: T_j = [g_i − (cᵀg_i / a) g_j for i ≠ j, (σ / a) g_j for i = j], a = cᵀg_j. Score:
   // det(T Tᵀ) (a volume proxy); the first minimiser wins (candidate 0 wins exact ties, spec §2.2).
@@ -424,7 +400,8 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Set& X, const
   // Cholesky factor and one pass over the columns per strip, O(n² m), instead of m determinants
   // of n × m products, O(n² m²) (vehicle6 at CORA's order 100: 600 columns). Only the choice uses
   // the score; every candidate is an outer bound, so its rounding cannot break the guarantee.
-  // S = bravo_S_ is computed once per step and follows the strips by rank updates (bravo_update).
+  // S = bravo_S_ comes from the kept Gram matrix (A S Aᵀ + E Eᵀ) and follows the strips by rank
+  // updates (bravo_update).
   // The scores h_j = g_jᵀS⁻¹g_j too: after candidate j, with z = S⁻¹g_j,
   //     S'⁻¹ = S⁻¹ − z zᵀ/h_j + c cᵀ/σ²,  h'_i = h_i − (zᵀg_i)²/h_j (i ≠ j),  h'_j = 1
   // (cᵀg'_i = 0 for the updated columns), O(n) per column instead of the O(n²) of L⁻¹g_i; a score
@@ -472,38 +449,77 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Set& X, const
   return bestj;
 }
 
-SETBOUND_INLINE void ZonotopicObserver::bravo_update(Set& X, const Vec& lam, const Eigen::Ref<const Vec>& c, double y,
-                                                     double sig, Eigen::Index j, const Vec* cn) {
+SETBOUND_INLINE void ZonotopicObserver::bravo_update(Mat& G, Eigen::Index m, Vec& p, Vec& r, const Vec& lam,
+                                                     const Eigen::Ref<const Vec>& c, double y, double sig, Eigen::Index j,
+                                                     const Vec* cn) {
   using rounding_bounds::gamma;
-  const Eigen::Index m = X.G.cols();
   const double g = gamma(n_ + 1 + 4);
   const Vec& w = bravo_w_;  // rs|G| (rounded up) from the candidate pass
   // The bounds of strip_update for one strip: K = I − λcᵀ and its rounding g (I + |λ||c|ᵀ), the
   // centre's, the generators' 2g (|G| + |λ||c|ᵀ|G|) by rows and the new column's g |λ| σ.
   al_ = lam.cwiseAbs();
   const Vec ac = c.cwiseAbs();
-  const double innov = y - c.dot(X.p);
-  pn_ = X.p + lam * innov;
-  t_ = X.p.cwiseAbs();
-  Vec r = (1.0 + g) * (X.r + al_ * ac.dot(X.r));  // (|K| + dK) r, |K| <= I + |λ||c|ᵀ
-  r += 2.0 * g * (t_ + al_ * (std::abs(y) + ac.dot(t_)) + pn_.cwiseAbs());
-  r += 2.0 * g * (w + al_ * ac.dot(w));
-  r += (g * sig) * al_;
+  const double innov = y - c.dot(p);
+  pn_ = p + lam * innov;
+  t_ = p.cwiseAbs();
+  v_ = (1.0 + g) * (r + al_ * ac.dot(r));  // (|K| + dK) r, |K| <= I + |λ||c|ᵀ
+  v_ += 2.0 * g * (t_ + al_ * (std::abs(y) + ac.dot(t_)) + pn_.cwiseAbs());
+  v_ += 2.0 * g * (w + al_ * ac.dot(w));
+  v_ += (g * sig) * al_;
   // G ← G − λ (cᵀG) in place (cᵀg_i from the candidate pass), and the next strip's values.
   // (I − λcᵀ) g_j is zero in exact arithmetic with λ = g_j / cᵀg_j; its computed value (and the
   // rounding bound above) stays in the box, the new column σλ takes its place.
-  detail::bravo_advance(X.G, m, lam, sig, j, bravo_z_, bravo_a_.data(), bravo_b_.data(), bravo_h_.data(), bravo_res_, cn,
+  detail::bravo_advance(G, m, lam, sig, j, bravo_z_, bravo_a_.data(), bravo_b_.data(), bravo_h_.data(), bravo_res_, cn,
                         bravo_w_);
   bravo_ready_ = cn != nullptr;
-  r += bravo_res_;
-  X.p.swap(pn_);
-  X.r = r * (1.0 + g);
+  v_ += bravo_res_;
+  p.swap(pn_);
+  r = v_ * (1.0 + g);
   // S ← K S Kᵀ + σ² λλᵀ with S c = sc.
   sc_.noalias() = bravo_S_ * c;
   const double csc = c.dot(sc_);
   bravo_S_.noalias() -= lam * sc_.transpose();
   bravo_S_.noalias() -= sc_ * lam.transpose();
   bravo_S_.noalias() += (csc + sig * sig) * (lam * lam.transpose());
+}
+
+SETBOUND_INLINE void ZonotopicObserver::bravo_correct(Mat& G, Eigen::Index m, Vec& p, Vec& r,
+                                                      const std::vector<Eigen::Index>& rows, const Vec& ys,
+                                                      const Vec& sig, Mat& gain) {
+  // S-I: one strip at a time, in the order of the outputs, each on the set the last one left.
+  const Mat& C = sys_.C();
+  const std::size_t q = rows.size();
+  bravo_ready_ = false;
+  for (std::size_t t = 0; t < q; ++t) {
+    const Eigen::Index i = rows[t], ti = static_cast<Eigen::Index>(t);
+    bravo_c_ = C.row(i).transpose();
+    const Eigen::Index j = bravo_choice(G, m, bravo_c_, sig(ti), lam_);
+    if (j < 0) continue;  // the set itself is the best candidate
+    if (!lam_.allFinite()) throw NumericalError("gain rule: non-finite weight for output " + std::to_string(i));
+    // In place; the same pass gives the next strip's scores.
+    if (t + 1 < q) bravo_cn_ = C.row(rows[t + 1]).transpose();
+    bravo_update(G, m, p, r, lam_, bravo_c_, ys(ti), sig(ti), j, t + 1 < q ? &bravo_cn_ : nullptr);
+    gain.col(i) = lam_;
+  }
+}
+
+SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_from_current(const Eigen::Ref<const Vec>& y,
+                                                                   const Eigen::Ref<const Vec>& u, Mat& gain) {
+  using rounding_bounds::gamma;
+  const double g = gamma(n_ + sys_.nu() + sys_.ny() + 4);
+  // The prior A·X̂ ⊕ B u ⊕ E as explicit columns, once: its centre and that centre's error from
+  // the end of the last step, the map A and the columns E exact (dT = 0, dN = 0).
+  pc_ = prior_.p;
+  ec_ = prior_.r;
+  const Eigen::Index ne = Enz_.cols();
+  if (ne > 0) N_.leftCols(ne) = Enz_;
+  dT_.setZero(n_, n_);
+  dN_.setZero(n_);
+  const Eigen::Index m = map_current(sys_.A(), dT_, ne, g);
+  prior_gram(bravo_S_);
+  shifted(y, u, rows_, ys_, sig_);
+  if (!rows_.empty()) bravo_correct(W_, m, pw_, rw_, rows_, ys_, sig_, gain);
+  return m;
 }
 
 SETBOUND_INLINE void ZonotopicObserver::gather_rows(const Mat& C, const std::vector<Eigen::Index>& rows, Mat& CS) {
@@ -541,40 +557,29 @@ SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const V
   if (q == 0) return;
   const Mat& C = sys_.C();
   switch (opt_.rule) {
-    case ZonotopicRule::SegmentMin:
     case ZonotopicRule::Bravo:
+      detail::gram(X.G, X.G.cols(), bravo_S_);
+      bravo_correct(X.G, X.G.cols(), X.p, X.r, rows, ys, sig, gain);
+      return;
+    case ZonotopicRule::SegmentMin:
     case ZonotopicRule::FixedStrips: {
       // S-I: one strip at a time, in the order of the outputs.
-      if (opt_.rule == ZonotopicRule::Bravo) {
-        detail::gram(X.G, X.G.cols(), bravo_S_);
-        bravo_ready_ = false;
-      }
       for (Eigen::Index t = 0; t < q; ++t) {
         const Eigen::Index i = rows[static_cast<std::size_t>(t)];
         const Vec c = C.row(i).transpose();
         Vec lam;
-        Eigen::Index replace = -1;
         if (opt_.rule == ZonotopicRule::SegmentMin) {
           // λ = G Gᵀc / (cᵀG Gᵀc + σ²) ([Alamo2005], spec §2.3).
           const Vec v = X.G * (X.G.transpose() * c);
           const double den = c.dot(v) + sig(t) * sig(t);
           lam = den > 0 ? Vec(v / den) : Vec(Vec::Zero(n_));
-        } else if (opt_.rule == ZonotopicRule::Bravo) {
-          replace = bravo_choice(X, c, sig(t), lam);
-          if (replace < 0) continue;  // the set itself is the best candidate
         } else {
           lam = opt_.gain.col(i);
         }
         if (!lam.allFinite())
           throw NumericalError("gain rule: non-finite weight for output " + std::to_string(i));
         if (lam.cwiseAbs().maxCoeff() == 0) continue;  // nothing changes (CORA's zero column is dropped)
-        if (replace >= 0) {
-          // Bravo: in place, the next strip's scores from the same pass.
-          if (t + 1 < q) bravo_cn_ = C.row(rows[static_cast<std::size_t>(t + 1)]).transpose();
-          bravo_update(X, lam, c, ys(t), sig(t), replace, t + 1 < q ? &bravo_cn_ : nullptr);
-        } else {
-          strip_update(X, lam, C.row(i), ys.segment(t, 1), sig.segment(t, 1));
-        }
+        strip_update(X, lam, C.row(i), ys.segment(t, 1), sig.segment(t, 1));
         gain.col(i) = lam;
       }
       return;
@@ -612,16 +617,6 @@ SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const V
     }
     default: return;
   }
-}
-
-SETBOUND_INLINE void ZonotopicObserver::predict(Set& X, const Eigen::Ref<const Vec>& u) const {
-  using rounding_bounds::gamma;
-  Vec t = Vec::Zero(n_), dt = Vec::Zero(n_);
-  if (sys_.nu() > 0) {
-    t.noalias() = sys_.B() * u;
-    dt = gamma(sys_.nu()) * (sys_.B().cwiseAbs() * u.cwiseAbs());
-  }
-  affine(X, sys_.A(), Mat::Zero(n_, n_), t, dt, Enz_, Vec::Zero(n_));
 }
 
 SETBOUND_INLINE void ZonotopicObserver::ensure_columns(Mat& M, Eigen::Index cols) const {
@@ -915,7 +910,7 @@ SETBOUND_INLINE void ZonotopicObserver::restore_state(const std::vector<double>&
     if ((t.prior.r.array() < 0).any() || (t.cur.r.array() < 0).any()) r.fail("a box radius is negative");
     if (is_filter() && t.has != (t.k > 0)) r.fail("a filter has a current set exactly after its first step");
     if (!is_filter() && !t.has) r.fail("a predictor always has a current set");
-    if (lazy_prior() && t.k > 0 && t.prior.G.cols() > 0)
+    if (is_filter() && t.k > 0 && t.prior.G.cols() > 0)
       r.fail("this filter's prior after the first step has no generators of its own (they are the current set's)");
     return t;
   });
@@ -943,8 +938,9 @@ SETBOUND_INLINE StateFingerprint ZonotopicObserver::fingerprint() const {
   // Layout 2: a filter's prior after its first step is implied by the current set (A·X̂ ⊕ E):
   // saved as its centre and the bound of that centre's error, no generators; the Gram matrix
   // the gains use is saved (it is updated, not recomputed). A state of layout 1 (the explicit
-  // prior, no Gram matrix) is refused by this value.
-  f.add_int(2);
+  // prior, no Gram matrix) is refused by this value. Layout 3: Bravo's prior became implicit too
+  // (its states of layout 2 held the explicit prior; other rules are unchanged).
+  f.add_int(opt_.rule == ZonotopicRule::Bravo ? 3 : 2);
   return f;
 }
 
