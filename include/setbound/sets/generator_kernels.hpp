@@ -28,11 +28,10 @@ void add_gram(const Eigen::MatrixXd& G, Eigen::Index from, Eigen::Index count, E
 double abs_projection_sum(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& t);
 
 /// One pass over the first m columns of G for the strip with normal c (Bravo's candidates,
-/// estimators/zonotopic/observer.hpp): a_j = cᵀg_j, b_j = |c|ᵀ|g_j|, h_j = ‖L g_j‖² with L
-/// lower triangular (n × n; only its lower triangle is read), and w = rs|G| rounded up as
-/// compact_and_sum gives it.
+/// estimators/zonotopic/observer.hpp): a_j = cᵀg_j and h_j = ‖L g_j‖² with L lower triangular
+/// (n × n; only its lower triangle is read).
 void strip_candidates(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
-                      const Eigen::MatrixXd& L, double* a, double* b, double* h, Eigen::VectorXd& w);
+                      const Eigen::MatrixXd& L, double* a, double* h);
 
 /// Bravo's strip update and the next strip's candidate values in one pass over the first m
 /// columns of G (estimators/zonotopic/observer.hpp, bravo_update): g_i ← g_i − λ a_i with
@@ -40,11 +39,10 @@ void strip_candidates(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref
 /// `residual` and it becomes σλ. The leverage scores h_i = g_iᵀ S⁻¹ g_i follow without
 /// S'⁻¹: h_i ← h_i − (zᵀg_i)² / h_j (z = S⁻¹g_j, g_i before the update), h_j ← 1; an h_i
 /// that loses more than 8 digits to that cancellation becomes NaN (the caller recomputes it).
-/// With cn (the next strip's normal, may be null): a_i ← cnᵀg_i, b_i ← |cn|ᵀ|g_i| and w = rs|G|
-/// (rounded up as compact_and_sum) of the updated columns.
+/// With cn (the next strip's normal, may be null): a_i ← cnᵀg_i of the updated columns.
 void bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::VectorXd& lam, double sig, Eigen::Index j,
-                   const Eigen::VectorXd& z, double* a, double* b, double* h, Eigen::VectorXd& residual,
-                   const Eigen::VectorXd* cn, Eigen::VectorXd& w);
+                   const Eigen::VectorXd& z, double* a, double* h, Eigen::VectorXd& residual,
+                   const Eigen::VectorXd* cn);
 
 /// Removes exactly-zero columns among the first m of W (keeping the order) when `drop_zeros`,
 /// and sets w = rs|W| over the kept columns, rounded up (a bound of the computed sums). Returns
@@ -95,50 +93,37 @@ double abs_projection_sum_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const 
 
 template <int N>
 void strip_candidates_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
-                            const Eigen::MatrixXd& L, double* a, double* b, double* h, Eigen::VectorXd& w) {
+                            const Eigen::MatrixXd& L, double* a, double* h) {
   // Plain loops over a compile-time N: the column, c and the triangle stay in registers.
-  double cf[N], acf[N], Lf[N * N], acc[N];
+  double cf[N], Lf[N * N];
   for (int i = 0; i < N; ++i) {
     cf[i] = c(i);
-    acf[i] = std::abs(c(i));
-    acc[i] = 0.0;
     for (int k = 0; k < N; ++k) Lf[i * N + k] = L(i, k);
   }
   const double* const base = G.data();
   for (Eigen::Index j = 0; j < m; ++j) {
     const double* g = base + j * N;
-    double s = 0.0, sa = 0.0, hh = 0.0;
-    for (int i = 0; i < N; ++i) {
-      const double ag = std::abs(g[i]);
-      s += cf[i] * g[i];
-      sa += acf[i] * ag;
-      acc[i] += ag;
-    }
+    double s = 0.0, hh = 0.0;
+    for (int i = 0; i < N; ++i) s += cf[i] * g[i];
     for (int r = 0; r < N; ++r) {
       double z = 0.0;
       for (int k = 0; k <= r; ++k) z += Lf[r * N + k] * g[k];
       hh += z * z;
     }
     a[j] = s;
-    b[j] = sa;
     h[j] = hh;
   }
-  const double infl = 1.0 + static_cast<double>(m + 2) * std::numeric_limits<double>::epsilon();
-  w.resize(N);
-  for (int i = 0; i < N; ++i) w(i) = acc[i] * infl;
 }
 
 template <int N>
 void bravo_advance_fixed(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::VectorXd& lam, double sig, Eigen::Index j,
-                         const Eigen::VectorXd& z, double* a, double* b, double* h, Eigen::VectorXd& residual,
-                         const Eigen::VectorXd* cn, Eigen::VectorXd& w) {
-  double lf[N], zf[N], cf[N], acf[N], acc[N];
+                         const Eigen::VectorXd& z, double* a, double* h, Eigen::VectorXd& residual,
+                         const Eigen::VectorXd* cn) {
+  double lf[N], zf[N], cf[N];
   for (int i = 0; i < N; ++i) {
     lf[i] = lam(i);
     zf[i] = z(i);
     cf[i] = cn ? (*cn)(i) : 0.0;
-    acf[i] = std::abs(cf[i]);
-    acc[i] = 0.0;
   }
   const double hj = h[j];
   double* const base = G.data();
@@ -162,20 +147,10 @@ void bravo_advance_fixed(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Vector
       h[k] = hk > 1e-8 * h[k] ? hk : std::numeric_limits<double>::quiet_NaN();
     }
     if (!cn) continue;
-    double s = 0.0, sa = 0.0;
-    for (int i = 0; i < N; ++i) {
-      const double ag = std::abs(g[i]);
-      s += cf[i] * g[i];
-      sa += acf[i] * ag;
-      acc[i] += ag;
-    }
+    double s = 0.0;
+    for (int i = 0; i < N; ++i) s += cf[i] * g[i];
     a[k] = s;
-    b[k] = sa;
   }
-  if (!cn) return;
-  const double infl = 1.0 + static_cast<double>(m + 2) * std::numeric_limits<double>::epsilon();
-  w.resize(N);
-  for (int i = 0; i < N; ++i) w(i) = acc[i] * infl;
 }
 
 template <int N>

@@ -188,8 +188,7 @@ class ZonotopicObserver {
   void bravo_correct(Mat& G, Eigen::Index m, Vec& p, Vec& r, const std::vector<Eigen::Index>& rows, const Vec& ys,
                      const Vec& sig, Mat& gain);
   /// The Bravo candidate for one strip of G.leftCols(m), whose Gram matrix is bravo_S_: λ (zero:
-  /// the set itself) and the column it replaces (−1). Leaves cᵀg_j in bravo_a_ and rs|G| in
-  /// bravo_w_ for the update.
+  /// the set itself) and the column it replaces (−1). Leaves cᵀg_j in bravo_a_ for the update.
   Eigen::Index bravo_choice(const Mat& G, Eigen::Index m, const Eigen::Ref<const Vec>& c, double sig, Vec& lam);
   /// Bravo's strip update in place: p + λ(y − cᵀp), g_i − λ cᵀg_i, column j replaced by σλ, with
   /// the rounding bounds of strip_update; bravo_S_ follows (K S Kᵀ + σ² λλᵀ, exact since K g_j = 0)
@@ -260,10 +259,11 @@ class ZonotopicObserver {
   std::vector<Eigen::Index> rows_, screen_rows_;
   // Bravo: the Gram matrix of the set being corrected (from the kept S_cur_, then rank updates
   // through its strips), L⁻¹ of its Cholesky factor, and the candidate pass's per-column values.
-  // bravo_ready_: a, b, w are those of the next strip's normal and h the current leverage scores
-  // (NaN where the update's cancellation asks for a recomputation), from bravo_update's pass.
+  // bravo_ready_: a = cᵀg_j of the next strip's normal and h the current leverage scores (NaN
+  // where the update's cancellation asks for a recomputation), from bravo_update's pass.
+  // bravo_w_ >= rs|G| of the set being corrected: a bound carried through the strips, not a pass.
   Mat bravo_S_, bravo_Linv_;
-  Vec bravo_a_, bravo_b_, bravo_h_, bravo_w_, bravo_z_, bravo_res_, bravo_c_, bravo_cn_;
+  Vec bravo_a_, bravo_h_, bravo_w_, bravo_z_, bravo_res_, bravo_c_, bravo_cn_;
   bool bravo_ready_ = false;
   Vec ys_, sig_, screen_ys_, screen_sig_, yscr_, ta_, wp_;
 };

@@ -84,54 +84,48 @@ SETBOUND_INLINE double abs_projection_sum(const Eigen::MatrixXd& G, Eigen::Index
 }
 
 SETBOUND_INLINE void strip_candidates(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
-                                      const Eigen::MatrixXd& L, double* a, double* b, double* h, Eigen::VectorXd& w) {
+                                      const Eigen::MatrixXd& L, double* a, double* h) {
   switch (G.rows()) {
-    case 1: return strip_candidates_fixed<1>(G, m, c, L, a, b, h, w);
-    case 2: return strip_candidates_fixed<2>(G, m, c, L, a, b, h, w);
-    case 3: return strip_candidates_fixed<3>(G, m, c, L, a, b, h, w);
-    case 4: return strip_candidates_fixed<4>(G, m, c, L, a, b, h, w);
-    case 5: return strip_candidates_fixed<5>(G, m, c, L, a, b, h, w);
-    case 6: return strip_candidates_fixed<6>(G, m, c, L, a, b, h, w);
-    case 7: return strip_candidates_fixed<7>(G, m, c, L, a, b, h, w);
-    case 8: return strip_candidates_fixed<8>(G, m, c, L, a, b, h, w);
+    case 1: return strip_candidates_fixed<1>(G, m, c, L, a, h);
+    case 2: return strip_candidates_fixed<2>(G, m, c, L, a, h);
+    case 3: return strip_candidates_fixed<3>(G, m, c, L, a, h);
+    case 4: return strip_candidates_fixed<4>(G, m, c, L, a, h);
+    case 5: return strip_candidates_fixed<5>(G, m, c, L, a, h);
+    case 6: return strip_candidates_fixed<6>(G, m, c, L, a, h);
+    case 7: return strip_candidates_fixed<7>(G, m, c, L, a, h);
+    case 8: return strip_candidates_fixed<8>(G, m, c, L, a, h);
     default: break;
   }
   // Blocked products for larger n (tank30: n = 30, m ≈ 3 000): L G through Eigen's triangular
   // product, a column block at a time so the temporary stays small.
-  const Eigen::Index n = G.rows();
-  const Eigen::VectorXd ac = c.cwiseAbs();
-  w.setZero(n);
   constexpr Eigen::Index kBlock = 256;
   Eigen::MatrixXd Z;
   for (Eigen::Index j0 = 0; j0 < m; j0 += kBlock) {
     const Eigen::Index nb = std::min(kBlock, m - j0);
     const auto Gb = G.middleCols(j0, nb);
     Eigen::Map<Eigen::VectorXd>(a + j0, nb).noalias() = Gb.transpose() * c;
-    Eigen::Map<Eigen::VectorXd>(b + j0, nb).noalias() = Gb.cwiseAbs().transpose() * ac;
-    w.noalias() += Gb.cwiseAbs().rowwise().sum();
     Z.noalias() = L.triangularView<Eigen::Lower>() * Gb;
     Eigen::Map<Eigen::VectorXd>(h + j0, nb) = Z.colwise().squaredNorm().transpose();
   }
-  w *= 1.0 + static_cast<double>(m + 2) * std::numeric_limits<double>::epsilon();
 }
 
 SETBOUND_INLINE void bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::VectorXd& lam, double sig,
-                                   Eigen::Index j, const Eigen::VectorXd& z, double* a, double* b, double* h,
-                                   Eigen::VectorXd& residual, const Eigen::VectorXd* cn, Eigen::VectorXd& w) {
+                                   Eigen::Index j, const Eigen::VectorXd& z, double* a, double* h,
+                                   Eigen::VectorXd& residual, const Eigen::VectorXd* cn) {
   switch (G.rows()) {
-    case 1: return bravo_advance_fixed<1>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
-    case 2: return bravo_advance_fixed<2>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
-    case 3: return bravo_advance_fixed<3>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
-    case 4: return bravo_advance_fixed<4>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
-    case 5: return bravo_advance_fixed<5>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
-    case 6: return bravo_advance_fixed<6>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
-    case 7: return bravo_advance_fixed<7>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
-    case 8: return bravo_advance_fixed<8>(G, m, lam, sig, j, z, a, b, h, residual, cn, w);
+    case 1: return bravo_advance_fixed<1>(G, m, lam, sig, j, z, a, h, residual, cn);
+    case 2: return bravo_advance_fixed<2>(G, m, lam, sig, j, z, a, h, residual, cn);
+    case 3: return bravo_advance_fixed<3>(G, m, lam, sig, j, z, a, h, residual, cn);
+    case 4: return bravo_advance_fixed<4>(G, m, lam, sig, j, z, a, h, residual, cn);
+    case 5: return bravo_advance_fixed<5>(G, m, lam, sig, j, z, a, h, residual, cn);
+    case 6: return bravo_advance_fixed<6>(G, m, lam, sig, j, z, a, h, residual, cn);
+    case 7: return bravo_advance_fixed<7>(G, m, lam, sig, j, z, a, h, residual, cn);
+    case 8: return bravo_advance_fixed<8>(G, m, lam, sig, j, z, a, h, residual, cn);
     default: break;
   }
   // Larger n: O(n m) products over the whole matrix (tank30: n = 30, m ≈ 3 000), instead of
   // the O(n² m) triangular product a fresh score would cost.
-  Eigen::Map<Eigen::VectorXd> av(a, m), bv(b, m), hv(h, m);
+  Eigen::Map<Eigen::VectorXd> av(a, m), hv(h, m);
   const double hj = hv(j);
   const Eigen::VectorXd e = G.leftCols(m).transpose() * z;
   G.leftCols(m).noalias() -= lam * av.transpose();
@@ -145,10 +139,7 @@ SETBOUND_INLINE void bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, const Eig
     const double hk = hv(k) - e(k) * e(k) / hj;
     hv(k) = hk > 1e-8 * hv(k) ? hk : std::numeric_limits<double>::quiet_NaN();
   }
-  if (!cn) return;
-  av.noalias() = G.leftCols(m).transpose() * *cn;
-  bv.noalias() = G.leftCols(m).cwiseAbs().transpose() * cn->cwiseAbs();
-  compact_and_sum(G, m, w, false);
+  if (cn) av.noalias() = G.leftCols(m).transpose() * *cn;
 }
 
 SETBOUND_INLINE Eigen::Index compact_and_sum(Eigen::MatrixXd& W, Eigen::Index m, Eigen::VectorXd& w, bool drop_zeros) {

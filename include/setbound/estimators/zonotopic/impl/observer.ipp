@@ -419,29 +419,41 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Mat& G, Eigen
   if (!well_posed) return -1;
   bravo_Linv_ = llt.matrixL().solve(Mat::Identity(n_, n_));
   if (!ready) {
-    for (Vec* v : {&bravo_a_, &bravo_b_, &bravo_h_})
+    for (Vec* v : {&bravo_a_, &bravo_h_})
       if (v->size() < m) v->resize(std::max<Eigen::Index>(m, 2 * v->size()));
-    // cᵀg_j, |c|ᵀ|g_j|, ‖L⁻¹g_j‖² and rs|G| in one pass.
-    detail::strip_candidates(G, m, c, bravo_Linv_, bravo_a_.data(), bravo_b_.data(), bravo_h_.data(), bravo_w_);
-  } else {
-    for (Eigen::Index j = 0; j < m; ++j)
-      if (std::isnan(bravo_h_(j))) bravo_h_(j) = (bravo_Linv_.triangularView<Eigen::Lower>() * G.col(j)).squaredNorm();
+    // cᵀg_j and ‖L⁻¹g_j‖² in one pass.
+    detail::strip_candidates(G, m, c, bravo_Linv_, bravo_a_.data(), bravo_h_.data());
   }
   // CORA's threshold on |cᵀg_j| is absolute; setbound's is relative to |c|ᵀ|g_j| (spec §2.2).
+  // The first minimiser is sought over cᵀg_j ≠ 0 (CORA: above its threshold), and only the winner
+  // is held to the relative threshold: if it passes, no admissible candidate before it scores
+  // as low, so it is the first minimiser over the admissible ones too. A winner that fails (a
+  // column numerically orthogonal to c) sends the choice through the thresholded scan. A score
+  // left NaN by the update's cancellation is recomputed from L⁻¹ when its candidate is scored.
   const double base = 1e10 * std::numeric_limits<double>::epsilon();
   const bool cora = opt_.convention == Convention::Cora;
-  Eigen::Index bestj = -1;
-  double best = 1.0;
-  for (Eigen::Index j = 0; j < m; ++j) {
-    const double a = bravo_a_(j);
-    if (!(std::abs(a) > (cora ? base : base * bravo_b_(j)))) continue;
-    const double s = sig / a;
-    const double score = s * s * bravo_h_(j);
-    if (score < best) {
-      best = score;
-      bestj = j;
+  auto scan = [&](bool relative) {
+    Eigen::Index bj = -1;
+    double best = 1.0;
+    for (Eigen::Index j = 0; j < m; ++j) {
+      const double a = bravo_a_(j);
+      const double floor =
+          cora ? base : relative ? base * c.cwiseAbs().dot(G.col(j).cwiseAbs()) : 0.0;
+      if (!(std::abs(a) > floor)) continue;
+      double h = bravo_h_(j);
+      if (std::isnan(h)) h = bravo_h_(j) = (bravo_Linv_.triangularView<Eigen::Lower>() * G.col(j)).squaredNorm();
+      const double s = sig / a;
+      const double score = s * s * h;
+      if (score < best) {
+        best = score;
+        bj = j;
+      }
     }
-  }
+    return bj;
+  };
+  Eigen::Index bestj = scan(false);
+  if (bestj >= 0 && !cora && !(std::abs(bravo_a_(bestj)) > base * c.cwiseAbs().dot(G.col(bestj).cwiseAbs())))
+    bestj = scan(true);
   if (bestj >= 0) {
     lam = G.col(bestj) / bravo_a_(bestj);
     bravo_z_ = llt.solve(G.col(bestj));  // S⁻¹g_j for the scores' update
@@ -454,7 +466,7 @@ SETBOUND_INLINE void ZonotopicObserver::bravo_update(Mat& G, Eigen::Index m, Vec
                                                      const Vec* cn) {
   using rounding_bounds::gamma;
   const double g = gamma(n_ + 1 + 4);
-  const Vec& w = bravo_w_;  // rs|G| (rounded up) from the candidate pass
+  const Vec& w = bravo_w_;  // >= rs|G| (bravo_correct's caller, then the recursion below)
   // The bounds of strip_update for one strip: K = I − λcᵀ and its rounding g (I + |λ||c|ᵀ), the
   // centre's, the generators' 2g (|G| + |λ||c|ᵀ|G|) by rows and the new column's g |λ| σ.
   al_ = lam.cwiseAbs();
@@ -469,12 +481,15 @@ SETBOUND_INLINE void ZonotopicObserver::bravo_update(Mat& G, Eigen::Index m, Vec
   // G ← G − λ (cᵀG) in place (cᵀg_i from the candidate pass), and the next strip's values.
   // (I − λcᵀ) g_j is zero in exact arithmetic with λ = g_j / cᵀg_j; its computed value (and the
   // rounding bound above) stays in the box, the new column σλ takes its place.
-  detail::bravo_advance(G, m, lam, sig, j, bravo_z_, bravo_a_.data(), bravo_b_.data(), bravo_h_.data(), bravo_res_, cn,
-                        bravo_w_);
+  detail::bravo_advance(G, m, lam, sig, j, bravo_z_, bravo_a_.data(), bravo_h_.data(), bravo_res_, cn);
   bravo_ready_ = cn != nullptr;
   v_ += bravo_res_;
   p.swap(pn_);
   r = v_ * (1.0 + g);
+  // rs|G'| without a pass: |fl(g_i − λ a_i)| <= (|g_i| + |λ||a_i|)(1 + g), Σ|a_i| <= (1 + g)|c|ᵀw,
+  // and the new column σλ; one more (1 + g) for this expression's own rounding.
+  t_ = w + al_ * ((1.0 + g) * ac.dot(w) + sig);
+  bravo_w_ = t_ * ((1.0 + g) * (1.0 + g));
   // S ← K S Kᵀ + σ² λλᵀ with S c = sc.
   sc_.noalias() = bravo_S_ * c;
   const double csc = c.dot(sc_);
@@ -517,6 +532,9 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_from_current(const Eigen::
   dN_.setZero(n_);
   const Eigen::Index m = map_current(sys_.A(), dT_, ne, g);
   prior_gram(bravo_S_);
+  // rs|[fl(A G), E]| <= (1 + g)|A| w + rs|E| (w >= rs|G|), and this expression's rounding.
+  bravo_w_ = (1.0 + g) * (absA_ * w_cur_) + (1.0 + gamma(ne + 2)) * rsE_;
+  bravo_w_ *= 1.0 + g;
   shifted(y, u, rows_, ys_, sig_);
   if (!rows_.empty()) bravo_correct(W_, m, pw_, rw_, rows_, ys_, sig_, gain);
   return m;
@@ -559,6 +577,7 @@ SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const V
   switch (opt_.rule) {
     case ZonotopicRule::Bravo:
       detail::gram(X.G, X.G.cols(), bravo_S_);
+      detail::compact_and_sum(X.G, X.G.cols(), bravo_w_, false);  // rs|G| rounded up
       bravo_correct(X.G, X.G.cols(), X.p, X.r, rows, ys, sig, gain);
       return;
     case ZonotopicRule::SegmentMin:
