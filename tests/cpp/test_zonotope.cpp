@@ -1,6 +1,7 @@
 // Zonotopes p ⊕ H B^m (spec papers.md §0.1, §3.1) and their C ABI.
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -870,4 +871,104 @@ TEST(GeneratorKernels, FusedPassesEqualTheSeparateOnes) {
       }
     }
   }
+}
+
+// Bravo's scoring inside the passes (sets/generator_kernels.hpp, used by the VolMin-B observer):
+// each pass returns the first minimiser of (σ/a_j)² h_j below 1 over |a_j| > floor, a NaN h_j
+// recomputed as ‖L g_j‖². Against a plain scan of the same values, on the fixed-size paths
+// (n <= 8) and the dynamic one: strip_candidates (a and h fresh), strip_scores (a fresh, h kept,
+// some NaN) and bravo_advance (the update, then the next strip's a and winner).
+TEST(GeneratorKernels, BravoPassesPickTheFirstMinimiser) {
+  namespace d = setbound::detail;
+  std::mt19937 gen(17);
+  std::normal_distribution<double> nrm;
+  auto scan = [](const Eigen::VectorXd& a, const Eigen::VectorXd& h, double sig, double floor) {
+    Eigen::Index w = -1;
+    double best = 1.0;
+    for (Eigen::Index j = 0; j < a.size(); ++j) {
+      if (!(std::abs(a(j)) > floor)) continue;
+      const double s = sig / a(j), score = s * s * h(j);
+      if (score < best) {
+        best = score;
+        w = j;
+      }
+    }
+    return w;
+  };
+  // The winner from recomputed values: the plain scan's unless two scores are within rounding.
+  auto expect_same_or_tied = [](Eigen::Index w, Eigen::Index w_ref, const Eigen::VectorXd& a, const Eigen::VectorXd& h,
+                                double sig, int trial) {
+    if (w == w_ref) return;
+    ASSERT_GE(w, 0) << "trial " << trial;
+    ASSERT_GE(w_ref, 0) << "trial " << trial;
+    const auto score = [&](Eigen::Index j) { return std::pow(sig / a(j), 2) * h(j); };
+    EXPECT_NEAR(score(w), score(w_ref), 1e-8 * score(w_ref)) << "trial " << trial;
+  };
+  int winners = 0, none = 0;
+  for (int trial = 0; trial < 220; ++trial) {
+    const int n = 1 + trial % 11;
+    const Eigen::Index m = n + 3 + trial % 17;
+    Eigen::MatrixXd G(n, m);
+    for (Eigen::Index j = 0; j < m; ++j)
+      for (int i = 0; i < n; ++i) G(i, j) = nrm(gen) * (1.0 + static_cast<double>(j % 4));
+    Eigen::VectorXd c(n), cn(n);
+    for (int i = 0; i < n; ++i) {
+      c(i) = nrm(gen);
+      cn(i) = nrm(gen);
+    }
+    const Eigen::MatrixXd S = G * G.transpose();
+    const Eigen::LLT<Eigen::MatrixXd> llt(S);
+    const Eigen::MatrixXd L = Eigen::MatrixXd(llt.matrixL()).inverse();
+    const double sig = std::exp(1.5 * nrm(gen));
+    const double floor = trial % 3 == 0 ? 0.5 : 0.0;  // CORA's absolute threshold, exaggerated
+    d::StripScoring sc;
+    sc.sig = sig;
+    sc.floor = floor;
+    sc.L = &L;
+    // Fresh pass.
+    Eigen::VectorXd a(m), h(m);
+    const Eigen::Index w1 = d::strip_candidates(G, m, c, L, a.data(), h.data(), sc);
+    const Eigen::VectorXd a_ref = G.transpose() * c;
+    const Eigen::VectorXd h_ref = (L.triangularView<Eigen::Lower>() * G).colwise().squaredNorm().transpose();
+    EXPECT_LE((a - a_ref).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + a_ref.cwiseAbs().maxCoeff())) << "trial " << trial;
+    EXPECT_LE((h - h_ref).cwiseAbs().maxCoeff(), 1e-10) << "trial " << trial;
+    EXPECT_EQ(w1, scan(a, h, sig, floor)) << "trial " << trial;  // the same values: exactly
+    (w1 >= 0 ? winners : none) += 1;
+    // Kept scores, a few of them NaN (recomputed when scored).
+    Eigen::VectorXd h2 = h;
+    for (Eigen::Index j = trial % 3; j < m; j += 3) h2(j) = std::nan("");
+    Eigen::VectorXd a2(m);
+    const Eigen::Index w2 = d::strip_scores(G, m, cn, a2.data(), h2.data(), sc);
+    expect_same_or_tied(w2, scan(a2, h, sig, floor), a2, h, sig, trial);
+    if (w2 >= 0) EXPECT_NEAR(h2(w2), h_ref(w2), 1e-10) << "trial " << trial;  // recomputed if it was NaN
+    // The update with the fresh winner, then the next strip (normal cn) scored in the same pass;
+    // the reference scores are fresh leverage scores of the updated columns.
+    if (w1 < 0) continue;
+    const Eigen::VectorXd lam = G.col(w1) / a(w1);
+    const Eigen::VectorXd z = llt.solve(G.col(w1));
+    Eigen::MatrixXd Gu = G;
+    Eigen::VectorXd residual;
+    const Eigen::MatrixXd S_next = [&] {
+      Eigen::MatrixXd R = G - lam * a.transpose();
+      R.col(w1) = sig * lam;
+      return Eigen::MatrixXd(R * R.transpose());
+    }();
+    const Eigen::MatrixXd L_next = Eigen::MatrixXd(Eigen::LLT<Eigen::MatrixXd>(S_next).matrixL()).inverse();
+    d::StripScoring next = sc;
+    next.L = &L_next;
+    Eigen::VectorXd a3 = a, h3 = h;
+    const Eigen::Index w3 = d::bravo_advance(Gu, m, lam, sig, w1, z, a3.data(), h3.data(), residual, &cn, next);
+    Eigen::MatrixXd R = G - lam * a.transpose();
+    EXPECT_LE(residual.maxCoeff(), 1e-9 * (1.0 + G.col(w1).cwiseAbs().maxCoeff())) << "trial " << trial;
+    R.col(w1) = sig * lam;
+    EXPECT_LE((Gu - R).cwiseAbs().maxCoeff(), 1e-10 * (1.0 + R.cwiseAbs().maxCoeff())) << "trial " << trial;
+    const Eigen::VectorXd a3_ref = R.transpose() * cn;
+    const Eigen::VectorXd h3_ref = (L_next.triangularView<Eigen::Lower>() * R).colwise().squaredNorm().transpose();
+    EXPECT_LE((a3 - a3_ref).cwiseAbs().maxCoeff(), 1e-9 * (1.0 + a3_ref.cwiseAbs().maxCoeff())) << "trial " << trial;
+    for (Eigen::Index j = 0; j < m; ++j)
+      if (!std::isnan(h3(j))) EXPECT_NEAR(h3(j), h3_ref(j), 1e-7) << "trial " << trial << " column " << j;
+    expect_same_or_tied(w3, scan(a3_ref, h3_ref, sig, floor), a3_ref, h3_ref, sig, trial);
+  }
+  EXPECT_GE(winners, 40);  // both outcomes occur (202 and 18 with this seed)
+  EXPECT_GE(none, 10);
 }

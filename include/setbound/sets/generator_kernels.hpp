@@ -27,11 +27,26 @@ void add_gram(const Eigen::MatrixXd& G, Eigen::Index from, Eigen::Index count, E
 /// direction t, in one pass without a temporary.
 double abs_projection_sum(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& t);
 
-/// One pass over the first m columns of G for the strip with normal c (Bravo's candidates,
-/// estimators/zonotopic/observer.hpp): a_j = cᵀg_j and h_j = ‖L g_j‖² with L lower triangular
-/// (n × n; only its lower triangle is read).
-void strip_candidates(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
-                      const Eigen::MatrixXd& L, double* a, double* h);
+/// How a pass scores Bravo's candidates for a strip (estimators/zonotopic/observer.hpp,
+/// bravo_choice): half-width sig, candidates with |cᵀg_j| > floor, score (sig / cᵀg_j)² h_j, the
+/// first minimiser below 1 wins (-1: none); a NaN h_j is recomputed as ‖L g_j‖² (L lower
+/// triangular, the inverse Cholesky factor of the strip's Gram matrix) when its candidate is scored.
+struct StripScoring {
+  double sig = 0.0;
+  double floor = 0.0;
+  const Eigen::MatrixXd* L = nullptr;
+};
+
+/// One pass over the first m columns of G for the strip with normal c (Bravo's candidates):
+/// a_j = cᵀg_j and h_j = ‖L g_j‖² with L lower triangular (n × n; only its lower triangle is
+/// read), scored as `score` says. Returns the winner.
+Eigen::Index strip_candidates(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
+                              const Eigen::MatrixXd& L, double* a, double* h, const StripScoring& score);
+
+/// The same pass when the set has not changed since its scores were computed (the last strip
+/// chose the set itself): a_j = cᵀg_j only, the scores h_j kept (NaN ones recomputed).
+Eigen::Index strip_scores(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
+                          double* a, double* h, const StripScoring& score);
 
 /// Bravo's strip update and the next strip's candidate values in one pass over the first m
 /// columns of G (estimators/zonotopic/observer.hpp, bravo_update): g_i ← g_i − λ a_i with
@@ -39,10 +54,32 @@ void strip_candidates(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref
 /// `residual` and it becomes σλ. The leverage scores h_i = g_iᵀ S⁻¹ g_i follow without
 /// S'⁻¹: h_i ← h_i − (zᵀg_i)² / h_j (z = S⁻¹g_j, g_i before the update), h_j ← 1; an h_i
 /// that loses more than 8 digits to that cancellation becomes NaN (the caller recomputes it).
-/// With cn (the next strip's normal, may be null): a_i ← cnᵀg_i of the updated columns.
-void bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::VectorXd& lam, double sig, Eigen::Index j,
-                   const Eigen::VectorXd& z, double* a, double* h, Eigen::VectorXd& residual,
-                   const Eigen::VectorXd* cn);
+/// With cn (the next strip's normal, may be null): a_i ← cnᵀg_i of the updated columns, scored
+/// for that strip as `next` says (the scores' L is the updated set's); returns the next strip's
+/// winner (-1 without cn).
+Eigen::Index bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::VectorXd& lam, double sig, Eigen::Index j,
+                           const Eigen::VectorXd& z, double* a, double* h, Eigen::VectorXd& residual,
+                           const Eigen::VectorXd* cn, const StripScoring& next);
+
+/// The scoring of one candidate (a = cᵀg, h its leverage score, NaN: recompute ‖L g‖² from the
+/// column g); updates the running winner.
+template <int N>
+inline void score_candidate(const StripScoring& sc, Eigen::Index k, double a, double* h, const double* g,
+                            double& best, Eigen::Index& winner) {
+  if (!(std::abs(a) > sc.floor)) return;
+  double hk = h[k];
+  if (std::isnan(hk)) {
+    const Eigen::Index n = N == Eigen::Dynamic ? sc.L->rows() : N;
+    hk = (sc.L->triangularView<Eigen::Lower>() * Eigen::Map<const Eigen::VectorXd>(g, n)).squaredNorm();
+    h[k] = hk;
+  }
+  const double s = sc.sig / a;
+  const double score = s * s * hk;
+  if (score < best) {
+    best = score;
+    winner = k;
+  }
+}
 
 /// Removes exactly-zero columns among the first m of W (keeping the order) when `drop_zeros`,
 /// and sets w = rs|W| over the kept columns, rounded up (a bound of the computed sums). Returns
@@ -92,8 +129,8 @@ double abs_projection_sum_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const 
 }
 
 template <int N>
-void strip_candidates_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
-                            const Eigen::MatrixXd& L, double* a, double* h) {
+Eigen::Index strip_candidates_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
+                                    const Eigen::MatrixXd& L, double* a, double* h, const StripScoring& score) {
   // Plain loops over a compile-time N: the column, c and the triangle stay in registers.
   double cf[N], Lf[N * N];
   for (int i = 0; i < N; ++i) {
@@ -101,6 +138,8 @@ void strip_candidates_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const Eige
     for (int k = 0; k < N; ++k) Lf[i * N + k] = L(i, k);
   }
   const double* const base = G.data();
+  double best = 1.0;
+  Eigen::Index winner = -1;
   for (Eigen::Index j = 0; j < m; ++j) {
     const double* g = base + j * N;
     double s = 0.0, hh = 0.0;
@@ -112,13 +151,33 @@ void strip_candidates_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const Eige
     }
     a[j] = s;
     h[j] = hh;
+    score_candidate<N>(score, j, s, h, g, best, winner);
   }
+  return winner;
 }
 
 template <int N>
-void bravo_advance_fixed(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::VectorXd& lam, double sig, Eigen::Index j,
-                         const Eigen::VectorXd& z, double* a, double* h, Eigen::VectorXd& residual,
-                         const Eigen::VectorXd* cn) {
+Eigen::Index strip_scores_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
+                                double* a, double* h, const StripScoring& score) {
+  double cf[N];
+  for (int i = 0; i < N; ++i) cf[i] = c(i);
+  const double* const base = G.data();
+  double best = 1.0;
+  Eigen::Index winner = -1;
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const double* g = base + j * N;
+    double s = 0.0;
+    for (int i = 0; i < N; ++i) s += cf[i] * g[i];
+    a[j] = s;
+    score_candidate<N>(score, j, s, h, g, best, winner);
+  }
+  return winner;
+}
+
+template <int N>
+Eigen::Index bravo_advance_fixed(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::VectorXd& lam, double sig,
+                                 Eigen::Index j, const Eigen::VectorXd& z, double* a, double* h,
+                                 Eigen::VectorXd& residual, const Eigen::VectorXd* cn, const StripScoring& next) {
   double lf[N], zf[N], cf[N];
   for (int i = 0; i < N; ++i) {
     lf[i] = lam(i);
@@ -127,6 +186,8 @@ void bravo_advance_fixed(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Vector
   }
   const double hj = h[j];
   double* const base = G.data();
+  double best = 1.0;
+  Eigen::Index winner = -1;
   for (Eigen::Index k = 0; k < m; ++k) {
     double* g = base + k * N;
     const double ak = a[k];
@@ -150,7 +211,9 @@ void bravo_advance_fixed(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Vector
     double s = 0.0;
     for (int i = 0; i < N; ++i) s += cf[i] * g[i];
     a[k] = s;
+    score_candidate<N>(next, k, s, h, g, best, winner);
   }
+  return winner;
 }
 
 template <int N>

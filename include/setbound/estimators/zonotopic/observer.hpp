@@ -53,6 +53,7 @@
 // their strips are not applied, their columns of Λ / L are zero for the step (still valid).
 #pragma once
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <vector>
 
@@ -192,9 +193,14 @@ class ZonotopicObserver {
   Eigen::Index bravo_choice(const Mat& G, Eigen::Index m, const Eigen::Ref<const Vec>& c, double sig, Vec& lam);
   /// Bravo's strip update in place: p + λ(y − cᵀp), g_i − λ cᵀg_i, column j replaced by σλ, with
   /// the rounding bounds of strip_update; bravo_S_ follows (K S Kᵀ + σ² λλᵀ, exact since K g_j = 0)
-  /// and, in the same pass, the scores of the next strip (normal cn, null after the last strip).
+  /// and, in the same pass, the scores and the winner of the next strip (normal cn, half-width
+  /// sig_next; cn null after the last strip).
   void bravo_update(Mat& G, Eigen::Index m, Vec& p, Vec& r, const Vec& lam, const Eigen::Ref<const Vec>& c, double y,
-                    double sig, Eigen::Index j, const Vec* cn);
+                    double sig, Eigen::Index j, const Vec* cn, double sig_next);
+  /// bravo_llt_ and bravo_Linv_ from bravo_S_; false when S is (numerically) singular.
+  bool bravo_factor();
+  /// How the passes score the candidates of a strip with half-width sig (CORA's floor on |cᵀg|).
+  detail::StripScoring bravo_scoring(double sig) const;
   /// The strip-based correction of X with y_k; the weight used goes to `gain` (n × n_y).
   void correct(Set& X, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u, Mat& gain);
 
@@ -263,6 +269,12 @@ class ZonotopicObserver {
   // where the update's cancellation asks for a recomputation), from bravo_update's pass.
   // bravo_w_ >= rs|G| of the set being corrected: a bound carried through the strips, not a pass.
   Mat bravo_S_, bravo_Linv_;
+  Eigen::LLT<Mat, Eigen::Lower> bravo_llt_;
+  Eigen::Index bravo_next_ = -1;  // the next strip's winner from bravo_update's pass (bravo_ready_)
+  // Whether bravo_S_ is factored with the scores h of the current columns (Scored), numerically
+  // singular (Flat: every choice is the set itself until S changes) or neither (Unknown).
+  enum class BravoState { Unknown, Scored, Flat };
+  BravoState bravo_state_ = BravoState::Unknown;
   Vec bravo_a_, bravo_h_, bravo_w_, bravo_z_, bravo_res_, bravo_c_, bravo_cn_;
   bool bravo_ready_ = false;
   Vec ys_, sig_, screen_ys_, screen_sig_, yscr_, ta_, wp_;

@@ -83,17 +83,18 @@ SETBOUND_INLINE double abs_projection_sum(const Eigen::MatrixXd& G, Eigen::Index
   }
 }
 
-SETBOUND_INLINE void strip_candidates(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
-                                      const Eigen::MatrixXd& L, double* a, double* h) {
+SETBOUND_INLINE Eigen::Index strip_candidates(const Eigen::MatrixXd& G, Eigen::Index m,
+                                              const Eigen::Ref<const Eigen::VectorXd>& c, const Eigen::MatrixXd& L,
+                                              double* a, double* h, const StripScoring& score) {
   switch (G.rows()) {
-    case 1: return strip_candidates_fixed<1>(G, m, c, L, a, h);
-    case 2: return strip_candidates_fixed<2>(G, m, c, L, a, h);
-    case 3: return strip_candidates_fixed<3>(G, m, c, L, a, h);
-    case 4: return strip_candidates_fixed<4>(G, m, c, L, a, h);
-    case 5: return strip_candidates_fixed<5>(G, m, c, L, a, h);
-    case 6: return strip_candidates_fixed<6>(G, m, c, L, a, h);
-    case 7: return strip_candidates_fixed<7>(G, m, c, L, a, h);
-    case 8: return strip_candidates_fixed<8>(G, m, c, L, a, h);
+    case 1: return strip_candidates_fixed<1>(G, m, c, L, a, h, score);
+    case 2: return strip_candidates_fixed<2>(G, m, c, L, a, h, score);
+    case 3: return strip_candidates_fixed<3>(G, m, c, L, a, h, score);
+    case 4: return strip_candidates_fixed<4>(G, m, c, L, a, h, score);
+    case 5: return strip_candidates_fixed<5>(G, m, c, L, a, h, score);
+    case 6: return strip_candidates_fixed<6>(G, m, c, L, a, h, score);
+    case 7: return strip_candidates_fixed<7>(G, m, c, L, a, h, score);
+    case 8: return strip_candidates_fixed<8>(G, m, c, L, a, h, score);
     default: break;
   }
   // Blocked products for larger n (tank30: n = 30, m ≈ 3 000): L G through Eigen's triangular
@@ -107,20 +108,46 @@ SETBOUND_INLINE void strip_candidates(const Eigen::MatrixXd& G, Eigen::Index m, 
     Z.noalias() = L.triangularView<Eigen::Lower>() * Gb;
     Eigen::Map<Eigen::VectorXd>(h + j0, nb) = Z.colwise().squaredNorm().transpose();
   }
+  double best = 1.0;
+  Eigen::Index winner = -1;
+  for (Eigen::Index k = 0; k < m; ++k) score_candidate<Eigen::Dynamic>(score, k, a[k], h, G.col(k).data(), best, winner);
+  return winner;
 }
 
-SETBOUND_INLINE void bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::VectorXd& lam, double sig,
-                                   Eigen::Index j, const Eigen::VectorXd& z, double* a, double* h,
-                                   Eigen::VectorXd& residual, const Eigen::VectorXd* cn) {
+SETBOUND_INLINE Eigen::Index strip_scores(const Eigen::MatrixXd& G, Eigen::Index m,
+                                          const Eigen::Ref<const Eigen::VectorXd>& c, double* a, double* h,
+                                          const StripScoring& score) {
   switch (G.rows()) {
-    case 1: return bravo_advance_fixed<1>(G, m, lam, sig, j, z, a, h, residual, cn);
-    case 2: return bravo_advance_fixed<2>(G, m, lam, sig, j, z, a, h, residual, cn);
-    case 3: return bravo_advance_fixed<3>(G, m, lam, sig, j, z, a, h, residual, cn);
-    case 4: return bravo_advance_fixed<4>(G, m, lam, sig, j, z, a, h, residual, cn);
-    case 5: return bravo_advance_fixed<5>(G, m, lam, sig, j, z, a, h, residual, cn);
-    case 6: return bravo_advance_fixed<6>(G, m, lam, sig, j, z, a, h, residual, cn);
-    case 7: return bravo_advance_fixed<7>(G, m, lam, sig, j, z, a, h, residual, cn);
-    case 8: return bravo_advance_fixed<8>(G, m, lam, sig, j, z, a, h, residual, cn);
+    case 1: return strip_scores_fixed<1>(G, m, c, a, h, score);
+    case 2: return strip_scores_fixed<2>(G, m, c, a, h, score);
+    case 3: return strip_scores_fixed<3>(G, m, c, a, h, score);
+    case 4: return strip_scores_fixed<4>(G, m, c, a, h, score);
+    case 5: return strip_scores_fixed<5>(G, m, c, a, h, score);
+    case 6: return strip_scores_fixed<6>(G, m, c, a, h, score);
+    case 7: return strip_scores_fixed<7>(G, m, c, a, h, score);
+    case 8: return strip_scores_fixed<8>(G, m, c, a, h, score);
+    default: break;
+  }
+  Eigen::Map<Eigen::VectorXd>(a, m).noalias() = G.leftCols(m).transpose() * c;
+  double best = 1.0;
+  Eigen::Index winner = -1;
+  for (Eigen::Index k = 0; k < m; ++k) score_candidate<Eigen::Dynamic>(score, k, a[k], h, G.col(k).data(), best, winner);
+  return winner;
+}
+
+SETBOUND_INLINE Eigen::Index bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::VectorXd& lam, double sig,
+                                           Eigen::Index j, const Eigen::VectorXd& z, double* a, double* h,
+                                           Eigen::VectorXd& residual, const Eigen::VectorXd* cn,
+                                           const StripScoring& next) {
+  switch (G.rows()) {
+    case 1: return bravo_advance_fixed<1>(G, m, lam, sig, j, z, a, h, residual, cn, next);
+    case 2: return bravo_advance_fixed<2>(G, m, lam, sig, j, z, a, h, residual, cn, next);
+    case 3: return bravo_advance_fixed<3>(G, m, lam, sig, j, z, a, h, residual, cn, next);
+    case 4: return bravo_advance_fixed<4>(G, m, lam, sig, j, z, a, h, residual, cn, next);
+    case 5: return bravo_advance_fixed<5>(G, m, lam, sig, j, z, a, h, residual, cn, next);
+    case 6: return bravo_advance_fixed<6>(G, m, lam, sig, j, z, a, h, residual, cn, next);
+    case 7: return bravo_advance_fixed<7>(G, m, lam, sig, j, z, a, h, residual, cn, next);
+    case 8: return bravo_advance_fixed<8>(G, m, lam, sig, j, z, a, h, residual, cn, next);
     default: break;
   }
   // Larger n: O(n m) products over the whole matrix (tank30: n = 30, m ≈ 3 000), instead of
@@ -139,7 +166,12 @@ SETBOUND_INLINE void bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, const Eig
     const double hk = hv(k) - e(k) * e(k) / hj;
     hv(k) = hk > 1e-8 * hv(k) ? hk : std::numeric_limits<double>::quiet_NaN();
   }
-  if (cn) av.noalias() = G.leftCols(m).transpose() * *cn;
+  if (!cn) return -1;
+  av.noalias() = G.leftCols(m).transpose() * *cn;
+  double best = 1.0;
+  Eigen::Index winner = -1;
+  for (Eigen::Index k = 0; k < m; ++k) score_candidate<Eigen::Dynamic>(next, k, a[k], h, G.col(k).data(), best, winner);
+  return winner;
 }
 
 SETBOUND_INLINE Eigen::Index compact_and_sum(Eigen::MatrixXd& W, Eigen::Index m, Eigen::VectorXd& w, bool drop_zeros) {

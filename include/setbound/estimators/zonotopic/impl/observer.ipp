@@ -406,23 +406,17 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Mat& G, Eigen
   //     S'⁻¹ = S⁻¹ − z zᵀ/h_j + c cᵀ/σ²,  h'_i = h_i − (zᵀg_i)²/h_j (i ≠ j),  h'_j = 1
   // (cᵀg'_i = 0 for the updated columns), O(n) per column instead of the O(n²) of L⁻¹g_i; a score
   // that lost more than 8 digits to the subtraction is recomputed from L⁻¹ below.
-  Eigen::LLT<Mat, Eigen::Lower> llt(bravo_S_);
-  const Vec piv = llt.info() == Eigen::Success ? Vec(llt.matrixLLT().diagonal()) : Vec();
-  const bool well_posed = piv.size() == n_ && piv.allFinite() &&
-                          piv.minCoeff() > 1e-6 * piv.maxCoeff();  // cond(S) below ~1e12
-  // A flat set (S singular; numerically, cond(S) above ~1e12) has det(T_j T_jᵀ) = (σ/a)² g_jᵀ
-  // adj(S) g_j = 0 for every candidate (g_j lies in the range of S, adj(S) maps onto its kernel):
-  // all tie and candidate 0, the set itself, wins. (Scoring noise-level determinants instead
-  // would pick a column by rounding.)
+  // The scoring runs inside the passes over the columns: the first strip's (strip_candidates)
+  // or the last update's (bravo_advance, when bravo_ready_), which factored this S already.
+  // A strip that chose the set itself leaves S, its factor and the scores h as they were: the next
+  // strip's pass computes cᵀg_j only (strip_scores; tank30: most strips).
   const bool ready = bravo_ready_;
-  bravo_ready_ = false;  // the next strip needs a fresh pass unless bravo_update says otherwise
-  if (!well_posed) return -1;
-  bravo_Linv_ = llt.matrixL().solve(Mat::Identity(n_, n_));
-  if (!ready) {
-    for (Vec* v : {&bravo_a_, &bravo_h_})
-      if (v->size() < m) v->resize(std::max<Eigen::Index>(m, 2 * v->size()));
-    // cᵀg_j and ‖L⁻¹g_j‖² in one pass.
-    detail::strip_candidates(G, m, c, bravo_Linv_, bravo_a_.data(), bravo_h_.data());
+  bravo_ready_ = false;  // the next strip needs a pass unless bravo_update says otherwise
+  if (bravo_state_ == BravoState::Flat) return -1;
+  const bool scored = bravo_state_ == BravoState::Scored;
+  if (!ready && !scored && !bravo_factor()) {
+    bravo_state_ = BravoState::Flat;
+    return -1;
   }
   // CORA's threshold on |cᵀg_j| is absolute; setbound's is relative to |c|ᵀ|g_j| (spec §2.2).
   // The first minimiser is sought over cᵀg_j ≠ 0 (CORA: above its threshold), and only the winner
@@ -430,40 +424,57 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Mat& G, Eigen
   // as low, so it is the first minimiser over the admissible ones too. A winner that fails (a
   // column numerically orthogonal to c) sends the choice through the thresholded scan. A score
   // left NaN by the update's cancellation is recomputed from L⁻¹ when its candidate is scored.
-  const double base = 1e10 * std::numeric_limits<double>::epsilon();
   const bool cora = opt_.convention == Convention::Cora;
-  auto scan = [&](bool relative) {
-    Eigen::Index bj = -1;
+  const double base = 1e10 * std::numeric_limits<double>::epsilon();
+  Eigen::Index bestj = bravo_next_;
+  if (!ready && scored) {
+    bestj = detail::strip_scores(G, m, c, bravo_a_.data(), bravo_h_.data(), bravo_scoring(sig));
+  } else if (!ready) {
+    for (Vec* v : {&bravo_a_, &bravo_h_})
+      if (v->size() < m) v->resize(std::max<Eigen::Index>(m, 2 * v->size()));
+    bestj = detail::strip_candidates(G, m, c, bravo_Linv_, bravo_a_.data(), bravo_h_.data(), bravo_scoring(sig));
+    bravo_state_ = BravoState::Scored;
+  }
+  if (bestj >= 0 && !cora && !(std::abs(bravo_a_(bestj)) > base * c.cwiseAbs().dot(G.col(bestj).cwiseAbs()))) {
+    bestj = -1;
     double best = 1.0;
-    for (Eigen::Index j = 0; j < m; ++j) {
-      const double a = bravo_a_(j);
-      const double floor =
-          cora ? base : relative ? base * c.cwiseAbs().dot(G.col(j).cwiseAbs()) : 0.0;
-      if (!(std::abs(a) > floor)) continue;
-      double h = bravo_h_(j);
-      if (std::isnan(h)) h = bravo_h_(j) = (bravo_Linv_.triangularView<Eigen::Lower>() * G.col(j)).squaredNorm();
-      const double s = sig / a;
-      const double score = s * s * h;
-      if (score < best) {
-        best = score;
-        bj = j;
-      }
-    }
-    return bj;
-  };
-  Eigen::Index bestj = scan(false);
-  if (bestj >= 0 && !cora && !(std::abs(bravo_a_(bestj)) > base * c.cwiseAbs().dot(G.col(bestj).cwiseAbs())))
-    bestj = scan(true);
+    const detail::StripScoring sc = bravo_scoring(sig);
+    for (Eigen::Index j = 0; j < m; ++j)
+      if (std::abs(bravo_a_(j)) > base * c.cwiseAbs().dot(G.col(j).cwiseAbs()))
+        detail::score_candidate<Eigen::Dynamic>(sc, j, bravo_a_(j), bravo_h_.data(), G.col(j).data(), best, bestj);
+  }
   if (bestj >= 0) {
     lam = G.col(bestj) / bravo_a_(bestj);
-    bravo_z_ = llt.solve(G.col(bestj));  // S⁻¹g_j for the scores' update
+    bravo_z_ = bravo_llt_.solve(G.col(bestj));  // S⁻¹g_j for the scores' update
   }
   return bestj;
 }
 
+SETBOUND_INLINE bool ZonotopicObserver::bravo_factor() {
+  bravo_llt_.compute(bravo_S_);
+  const bool ok = bravo_llt_.info() == Eigen::Success;
+  const auto piv = bravo_llt_.matrixLLT().diagonal();
+  // cond(S) below ~1e12. A flat set (S singular; numerically, cond(S) above ~1e12) has
+  // det(T_j T_jᵀ) = (σ/a)² g_jᵀ adj(S) g_j = 0 for every candidate (g_j lies in the range of S,
+  // adj(S) maps onto its kernel): all tie and candidate 0, the set itself, wins. (Scoring
+  // noise-level determinants instead would pick a column by rounding.)
+  if (!ok || !piv.allFinite() || !(piv.minCoeff() > 1e-6 * piv.maxCoeff())) return false;
+  bravo_Linv_ = bravo_llt_.matrixL().solve(Mat::Identity(n_, n_));
+  return true;
+}
+
+SETBOUND_INLINE detail::StripScoring ZonotopicObserver::bravo_scoring(double sig) const {
+  const double base = 1e10 * std::numeric_limits<double>::epsilon();
+  detail::StripScoring sc;
+  sc.sig = sig;
+  sc.floor = opt_.convention == Convention::Cora ? base : 0.0;
+  sc.L = &bravo_Linv_;
+  return sc;
+}
+
 SETBOUND_INLINE void ZonotopicObserver::bravo_update(Mat& G, Eigen::Index m, Vec& p, Vec& r, const Vec& lam,
                                                      const Eigen::Ref<const Vec>& c, double y, double sig, Eigen::Index j,
-                                                     const Vec* cn) {
+                                                     const Vec* cn, double sig_next) {
   using rounding_bounds::gamma;
   const double g = gamma(n_ + 1 + 4);
   const Vec& w = bravo_w_;  // >= rs|G| (bravo_correct's caller, then the recursion below)
@@ -478,10 +489,22 @@ SETBOUND_INLINE void ZonotopicObserver::bravo_update(Mat& G, Eigen::Index m, Vec
   v_ += 2.0 * g * (t_ + al_ * (std::abs(y) + ac.dot(t_)) + pn_.cwiseAbs());
   v_ += 2.0 * g * (w + al_ * ac.dot(w));
   v_ += (g * sig) * al_;
-  // G ← G − λ (cᵀG) in place (cᵀg_i from the candidate pass), and the next strip's values.
-  // (I − λcᵀ) g_j is zero in exact arithmetic with λ = g_j / cᵀg_j; its computed value (and the
-  // rounding bound above) stays in the box, the new column σλ takes its place.
-  detail::bravo_advance(G, m, lam, sig, j, bravo_z_, bravo_a_.data(), bravo_h_.data(), bravo_res_, cn);
+  // S ← K S Kᵀ + σ² λλᵀ with S c = sc (before the pass: the next strip's scores need its factor).
+  sc_.noalias() = bravo_S_ * c;
+  const double csc = c.dot(sc_);
+  bravo_S_.noalias() -= lam * sc_.transpose();
+  bravo_S_.noalias() -= sc_ * lam.transpose();
+  bravo_S_.noalias() += (csc + sig * sig) * (lam * lam.transpose());
+  // The next strip's factor (its scores come out of the pass below); without a next strip the
+  // scores are left unfactored (the next step starts from its prior's S).
+  bravo_state_ = BravoState::Unknown;
+  if (cn) bravo_state_ = bravo_factor() ? BravoState::Scored : BravoState::Flat;
+  if (bravo_state_ == BravoState::Flat) cn = nullptr;  // the next choice is the set itself
+  // G ← G − λ (cᵀG) in place (cᵀg_i from the candidate pass), and the next strip's values and
+  // winner. (I − λcᵀ) g_j is zero in exact arithmetic with λ = g_j / cᵀg_j; its computed value
+  // (and the rounding bound above) stays in the box, the new column σλ takes its place.
+  bravo_next_ = detail::bravo_advance(G, m, lam, sig, j, bravo_z_, bravo_a_.data(), bravo_h_.data(), bravo_res_, cn,
+                                      bravo_scoring(sig_next));
   bravo_ready_ = cn != nullptr;
   v_ += bravo_res_;
   p.swap(pn_);
@@ -490,12 +513,6 @@ SETBOUND_INLINE void ZonotopicObserver::bravo_update(Mat& G, Eigen::Index m, Vec
   // and the new column σλ; one more (1 + g) for this expression's own rounding.
   t_ = w + al_ * ((1.0 + g) * ac.dot(w) + sig);
   bravo_w_ = t_ * ((1.0 + g) * (1.0 + g));
-  // S ← K S Kᵀ + σ² λλᵀ with S c = sc.
-  sc_.noalias() = bravo_S_ * c;
-  const double csc = c.dot(sc_);
-  bravo_S_.noalias() -= lam * sc_.transpose();
-  bravo_S_.noalias() -= sc_ * lam.transpose();
-  bravo_S_.noalias() += (csc + sig * sig) * (lam * lam.transpose());
 }
 
 SETBOUND_INLINE void ZonotopicObserver::bravo_correct(Mat& G, Eigen::Index m, Vec& p, Vec& r,
@@ -505,6 +522,7 @@ SETBOUND_INLINE void ZonotopicObserver::bravo_correct(Mat& G, Eigen::Index m, Ve
   const Mat& C = sys_.C();
   const std::size_t q = rows.size();
   bravo_ready_ = false;
+  bravo_state_ = BravoState::Unknown;  // a new S (the prior's): not factored yet
   for (std::size_t t = 0; t < q; ++t) {
     const Eigen::Index i = rows[t], ti = static_cast<Eigen::Index>(t);
     bravo_c_ = C.row(i).transpose();
@@ -513,7 +531,8 @@ SETBOUND_INLINE void ZonotopicObserver::bravo_correct(Mat& G, Eigen::Index m, Ve
     if (!lam_.allFinite()) throw NumericalError("gain rule: non-finite weight for output " + std::to_string(i));
     // In place; the same pass gives the next strip's scores.
     if (t + 1 < q) bravo_cn_ = C.row(rows[t + 1]).transpose();
-    bravo_update(G, m, p, r, lam_, bravo_c_, ys(ti), sig(ti), j, t + 1 < q ? &bravo_cn_ : nullptr);
+    bravo_update(G, m, p, r, lam_, bravo_c_, ys(ti), sig(ti), j, t + 1 < q ? &bravo_cn_ : nullptr,
+                 t + 1 < q ? sig(ti + 1) : 0.0);
     gain.col(i) = lam_;
   }
 }
