@@ -875,7 +875,9 @@ TEST(GeneratorKernels, FusedPassesEqualTheSeparateOnes) {
 
 // Bravo's scoring inside the passes (sets/generator_kernels.hpp, used by the VolMin-B observer):
 // each pass returns the first minimiser of (σ/a_j)² h_j below 1 over |a_j| > floor, a NaN h_j
-// recomputed as ‖L g_j‖². Against a plain scan of the same values, on the fixed-size paths
+// recomputed as ‖L g_j‖² (the passes compare h_k a_b² < h_b a_k², without a division; a
+// different winner is accepted only within rounding of the same score). Against a plain scan of
+// the same values (σ = 0 included: the first admissible column), on the fixed-size paths
 // (n <= 8) and the dynamic one: strip_candidates (a and h fresh), strip_scores (a fresh, h kept,
 // some NaN) and bravo_advance (the update, then the next strip's a and winner).
 TEST(GeneratorKernels, BravoPassesPickTheFirstMinimiser) {
@@ -919,7 +921,8 @@ TEST(GeneratorKernels, BravoPassesPickTheFirstMinimiser) {
     const Eigen::MatrixXd S = G * G.transpose();
     const Eigen::LLT<Eigen::MatrixXd> llt(S);
     const Eigen::MatrixXd L = Eigen::MatrixXd(llt.matrixL()).inverse();
-    const double sig = std::exp(1.5 * nrm(gen));
+    // Every eleventh strip noise-free (σ = 0: every score is 0, the first admissible column wins).
+    const double sig = trial % 11 == 4 ? 0.0 : std::exp(1.5 * nrm(gen));
     const double floor = trial % 3 == 0 ? 0.5 : 0.0;  // CORA's absolute threshold, exaggerated
     d::StripScoring sc;
     sc.sig = sig;
@@ -932,7 +935,7 @@ TEST(GeneratorKernels, BravoPassesPickTheFirstMinimiser) {
     const Eigen::VectorXd h_ref = (L.triangularView<Eigen::Lower>() * G).colwise().squaredNorm().transpose();
     EXPECT_LE((a - a_ref).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + a_ref.cwiseAbs().maxCoeff())) << "trial " << trial;
     EXPECT_LE((h - h_ref).cwiseAbs().maxCoeff(), 1e-10) << "trial " << trial;
-    EXPECT_EQ(w1, scan(a, h, sig, floor)) << "trial " << trial;  // the same values: exactly
+    expect_same_or_tied(w1, scan(a, h, sig, floor), a, h, sig, trial);
     (w1 >= 0 ? winners : none) += 1;
     // Kept scores, a few of them NaN (recomputed when scored).
     Eigen::VectorXd h2 = h;
@@ -943,7 +946,7 @@ TEST(GeneratorKernels, BravoPassesPickTheFirstMinimiser) {
     if (w2 >= 0) EXPECT_NEAR(h2(w2), h_ref(w2), 1e-10) << "trial " << trial;  // recomputed if it was NaN
     // The update with the fresh winner, then the next strip (normal cn) scored in the same pass;
     // the reference scores are fresh leverage scores of the updated columns.
-    if (w1 < 0) continue;
+    if (w1 < 0 || sig == 0.0) continue;  // (σ = 0 flattens the set: no next scores to compare)
     const Eigen::VectorXd lam = G.col(w1) / a(w1);
     const Eigen::VectorXd z = llt.solve(G.col(w1));
     Eigen::MatrixXd Gu = G;
@@ -969,6 +972,6 @@ TEST(GeneratorKernels, BravoPassesPickTheFirstMinimiser) {
       if (!std::isnan(h3(j))) EXPECT_NEAR(h3(j), h3_ref(j), 1e-7) << "trial " << trial << " column " << j;
     expect_same_or_tied(w3, scan(a3_ref, h3_ref, sig, floor), a3_ref, h3_ref, sig, trial);
   }
-  EXPECT_GE(winners, 40);  // both outcomes occur (202 and 18 with this seed)
-  EXPECT_GE(none, 10);
+  EXPECT_GE(winners, 40);  // both outcomes occur (211 and 9 with this seed)
+  EXPECT_GE(none, 5);
 }

@@ -61,23 +61,34 @@ Eigen::Index bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Vect
                            const Eigen::VectorXd& z, double* a, double* h, Eigen::VectorXd& residual,
                            const Eigen::VectorXd* cn, const StripScoring& next);
 
+/// The running winner of a strip's candidates. Its score (σ/a_b)² h_b is kept as the pair
+/// (h_b, a_b²), so a candidate wins when h_k a_b² < h_b a_k²: no division per column (the
+/// start (1, σ²) is the set itself's score 1). With σ = 0 every score is 0: the first admissible
+/// candidate wins and stays.
+struct StripWinner {
+  explicit StripWinner(double sig) : a2(sig * sig), zero(sig == 0.0) {}
+  double h = 1.0, a2;
+  bool zero;
+  Eigen::Index index = -1;
+};
+
 /// The scoring of one candidate (a = cᵀg, h its leverage score, NaN: recompute ‖L g‖² from the
 /// column g); updates the running winner.
 template <int N>
 inline void score_candidate(const StripScoring& sc, Eigen::Index k, double a, double* h, const double* g,
-                            double& best, Eigen::Index& winner) {
-  if (!(std::abs(a) > sc.floor)) return;
+                            StripWinner& w) {
+  if (!(std::abs(a) > sc.floor) || (w.zero && w.index >= 0)) return;
   double hk = h[k];
   if (std::isnan(hk)) {
     const Eigen::Index n = N == Eigen::Dynamic ? sc.L->rows() : N;
     hk = (sc.L->triangularView<Eigen::Lower>() * Eigen::Map<const Eigen::VectorXd>(g, n)).squaredNorm();
     h[k] = hk;
   }
-  const double s = sc.sig / a;
-  const double score = s * s * hk;
-  if (score < best) {
-    best = score;
-    winner = k;
+  const double a2 = a * a;
+  if (hk * w.a2 < w.h * a2) {
+    w.h = hk;
+    w.a2 = a2;
+    w.index = k;
   }
 }
 
@@ -138,8 +149,7 @@ Eigen::Index strip_candidates_fixed(const Eigen::MatrixXd& G, Eigen::Index m, co
     for (int k = 0; k < N; ++k) Lf[i * N + k] = L(i, k);
   }
   const double* const base = G.data();
-  double best = 1.0;
-  Eigen::Index winner = -1;
+  StripWinner winner(score.sig);
   for (Eigen::Index j = 0; j < m; ++j) {
     const double* g = base + j * N;
     double s = 0.0, hh = 0.0;
@@ -151,9 +161,9 @@ Eigen::Index strip_candidates_fixed(const Eigen::MatrixXd& G, Eigen::Index m, co
     }
     a[j] = s;
     h[j] = hh;
-    score_candidate<N>(score, j, s, h, g, best, winner);
+    score_candidate<N>(score, j, s, h, g, winner);
   }
-  return winner;
+  return winner.index;
 }
 
 template <int N>
@@ -162,16 +172,15 @@ Eigen::Index strip_scores_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const 
   double cf[N];
   for (int i = 0; i < N; ++i) cf[i] = c(i);
   const double* const base = G.data();
-  double best = 1.0;
-  Eigen::Index winner = -1;
+  StripWinner winner(score.sig);
   for (Eigen::Index j = 0; j < m; ++j) {
     const double* g = base + j * N;
     double s = 0.0;
     for (int i = 0; i < N; ++i) s += cf[i] * g[i];
     a[j] = s;
-    score_candidate<N>(score, j, s, h, g, best, winner);
+    score_candidate<N>(score, j, s, h, g, winner);
   }
-  return winner;
+  return winner.index;
 }
 
 template <int N>
@@ -184,10 +193,9 @@ Eigen::Index bravo_advance_fixed(Eigen::MatrixXd& G, Eigen::Index m, const Eigen
     zf[i] = z(i);
     cf[i] = cn ? (*cn)(i) : 0.0;
   }
-  const double hj = h[j];
+  const double ihj = 1.0 / h[j];
   double* const base = G.data();
-  double best = 1.0;
-  Eigen::Index winner = -1;
+  StripWinner winner(next.sig);
   for (Eigen::Index k = 0; k < m; ++k) {
     double* g = base + k * N;
     const double ak = a[k];
@@ -204,16 +212,16 @@ Eigen::Index bravo_advance_fixed(Eigen::MatrixXd& G, Eigen::Index m, const Eigen
       }
       h[k] = 1.0;
     } else {
-      const double hk = h[k] - e * e / hj;
+      const double hk = h[k] - e * e * ihj;
       h[k] = hk > 1e-8 * h[k] ? hk : std::numeric_limits<double>::quiet_NaN();
     }
     if (!cn) continue;
     double s = 0.0;
     for (int i = 0; i < N; ++i) s += cf[i] * g[i];
     a[k] = s;
-    score_candidate<N>(next, k, s, h, g, best, winner);
+    score_candidate<N>(next, k, s, h, g, winner);
   }
-  return winner;
+  return winner.index;
 }
 
 template <int N>

@@ -108,10 +108,9 @@ SETBOUND_INLINE Eigen::Index strip_candidates(const Eigen::MatrixXd& G, Eigen::I
     Z.noalias() = L.triangularView<Eigen::Lower>() * Gb;
     Eigen::Map<Eigen::VectorXd>(h + j0, nb) = Z.colwise().squaredNorm().transpose();
   }
-  double best = 1.0;
-  Eigen::Index winner = -1;
-  for (Eigen::Index k = 0; k < m; ++k) score_candidate<Eigen::Dynamic>(score, k, a[k], h, G.col(k).data(), best, winner);
-  return winner;
+  StripWinner winner(score.sig);
+  for (Eigen::Index k = 0; k < m; ++k) score_candidate<Eigen::Dynamic>(score, k, a[k], h, G.col(k).data(), winner);
+  return winner.index;
 }
 
 SETBOUND_INLINE Eigen::Index strip_scores(const Eigen::MatrixXd& G, Eigen::Index m,
@@ -129,10 +128,9 @@ SETBOUND_INLINE Eigen::Index strip_scores(const Eigen::MatrixXd& G, Eigen::Index
     default: break;
   }
   Eigen::Map<Eigen::VectorXd>(a, m).noalias() = G.leftCols(m).transpose() * c;
-  double best = 1.0;
-  Eigen::Index winner = -1;
-  for (Eigen::Index k = 0; k < m; ++k) score_candidate<Eigen::Dynamic>(score, k, a[k], h, G.col(k).data(), best, winner);
-  return winner;
+  StripWinner winner(score.sig);
+  for (Eigen::Index k = 0; k < m; ++k) score_candidate<Eigen::Dynamic>(score, k, a[k], h, G.col(k).data(), winner);
+  return winner.index;
 }
 
 SETBOUND_INLINE Eigen::Index bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::VectorXd& lam, double sig,
@@ -153,7 +151,7 @@ SETBOUND_INLINE Eigen::Index bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, c
   // Larger n: O(n m) products over the whole matrix (tank30: n = 30, m ≈ 3 000), instead of
   // the O(n² m) triangular product a fresh score would cost.
   Eigen::Map<Eigen::VectorXd> av(a, m), hv(h, m);
-  const double hj = hv(j);
+  const double ihj = 1.0 / hv(j);
   const Eigen::VectorXd e = G.leftCols(m).transpose() * z;
   G.leftCols(m).noalias() -= lam * av.transpose();
   residual = G.col(j).cwiseAbs();
@@ -163,15 +161,14 @@ SETBOUND_INLINE Eigen::Index bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, c
       hv(k) = 1.0;
       continue;
     }
-    const double hk = hv(k) - e(k) * e(k) / hj;
+    const double hk = hv(k) - e(k) * e(k) * ihj;
     hv(k) = hk > 1e-8 * hv(k) ? hk : std::numeric_limits<double>::quiet_NaN();
   }
   if (!cn) return -1;
   av.noalias() = G.leftCols(m).transpose() * *cn;
-  double best = 1.0;
-  Eigen::Index winner = -1;
-  for (Eigen::Index k = 0; k < m; ++k) score_candidate<Eigen::Dynamic>(next, k, a[k], h, G.col(k).data(), best, winner);
-  return winner;
+  StripWinner winner(next.sig);
+  for (Eigen::Index k = 0; k < m; ++k) score_candidate<Eigen::Dynamic>(next, k, a[k], h, G.col(k).data(), winner);
+  return winner.index;
 }
 
 SETBOUND_INLINE Eigen::Index compact_and_sum(Eigen::MatrixXd& W, Eigen::Index m, Eigen::VectorXd& w, bool drop_zeros) {

@@ -436,12 +436,12 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Mat& G, Eigen
     bravo_state_ = BravoState::Scored;
   }
   if (bestj >= 0 && !cora && !(std::abs(bravo_a_(bestj)) > base * c.cwiseAbs().dot(G.col(bestj).cwiseAbs()))) {
-    bestj = -1;
-    double best = 1.0;
     const detail::StripScoring sc = bravo_scoring(sig);
+    detail::StripWinner winner(sig);
     for (Eigen::Index j = 0; j < m; ++j)
       if (std::abs(bravo_a_(j)) > base * c.cwiseAbs().dot(G.col(j).cwiseAbs()))
-        detail::score_candidate<Eigen::Dynamic>(sc, j, bravo_a_(j), bravo_h_.data(), G.col(j).data(), best, bestj);
+        detail::score_candidate<Eigen::Dynamic>(sc, j, bravo_a_(j), bravo_h_.data(), G.col(j).data(), winner);
+    bestj = winner.index;
   }
   if (bestj >= 0) {
     lam = G.col(bestj) / bravo_a_(bestj);
