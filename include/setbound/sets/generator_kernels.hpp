@@ -139,6 +139,14 @@ double abs_projection_sum_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const 
   return s;
 }
 
+#if defined(__GNUC__)
+// Two columns at once, one per lane of a GCC/Clang vector (SSE2 on x86-64, NEON on arm64): each
+// lane does the scalar loop's operations in the scalar loop's order, so the values are the scalar
+// loop's, bit for bit, while the per-column dot products (serial sums) run two at a time.
+#define SETBOUND_COLUMN_PAIRS 1
+typedef double ColumnPair __attribute__((vector_size(16)));
+#endif
+
 template <int N>
 Eigen::Index strip_candidates_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
                                     const Eigen::MatrixXd& L, double* a, double* h, const StripScoring& score) {
@@ -150,7 +158,35 @@ Eigen::Index strip_candidates_fixed(const Eigen::MatrixXd& G, Eigen::Index m, co
   }
   const double* const base = G.data();
   StripWinner winner(score.sig);
-  for (Eigen::Index j = 0; j < m; ++j) {
+  Eigen::Index j = 0;
+#if defined(SETBOUND_COLUMN_PAIRS)
+  // The coefficients broadcast once (SSE2 has no broadcasting load; aligned memory operands fold).
+  ColumnPair cp[N], Lp[N * N];
+  for (int i = 0; i < N; ++i) {
+    cp[i] = ColumnPair{cf[i], cf[i]};
+    for (int k = 0; k < N; ++k) Lp[i * N + k] = ColumnPair{Lf[i * N + k], Lf[i * N + k]};
+  }
+  for (; j + 1 < m; j += 2) {
+    const double* g0 = base + j * N;
+    const double* g1 = g0 + N;
+    ColumnPair g[N];
+    for (int i = 0; i < N; ++i) g[i] = ColumnPair{g0[i], g1[i]};
+    ColumnPair s = {0.0, 0.0}, hh = {0.0, 0.0};
+    for (int i = 0; i < N; ++i) s += cp[i] * g[i];
+    for (int r = 0; r < N; ++r) {
+      ColumnPair z = {0.0, 0.0};
+      for (int k = 0; k <= r; ++k) z += Lp[r * N + k] * g[k];
+      hh += z * z;
+    }
+    a[j] = s[0];
+    a[j + 1] = s[1];
+    h[j] = hh[0];
+    h[j + 1] = hh[1];
+    score_candidate<N>(score, j, s[0], h, g0, winner);
+    score_candidate<N>(score, j + 1, s[1], h, g1, winner);
+  }
+#endif
+  for (; j < m; ++j) {
     const double* g = base + j * N;
     double s = 0.0, hh = 0.0;
     for (int i = 0; i < N; ++i) s += cf[i] * g[i];
@@ -173,7 +209,22 @@ Eigen::Index strip_scores_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const 
   for (int i = 0; i < N; ++i) cf[i] = c(i);
   const double* const base = G.data();
   StripWinner winner(score.sig);
-  for (Eigen::Index j = 0; j < m; ++j) {
+  Eigen::Index j = 0;
+#if defined(SETBOUND_COLUMN_PAIRS)
+  ColumnPair cp[N];
+  for (int i = 0; i < N; ++i) cp[i] = ColumnPair{cf[i], cf[i]};
+  for (; j + 1 < m; j += 2) {
+    const double* g0 = base + j * N;
+    const double* g1 = g0 + N;
+    ColumnPair s = {0.0, 0.0};
+    for (int i = 0; i < N; ++i) s += cp[i] * ColumnPair{g0[i], g1[i]};
+    a[j] = s[0];
+    a[j + 1] = s[1];
+    score_candidate<N>(score, j, s[0], h, g0, winner);
+    score_candidate<N>(score, j + 1, s[1], h, g1, winner);
+  }
+#endif
+  for (; j < m; ++j) {
     const double* g = base + j * N;
     double s = 0.0;
     for (int i = 0; i < N; ++i) s += cf[i] * g[i];
@@ -194,9 +245,10 @@ Eigen::Index bravo_advance_fixed(Eigen::MatrixXd& G, Eigen::Index m, const Eigen
     cf[i] = cn ? (*cn)(i) : 0.0;
   }
   const double ihj = 1.0 / h[j];
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   double* const base = G.data();
   StripWinner winner(next.sig);
-  for (Eigen::Index k = 0; k < m; ++k) {
+  auto column = [&](Eigen::Index k) {
     double* g = base + k * N;
     const double ak = a[k];
     double e = 0.0;
@@ -213,14 +265,52 @@ Eigen::Index bravo_advance_fixed(Eigen::MatrixXd& G, Eigen::Index m, const Eigen
       h[k] = 1.0;
     } else {
       const double hk = h[k] - e * e * ihj;
-      h[k] = hk > 1e-8 * h[k] ? hk : std::numeric_limits<double>::quiet_NaN();
+      h[k] = hk > 1e-8 * h[k] ? hk : nan;
     }
-    if (!cn) continue;
+    if (!cn) return;
     double s = 0.0;
     for (int i = 0; i < N; ++i) s += cf[i] * g[i];
     a[k] = s;
     score_candidate<N>(next, k, s, h, g, winner);
+  };
+  Eigen::Index k = 0;
+#if defined(SETBOUND_COLUMN_PAIRS)
+  ColumnPair zp[N], lp[N], cp[N];
+  for (int i = 0; i < N; ++i) {
+    zp[i] = ColumnPair{zf[i], zf[i]};
+    lp[i] = ColumnPair{lf[i], lf[i]};
+    cp[i] = ColumnPair{cf[i], cf[i]};
   }
+  for (; k + 1 < m; k += 2) {
+    if (k == j || k + 1 == j) {
+      column(k);
+      column(k + 1);
+      continue;
+    }
+    double* g0 = base + k * N;
+    double* g1 = g0 + N;
+    const ColumnPair ak = {a[k], a[k + 1]};
+    ColumnPair e = {0.0, 0.0}, s = {0.0, 0.0};
+    for (int i = 0; i < N; ++i) {
+      ColumnPair gi = {g0[i], g1[i]};
+      e += zp[i] * gi;
+      gi -= lp[i] * ak;
+      s += cp[i] * gi;
+      g0[i] = gi[0];
+      g1[i] = gi[1];
+    }
+    const ColumnPair hv = {h[k], h[k + 1]};
+    const ColumnPair hn = hv - e * e * ihj;
+    h[k] = hn[0] > 1e-8 * hv[0] ? hn[0] : nan;
+    h[k + 1] = hn[1] > 1e-8 * hv[1] ? hn[1] : nan;
+    if (!cn) continue;
+    a[k] = s[0];
+    a[k + 1] = s[1];
+    score_candidate<N>(next, k, s[0], h, g0, winner);
+    score_candidate<N>(next, k + 1, s[1], h, g1, winner);
+  }
+#endif
+  for (; k < m; ++k) column(k);
   return winner.index;
 }
 
