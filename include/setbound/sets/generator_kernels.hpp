@@ -147,88 +147,70 @@ double abs_projection_sum_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const 
 typedef double ColumnPair __attribute__((vector_size(16)));
 #endif
 
-template <int N>
-Eigen::Index strip_candidates_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
-                                    const Eigen::MatrixXd& L, double* a, double* h, const StripScoring& score) {
-  // Plain loops over a compile-time N: the column, c and the triangle stay in registers.
-  double cf[N], Lf[N * N];
+/// Σ_i coef_i g_i in the order i = 0 … N−1: one column (V = double) or two (V = ColumnPair).
+template <int N, class V>
+inline V column_dot(const V* coef, const V* g) {
+  V s = V();
+  for (int i = 0; i < N; ++i) s += coef[i] * g[i];
+  return s;
+}
+
+/// ‖L g‖² with L lower triangular (its N × N coefficients by rows), the same order for both widths.
+template <int N, class V>
+inline V column_leverage(const V* L, const V* g) {
+  V hh = V();
+  for (int r = 0; r < N; ++r) {
+    V z = V();
+    for (int k = 0; k <= r; ++k) z += L[r * N + k] * g[k];
+    hh += z * z;
+  }
+  return hh;
+}
+
+/// strip_candidates (fresh leverage scores, `leverage`) and strip_scores (kept ones) on a
+/// compile-time N: the column, c and the triangle stay in registers.
+template <int N, bool leverage>
+Eigen::Index strip_pass_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
+                              const Eigen::MatrixXd* L, double* a, double* h, const StripScoring& score) {
+  double cf[N], Lf[leverage ? N * N : 1];
   for (int i = 0; i < N; ++i) {
     cf[i] = c(i);
-    for (int k = 0; k < N; ++k) Lf[i * N + k] = L(i, k);
+    if constexpr (leverage)
+      for (int k = 0; k < N; ++k) Lf[i * N + k] = (*L)(i, k);
   }
   const double* const base = G.data();
   StripWinner winner(score.sig);
   Eigen::Index j = 0;
 #if defined(SETBOUND_COLUMN_PAIRS)
   // The coefficients broadcast once (SSE2 has no broadcasting load; aligned memory operands fold).
-  ColumnPair cp[N], Lp[N * N];
+  ColumnPair cp[N], Lp[leverage ? N * N : 1];
   for (int i = 0; i < N; ++i) {
     cp[i] = ColumnPair{cf[i], cf[i]};
-    for (int k = 0; k < N; ++k) Lp[i * N + k] = ColumnPair{Lf[i * N + k], Lf[i * N + k]};
+    if constexpr (leverage)
+      for (int k = 0; k < N; ++k) Lp[i * N + k] = ColumnPair{Lf[i * N + k], Lf[i * N + k]};
   }
   for (; j + 1 < m; j += 2) {
     const double* g0 = base + j * N;
     const double* g1 = g0 + N;
     ColumnPair g[N];
     for (int i = 0; i < N; ++i) g[i] = ColumnPair{g0[i], g1[i]};
-    ColumnPair s = {0.0, 0.0}, hh = {0.0, 0.0};
-    for (int i = 0; i < N; ++i) s += cp[i] * g[i];
-    for (int r = 0; r < N; ++r) {
-      ColumnPair z = {0.0, 0.0};
-      for (int k = 0; k <= r; ++k) z += Lp[r * N + k] * g[k];
-      hh += z * z;
-    }
+    const ColumnPair s = column_dot<N>(cp, g);
     a[j] = s[0];
     a[j + 1] = s[1];
-    h[j] = hh[0];
-    h[j + 1] = hh[1];
+    if constexpr (leverage) {
+      const ColumnPair hh = column_leverage<N>(Lp, g);
+      h[j] = hh[0];
+      h[j + 1] = hh[1];
+    }
     score_candidate<N>(score, j, s[0], h, g0, winner);
     score_candidate<N>(score, j + 1, s[1], h, g1, winner);
   }
 #endif
   for (; j < m; ++j) {
     const double* g = base + j * N;
-    double s = 0.0, hh = 0.0;
-    for (int i = 0; i < N; ++i) s += cf[i] * g[i];
-    for (int r = 0; r < N; ++r) {
-      double z = 0.0;
-      for (int k = 0; k <= r; ++k) z += Lf[r * N + k] * g[k];
-      hh += z * z;
-    }
+    const double s = column_dot<N>(cf, g);
     a[j] = s;
-    h[j] = hh;
-    score_candidate<N>(score, j, s, h, g, winner);
-  }
-  return winner.index;
-}
-
-template <int N>
-Eigen::Index strip_scores_fixed(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& c,
-                                double* a, double* h, const StripScoring& score) {
-  double cf[N];
-  for (int i = 0; i < N; ++i) cf[i] = c(i);
-  const double* const base = G.data();
-  StripWinner winner(score.sig);
-  Eigen::Index j = 0;
-#if defined(SETBOUND_COLUMN_PAIRS)
-  ColumnPair cp[N];
-  for (int i = 0; i < N; ++i) cp[i] = ColumnPair{cf[i], cf[i]};
-  for (; j + 1 < m; j += 2) {
-    const double* g0 = base + j * N;
-    const double* g1 = g0 + N;
-    ColumnPair s = {0.0, 0.0};
-    for (int i = 0; i < N; ++i) s += cp[i] * ColumnPair{g0[i], g1[i]};
-    a[j] = s[0];
-    a[j + 1] = s[1];
-    score_candidate<N>(score, j, s[0], h, g0, winner);
-    score_candidate<N>(score, j + 1, s[1], h, g1, winner);
-  }
-#endif
-  for (; j < m; ++j) {
-    const double* g = base + j * N;
-    double s = 0.0;
-    for (int i = 0; i < N; ++i) s += cf[i] * g[i];
-    a[j] = s;
+    if constexpr (leverage) h[j] = column_leverage<N>(Lf, g);
     score_candidate<N>(score, j, s, h, g, winner);
   }
   return winner.index;

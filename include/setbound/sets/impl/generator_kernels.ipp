@@ -87,14 +87,14 @@ SETBOUND_INLINE Eigen::Index strip_candidates(const Eigen::MatrixXd& G, Eigen::I
                                               const Eigen::Ref<const Eigen::VectorXd>& c, const Eigen::MatrixXd& L,
                                               double* a, double* h, const StripScoring& score) {
   switch (G.rows()) {
-    case 1: return strip_candidates_fixed<1>(G, m, c, L, a, h, score);
-    case 2: return strip_candidates_fixed<2>(G, m, c, L, a, h, score);
-    case 3: return strip_candidates_fixed<3>(G, m, c, L, a, h, score);
-    case 4: return strip_candidates_fixed<4>(G, m, c, L, a, h, score);
-    case 5: return strip_candidates_fixed<5>(G, m, c, L, a, h, score);
-    case 6: return strip_candidates_fixed<6>(G, m, c, L, a, h, score);
-    case 7: return strip_candidates_fixed<7>(G, m, c, L, a, h, score);
-    case 8: return strip_candidates_fixed<8>(G, m, c, L, a, h, score);
+    case 1: return strip_pass_fixed<1, true>(G, m, c, &L, a, h, score);
+    case 2: return strip_pass_fixed<2, true>(G, m, c, &L, a, h, score);
+    case 3: return strip_pass_fixed<3, true>(G, m, c, &L, a, h, score);
+    case 4: return strip_pass_fixed<4, true>(G, m, c, &L, a, h, score);
+    case 5: return strip_pass_fixed<5, true>(G, m, c, &L, a, h, score);
+    case 6: return strip_pass_fixed<6, true>(G, m, c, &L, a, h, score);
+    case 7: return strip_pass_fixed<7, true>(G, m, c, &L, a, h, score);
+    case 8: return strip_pass_fixed<8, true>(G, m, c, &L, a, h, score);
     default: break;
   }
   // Blocked products for larger n (tank30: n = 30, m ≈ 3 000): L G through Eigen's triangular
@@ -117,14 +117,14 @@ SETBOUND_INLINE Eigen::Index strip_scores(const Eigen::MatrixXd& G, Eigen::Index
                                           const Eigen::Ref<const Eigen::VectorXd>& c, double* a, double* h,
                                           const StripScoring& score) {
   switch (G.rows()) {
-    case 1: return strip_scores_fixed<1>(G, m, c, a, h, score);
-    case 2: return strip_scores_fixed<2>(G, m, c, a, h, score);
-    case 3: return strip_scores_fixed<3>(G, m, c, a, h, score);
-    case 4: return strip_scores_fixed<4>(G, m, c, a, h, score);
-    case 5: return strip_scores_fixed<5>(G, m, c, a, h, score);
-    case 6: return strip_scores_fixed<6>(G, m, c, a, h, score);
-    case 7: return strip_scores_fixed<7>(G, m, c, a, h, score);
-    case 8: return strip_scores_fixed<8>(G, m, c, a, h, score);
+    case 1: return strip_pass_fixed<1, false>(G, m, c, nullptr, a, h, score);
+    case 2: return strip_pass_fixed<2, false>(G, m, c, nullptr, a, h, score);
+    case 3: return strip_pass_fixed<3, false>(G, m, c, nullptr, a, h, score);
+    case 4: return strip_pass_fixed<4, false>(G, m, c, nullptr, a, h, score);
+    case 5: return strip_pass_fixed<5, false>(G, m, c, nullptr, a, h, score);
+    case 6: return strip_pass_fixed<6, false>(G, m, c, nullptr, a, h, score);
+    case 7: return strip_pass_fixed<7, false>(G, m, c, nullptr, a, h, score);
+    case 8: return strip_pass_fixed<8, false>(G, m, c, nullptr, a, h, score);
     default: break;
   }
   Eigen::Map<Eigen::VectorXd>(a, m).noalias() = G.leftCols(m).transpose() * c;
