@@ -55,6 +55,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <limits>
 #include <vector>
 
 #include "setbound/core/convention.hpp"
@@ -164,6 +165,8 @@ class ZonotopicObserver {
   using Mat = Eigen::MatrixXd;
   using Vec = Eigen::VectorXd;
   static constexpr double kBoxToGenerators = 1e-6;
+  /// Bravo's threshold on |cᵀg_j| (spec §2.2): absolute under Cora, relative to |c|ᵀ|g_j| otherwise.
+  static constexpr double kBravoThreshold = 1e10 * std::numeric_limits<double>::epsilon();
 
   void setup();
   void load_initial();

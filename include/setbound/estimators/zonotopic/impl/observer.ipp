@@ -425,7 +425,9 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Mat& G, Eigen
   // column numerically orthogonal to c) sends the choice through the thresholded scan. A score
   // left NaN by the update's cancellation is recomputed from L⁻¹ when its candidate is scored.
   const bool cora = opt_.convention == Convention::Cora;
-  const double base = 1e10 * std::numeric_limits<double>::epsilon();
+  const auto admissible = [&](Eigen::Index j) {
+    return std::abs(bravo_a_(j)) > kBravoThreshold * c.cwiseAbs().dot(G.col(j).cwiseAbs());
+  };
   Eigen::Index bestj = bravo_next_;
   if (!ready && scored) {
     bestj = detail::strip_scores(G, m, c, bravo_a_.data(), bravo_h_.data(), bravo_scoring(sig));
@@ -435,11 +437,11 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Mat& G, Eigen
     bestj = detail::strip_candidates(G, m, c, bravo_Linv_, bravo_a_.data(), bravo_h_.data(), bravo_scoring(sig));
     bravo_state_ = BravoState::Scored;
   }
-  if (bestj >= 0 && !cora && !(std::abs(bravo_a_(bestj)) > base * c.cwiseAbs().dot(G.col(bestj).cwiseAbs()))) {
+  if (bestj >= 0 && !cora && !admissible(bestj)) {
     const detail::StripScoring sc = bravo_scoring(sig);
     detail::StripWinner winner(sig);
     for (Eigen::Index j = 0; j < m; ++j)
-      if (std::abs(bravo_a_(j)) > base * c.cwiseAbs().dot(G.col(j).cwiseAbs()))
+      if (admissible(j))
         detail::score_candidate<Eigen::Dynamic>(sc, j, bravo_a_(j), bravo_h_.data(), G.col(j).data(), winner);
     bestj = winner.index;
   }
@@ -464,10 +466,9 @@ SETBOUND_INLINE bool ZonotopicObserver::bravo_factor() {
 }
 
 SETBOUND_INLINE detail::StripScoring ZonotopicObserver::bravo_scoring(double sig) const {
-  const double base = 1e10 * std::numeric_limits<double>::epsilon();
   detail::StripScoring sc;
   sc.sig = sig;
-  sc.floor = opt_.convention == Convention::Cora ? base : 0.0;
+  sc.floor = opt_.convention == Convention::Cora ? kBravoThreshold : 0.0;
   sc.L = &bravo_Linv_;
   return sc;
 }
