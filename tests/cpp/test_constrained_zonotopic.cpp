@@ -216,6 +216,67 @@ TEST(ConstrainedZonotopic, MissingSamplesAndAGlitch) {
   EXPECT_EQ(again.upper, t.upper);
 }
 
+// The optimistic screening (estimator.ipp, update): readings are used at once and screened one by
+// one only when the corrected set is not found feasible. Checked against the exact screening done
+// here on the prediction (certified support values of C_i X): the same status for every reading,
+// the exact margin for a step that was screened, and otherwise a margin that is an upper bound of
+// the exact one (the hull LPs' points span part of C_i X) and <= 0 (the reading is consistent).
+TEST(ConstrainedZonotopic, OptimisticScreeningAgreesWithTheExactOne) {
+  int screened_steps = 0, optimistic_steps = 0;
+  for (int seed = 0; seed < 6; ++seed) {
+    std::mt19937 rng(900 + seed);
+    const int n = 2 + seed % 3, ny = 1 + seed % 2;
+    const Record r = simulate(n, ny, 60, rng, seed % 2 == 0);
+    for (int mode = 0; mode < 3; ++mode) {
+      CZOptions o;
+      o.correction = mode == 1 ? CZCorrection::WangStrips : CZCorrection::ExactOutput;
+      o.reduction = mode == 2 ? CZReduction::None : CZReduction::Limits;
+      ConstrainedZonotopicEstimator est(r.sys, ConstrainedZonotope(r.x0), o);
+      const int N = mode == 2 ? 15 : 60;  // without reduction the set grows every step
+      for (int k = 0; k < N; ++k) {
+        const ConstrainedZonotope X = est.prediction();
+        const setbound::BoundingBox out = X.image_bounds(r.sys.C());
+        VectorXd y = r.Y.row(k).transpose();
+        // Glitches: every 7th step one reading lies 0.3 to 3 noise bounds outside C_i X.
+        const bool glitch = k % 7 == 3;
+        if (glitch) {
+          const int i = k % ny;
+          const double sig = r.sys.F().row(i).cwiseAbs().sum();
+          y(i) = out.hi(i) + sig * (1.3 + 0.3 * (k % 10));
+        }
+        est.update(y, VectorXd(0));
+        const auto& chk = est.last_check();
+        bool any_flag = false;
+        for (int i = 0; i < ny; ++i) {
+          const double sig = r.sys.F().row(i).cwiseAbs().sum();
+          const double center = 0.5 * out.lo(i) + 0.5 * out.hi(i), radius = 0.5 * out.hi(i) - 0.5 * out.lo(i);
+          const double exact = (std::abs(y(i) - center) - radius - sig) / sig;
+          const bool bad = exact > 1e-9;
+          any_flag = any_flag || bad;
+          ASSERT_EQ(chk.status[static_cast<size_t>(i)], bad ? OutputStatus::Inconsistent : OutputStatus::Used)
+              << "seed " << seed << " mode " << mode << " step " << k << " output " << i << " exact margin " << exact;
+          if (bad) EXPECT_NEAR(chk.margin(i), exact, 1e-6 * (1.0 + std::abs(exact)));
+        }
+        for (int i = 0; i < ny; ++i) {
+          const double sig = r.sys.F().row(i).cwiseAbs().sum();
+          const double center = 0.5 * out.lo(i) + 0.5 * out.hi(i), radius = 0.5 * out.hi(i) - 0.5 * out.lo(i);
+          const double exact = (std::abs(y(i) - center) - radius - sig) / sig;
+          if (any_flag) {
+            EXPECT_NEAR(chk.margin(i), exact, 1e-6 * (1.0 + std::abs(exact))) << "screened step " << k;
+          } else {
+            EXPECT_GE(chk.margin(i), exact - 1e-6) << "seed " << seed << " mode " << mode << " step " << k;
+            EXPECT_LE(chk.margin(i), 1e-6) << "seed " << seed << " mode " << mode << " step " << k;
+          }
+        }
+        (any_flag ? screened_steps : optimistic_steps) += 1;
+        ASSERT_TRUE(inside(r.X.row(k).transpose(), est.current_lower(), est.current_upper())) << "step " << k;
+      }
+    }
+  }
+  EXPECT_GT(screened_steps, 20);
+  EXPECT_GT(optimistic_steps, 200);
+}
+
 TEST(ConstrainedZonotopic, BadInputIsNamed) {
   const LinearSystem s = cora_2d();
   const ConstrainedZonotope x0(Zonotope(VectorXd::Zero(2), MatrixXd::Identity(2, 2)));

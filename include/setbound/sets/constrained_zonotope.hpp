@@ -205,6 +205,12 @@ class ConstrainedZonotope {
   BoundingBox interval_hull(BoxLP& lp) const;
   /// The same, and what its LPs' multipliers say about each row and generator (HullSensitivity).
   BoundingBox interval_hull(BoxLP& lp, HullSensitivity& sensitivity) const;
+  /// The same (sensitivity may be null), and the points the simplex found: column 2i (2i+1) is
+  /// c + G ξ* of the LP of max x_i (min x_i). They are points of the set up to the simplex's
+  /// feasibility tolerance and rounding, not certified: what they span is an inner estimate of
+  /// the set (the estimators' margins of consistent readings). NaN columns where an LP did not
+  /// reach optimality; no columns when the set is certified empty.
+  BoundingBox interval_hull(BoxLP& lp, HullSensitivity* sensitivity, Eigen::MatrixXd& maximisers) const;
   BoundingBox image_bounds(const Eigen::Ref<const Eigen::MatrixXd>& K, BoxLP& lp) const;
   Emptiness emptiness(BoxLP& lp) const;
 
@@ -225,7 +231,7 @@ class ConstrainedZonotope {
   double support_with(BoxLP& lp, const Eigen::Ref<const Eigen::VectorXd>& d) const;
   ConstrainedZonotope reduce_lift(ZonotopeReduction technique, Eigen::Index limit) const;
   /// The interval hull on `lp`; the sensitivity too when asked (it costs O(n q m) more).
-  BoundingBox hull_impl(BoxLP& lp, HullSensitivity* sensitivity) const;
+  BoundingBox hull_impl(BoxLP& lp, HullSensitivity* sensitivity, Eigen::MatrixXd* maximisers = nullptr) const;
   ConstrainedZonotope eliminate_impl(Eigen::Index max_constraints, const Eigen::VectorXd* row_weight) const;
   // The elimination loop works on one set in place (no set rebuilt, no finiteness scan per row:
   // the caller checks once at the end with require_no_overflow): rescale() on this set, and the

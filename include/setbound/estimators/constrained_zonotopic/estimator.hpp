@@ -14,9 +14,10 @@
 //       first, at `order` (CORA's zonotopeOrder), or none, or (the default, Limits) Scott's
 //       elimination (rows ranked by the hull LPs' duals) and the lift reduction to limits.
 //
-// One LP per step (Limits and None): the screening's LP on the predicted set's rows is extended
-// to the corrected set's rows (BoxLP::extend: the intersection only appends rows and columns), so
-// the emptiness test and the interval hull share its warm basis. The hull
+// One LP per step (Limits and None): the LP of the corrected set answers the emptiness test and
+// the interval hull on one warm basis (and, when a step must screen its readings, the screening's
+// LP on the predicted set's rows is extended to the corrected set's: BoxLP::extend, the
+// intersection only appends rows and columns). The hull
 // reported (current_lower/upper) is that of the corrected set before the reduction: it holds
 // every state consistent with the data, and current_set() (reduced) contains it. With CORA's
 // reduction the hull is the reduced set's, as CORA computes it. The hull LPs' duals also rank the
@@ -29,11 +30,17 @@
 // after using y_k, then predicts x_{k+1} with u_k. The first set is the initial set corrected
 // with y_0 and not reduced (CORA: R{1} = Corr(R0, y_1)).
 //
-// Real data (issue 24): NaN outputs are missing (not used); each present reading is first tested
+// Real data (issue 24): NaN outputs are missing (not used). Limits and None first use every present
+// reading at once: when phase 1 finds a point of the corrected set, that point produces every
+// reading, so each is consistent, and their margins are upper bounds of the exact ones (measured
+// against the output interval the hull LPs' points span, a part of C_i X; like the zonotopic
+// filters' screen). Otherwise (and always with CORA's reduction) each present reading is tested
 // against the predicted output set [C_i X] + D_i u ± σ_i, whose ends are certified support values
 // (LPs), and an impossible one is handled by `on_inconsistency`. Readings that are each possible
 // but jointly impossible leave a certified-empty set: every output of the step is then reported
-// inconsistent (margin NaN) and the policy applies to the step.
+// inconsistent (margin NaN) and the policy applies to the step. (Consequence of the first path: a
+// reading outside C_i X ± σ_i by less than the simplex's feasibility tolerance, 1e-9 of its
+// row's scale, counts as consistent.)
 #pragma once
 
 #include <Eigen/Core>
@@ -136,6 +143,11 @@ class ConstrainedZonotopicEstimator {
   /// consistent ones (policy Raise throws). Fills chk.
   std::vector<Eigen::Index> screen(const ConstrainedZonotope& X, BoxLP& lp, const Eigen::Ref<const Eigen::VectorXd>& y,
                                    const Eigen::Ref<const Eigen::VectorXd>& u, MeasurementCheck& chk) const;
+  /// The margins of the readings used by the optimistic path (see update): against the output
+  /// interval spanned by `points` (the hull LPs' points of the corrected set, inside X), so each is
+  /// an upper bound of the exact margin against C_i X up to the simplex's tolerance.
+  void optimistic_margins(const Eigen::MatrixXd& points, const Eigen::Ref<const Eigen::VectorXd>& y,
+                          const Eigen::Ref<const Eigen::VectorXd>& u, MeasurementCheck& chk) const;
 
   LinearSystem sys_;
   ConstrainedZonotope x0_;

@@ -764,7 +764,8 @@ SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull(BoxLP& lp, HullSe
   return hull_impl(lp, &sens);
 }
 
-SETBOUND_INLINE BoundingBox ConstrainedZonotope::hull_impl(BoxLP& lp, HullSensitivity* sens) const {
+SETBOUND_INLINE BoundingBox ConstrainedZonotope::hull_impl(BoxLP& lp, HullSensitivity* sens,
+                                                          Eigen::MatrixXd* maximisers) const {
   require_lp(lp);
   // ±G_i is exact, so BoxLP's certified bound of max ±G_i ξ is the hull's radius part.
   const Eigen::Index n = dimension(), q = num_constraints(), m = num_generators();
@@ -772,9 +773,11 @@ SETBOUND_INLINE BoundingBox ConstrainedZonotope::hull_impl(BoxLP& lp, HullSensit
     sens->row_weight = Eigen::VectorXd::Zero(q);
     sens->box_cost = Eigen::VectorXd::Zero(m);
   }
+  if (maximisers) maximisers->resize(n, 0);
   if (lp.feasibility() == BoxLP::Feasibility::empty)
     return {Eigen::VectorXd::Constant(n, rounding::kInf), Eigen::VectorXd::Constant(n, -rounding::kInf)};
   BoundingBox box{Eigen::VectorXd(n), Eigen::VectorXd(n)};
+  if (maximisers) maximisers->setConstant(n, 2 * n, std::numeric_limits<double>::quiet_NaN());
   Eigen::VectorXd rmax, loss;
   Eigen::MatrixXd absA;
   if (sens && q) {
@@ -787,6 +790,10 @@ SETBOUND_INLINE BoundingBox ConstrainedZonotope::hull_impl(BoxLP& lp, HullSensit
     const auto down = lp.maximize(-G_.row(i).transpose());
     box.hi(i) = rounding::add_up(c_(i), rounding::add_up(up.value, r_(i)));
     box.lo(i) = rounding::sub_down(c_(i), rounding::add_up(down.value, r_(i)));
+    if (maximisers) {
+      if (up.optimal && up.point.size() == m) maximisers->col(2 * i).noalias() = c_ + G_ * up.point;
+      if (down.optimal && down.point.size() == m) maximisers->col(2 * i + 1).noalias() = c_ + G_ * down.point;
+    }
     // Without rows boxing a generator costs nothing beyond its own |G_ij| (loss 0): nothing to add.
     if (!sens || q == 0) continue;
     const double width = std::max(box.hi(i) - box.lo(i), 1e-300);
@@ -804,6 +811,11 @@ SETBOUND_INLINE BoundingBox ConstrainedZonotope::hull_impl(BoxLP& lp, HullSensit
 
 SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull(BoxLP& lp) const {
   return hull_impl(lp, nullptr);
+}
+
+SETBOUND_INLINE BoundingBox ConstrainedZonotope::interval_hull(BoxLP& lp, HullSensitivity* sensitivity,
+                                                              Eigen::MatrixXd& maximisers) const {
+  return hull_impl(lp, sensitivity, &maximisers);
 }
 
 SETBOUND_INLINE double ConstrainedZonotope::support(const Eigen::Ref<const Eigen::VectorXd>& d) const {
