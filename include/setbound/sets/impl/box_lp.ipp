@@ -546,21 +546,46 @@ SETBOUND_INLINE BoxLP::Bound BoxLP::maximize(const Eigen::Ref<const Eigen::Vecto
   // dual simplex ran on perturbed ones and its Harris-style ties may leave reduced costs a hair
   // on the wrong side. From its primal-feasible basis this is usually a few pivots or none.
   optimal = run_simplex(cost, 50 * (m + r) + 1000);
-  const Eigen::VectorXd mu = -duals(cost);  // dual of the maximisation
-  double value = dual_bound(g, mu);       // μᵀb + ‖g − Aᵀμ‖₁, certified
+  Eigen::VectorXd mu = -duals(cost);  // dual of the maximisation
+  double value = dual_bound(g, mu);  // μᵀb + ‖g − Aᵀμ‖₁, certified
+  // The tableau is updated in product form between factorisations; on a nearly degenerate set
+  // (a consistent set shrunk to almost a point) its drift can leave the simplex "optimal" on a
+  // basis whose multipliers certify a loose bound (seen: 0.02 where the maximum is −0.32). A gap
+  // between the certified bound and the simplex's own value is that symptom: factorise afresh,
+  // let the primal simplex repair the basis, and keep the better certified bound.
+  const double scale = 1.0 + box_lp_detail::max_abs(g);
+  if (optimal && since_refactor_ > 0 && value - simplex_value(g) > 1e-7 * scale) {
+    refactor();
+    optimal = run_simplex(cost, 50 * (m + r) + 1000);
+    const Eigen::VectorXd mu2 = -duals(cost);
+    const double value2 = dual_bound(g, mu2);
+    if (value2 < value) {
+      value = value2;
+      mu = mu2;
+    }
+  }
   Eigen::VectorXd mu_used = mu;
   const double plain = box_lp_detail::l1_upper(g);
   if (!(value <= plain)) {  // a poor dual (or NaN from a breakdown): μ = 0 is valid and better
     value = plain;
     mu_used.setZero();
   }
-  // The simplex's point (not certified: β as updated by the pivots, refreshed every
-  // kRefactorEvery of them).
+  const Eigen::VectorXd xi = point();
+  return {value, g.dot(xi), mu_used, xi, optimal};
+}
+
+SETBOUND_INLINE Eigen::VectorXd BoxLP::point() const {
+  // Not certified: β as updated by the pivots, refreshed every kRefactorEvery of them.
+  const Eigen::Index r = A_.rows(), m = A_.cols();
   Eigen::VectorXd xi(m);
   for (Eigen::Index j = 0; j < m; ++j) xi(j) = state_[static_cast<size_t>(j)] > 0 ? 1.0 : -1.0;
   for (Eigen::Index i = 0; i < r; ++i)
     if (basis_[static_cast<size_t>(i)] < m) xi(basis_[static_cast<size_t>(i)]) = beta_(i);
-  return {value, g.dot(xi), mu_used, xi, optimal};
+  return xi;
+}
+
+SETBOUND_INLINE double BoxLP::simplex_value(const Eigen::Ref<const Eigen::VectorXd>& g) const {
+  return g.dot(point());
 }
 
 }  // namespace setbound
