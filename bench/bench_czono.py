@@ -34,7 +34,7 @@ from setbound.constrained_zonotopic import ConstrainedZonotopicEstimator
 from setbound.sets import ConstrainedZonotope
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from doc_region import marked, replace_region  # noqa: E402
+from doc_region import write_region  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -223,13 +223,7 @@ def main(argv=None):
              "| set | ZonoOpt eps | ZonoOpt bounding box ms | ZonoOpt / setbound hull | \\|Δ\\| |",
              "|---|---|---|---|---|", *tight]
     body = "\n".join(lines)
-    out = Path(args.out)
-    text = out.read_text() if out.exists() else ""
-    new = replace_region(text, "bench_czono", body)
-    if new is None:
-        new = text.rstrip("\n") + "\n\n## Constrained zonotopes: the LP engine (Python)\n\n" + \
-            marked("bench_czono", body) + "\n"
-    out.write_text(new)
+    write_region(args.out, "bench_czono", body, "Constrained zonotopes: the LP engine (Python)")
     print(body)
     return rows
 

@@ -27,7 +27,7 @@ from setbound.benchmarks import load_cora
 from setbound.constrained_zonotopic import ConstrainedZonotopicEstimator
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from doc_region import marked, replace_region  # noqa: E402
+from doc_region import write_region  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -93,13 +93,7 @@ def main(argv=None):
              "| data | n_x | steps | limits | rows / generators | CZN-A / exact | µs/step |",
              "|---|---|---|---|---|---|---|", *rows]
     body = "\n".join(lines)
-    out = Path(args.out)
-    text = out.read_text() if out.exists() else ""
-    new = replace_region(text, "bench_czono_limits", body)
-    if new is None:
-        new = text.rstrip("\n") + "\n\n## Constrained zonotopes: accuracy against the limits (Python)\n\n" + \
-            marked("bench_czono_limits", body) + "\n"
-    out.write_text(new)
+    write_region(args.out, "bench_czono_limits", body, "Constrained zonotopes: accuracy against the limits (Python)")
     print(body)
     return rows
 

@@ -24,7 +24,7 @@ import setbound as sb
 from setbound import ellipsoidal as ell
 from setbound.simulation import simulate
 
-from doc_region import marked, replace_region
+from doc_region import write_region
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -136,12 +136,8 @@ def main():
     if a.write:
         # Only the generated head and table are replaced; the commentary around them stays.
         body = f"{head}\n\n{md}"
-        doc = ROOT / "docs" / "benchmarks.md"
-        text = doc.read_text() if doc.exists() else "# Benchmarks\n"
-        new = replace_region(text, "bench_ellipsoidal", body)
-        if new is None:
-            new = text.rstrip() + f"\n\n## Ellipsoidal estimators\n\n{marked('bench_ellipsoidal', body)}\n"
-        doc.write_text(new)
+        write_region(ROOT / "docs" / "benchmarks.md", "bench_ellipsoidal", body, "Ellipsoidal estimators",
+                     empty="# Benchmarks\n")
 
 
 if __name__ == "__main__":
