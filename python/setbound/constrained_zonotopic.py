@@ -19,7 +19,10 @@ exact consistent set as long as the representation is not reduced.
 
 A filter (row ``k`` of a trajectory used ``y_k``). Readings are screened as in every estimator of
 the library (:mod:`setbound.measurement`); readings that are each possible but jointly impossible
-leave a certified-empty intersection, and the step is reported inconsistent instead.
+leave a certified-empty intersection, and the step is reported inconsistent instead. Except with
+``reduction="cora"``, a step first uses all its readings at once and screens them one by one only
+when that intersection is not found feasible; the margins of a step that was not screened are then
+upper bounds of the exact ones (<= 0), like those of the zonotopic filters.
 """
 from __future__ import annotations
 
