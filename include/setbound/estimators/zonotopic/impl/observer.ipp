@@ -482,7 +482,7 @@ SETBOUND_INLINE void ZonotopicObserver::bravo_update(Mat& G, Eigen::Index m, Vec
   // The bounds of strip_update for one strip: K = I − λcᵀ and its rounding g (I + |λ||c|ᵀ), the
   // centre's, the generators' 2g (|G| + |λ||c|ᵀ|G|) by rows and the new column's g |λ| σ.
   al_ = lam.cwiseAbs();
-  const Vec ac = c.cwiseAbs();
+  const auto ac = c.cwiseAbs();  // an expression: no vector allocated per strip
   const double innov = y - c.dot(p);
   pn_ = p + lam * innov;
   t_ = p.cwiseAbs();
