@@ -133,7 +133,6 @@ class BoxLP {
   double upper_of(int k) const { return k < A_.cols() ? 1.0 : 0.0; }
   double dual_bound(const Eigen::Ref<const Eigen::VectorXd>& g, const Eigen::VectorXd& mu) const;
   Eigen::VectorXd point() const;  // the current basic solution ξ (non-basic at their bounds)
-  double simplex_value(const Eigen::Ref<const Eigen::VectorXd>& g) const;  // gᵀξ at point()
   bool run_simplex(const Eigen::VectorXd& cost, long max_pivots);  // minimises costᵀx; false: limit
   // Minimises costᵀx from the current basis by the dual simplex: every non-basic variable first
   // goes to the bound its reduced cost prefers (a boxed LP is then dual feasible), then basic

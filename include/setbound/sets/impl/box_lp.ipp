@@ -545,24 +545,27 @@ SETBOUND_INLINE BoxLP::Bound BoxLP::maximize(const Eigen::Ref<const Eigen::Vecto
   // The primal simplex finishes (or, after a fallback, does) the job with the true costs: the
   // dual simplex ran on perturbed ones and its Harris-style ties may leave reduced costs a hair
   // on the wrong side. From its primal-feasible basis this is usually a few pivots or none.
-  optimal = run_simplex(cost, 50 * (m + r) + 1000);
+  const long primal_limit = 50 * (m + r) + 1000;
+  optimal = run_simplex(cost, primal_limit);
   Eigen::VectorXd mu = -duals(cost);  // dual of the maximisation
   double value = dual_bound(g, mu);  // μᵀb + ‖g − Aᵀμ‖₁, certified
+  Eigen::VectorXd xi = point();
   // The tableau is updated in product form between factorisations; on a nearly degenerate set
   // (a consistent set shrunk to almost a point) its drift can leave the simplex "optimal" on a
   // basis whose multipliers certify a loose bound (seen: 0.02 where the maximum is −0.32). A gap
   // between the certified bound and the simplex's own value is that symptom: factorise afresh,
   // let the primal simplex repair the basis, and keep the better certified bound.
   const double scale = 1.0 + box_lp_detail::max_abs(g);
-  if (optimal && since_refactor_ > 0 && value - simplex_value(g) > 1e-7 * scale) {
+  if (optimal && since_refactor_ > 0 && value - g.dot(xi) > 1e-7 * scale) {
     refactor();
-    optimal = run_simplex(cost, 50 * (m + r) + 1000);
+    optimal = run_simplex(cost, primal_limit);
     const Eigen::VectorXd mu2 = -duals(cost);
     const double value2 = dual_bound(g, mu2);
     if (value2 < value) {
       value = value2;
       mu = mu2;
     }
+    xi = point();
   }
   Eigen::VectorXd mu_used = mu;
   const double plain = box_lp_detail::l1_upper(g);
@@ -570,7 +573,6 @@ SETBOUND_INLINE BoxLP::Bound BoxLP::maximize(const Eigen::Ref<const Eigen::Vecto
     value = plain;
     mu_used.setZero();
   }
-  const Eigen::VectorXd xi = point();
   return {value, g.dot(xi), mu_used, xi, optimal};
 }
 
@@ -582,10 +584,6 @@ SETBOUND_INLINE Eigen::VectorXd BoxLP::point() const {
   for (Eigen::Index i = 0; i < r; ++i)
     if (basis_[static_cast<size_t>(i)] < m) xi(basis_[static_cast<size_t>(i)]) = beta_(i);
   return xi;
-}
-
-SETBOUND_INLINE double BoxLP::simplex_value(const Eigen::Ref<const Eigen::VectorXd>& g) const {
-  return g.dot(point());
 }
 
 }  // namespace setbound
