@@ -92,6 +92,21 @@ inline void score_candidate(const StripScoring& sc, Eigen::Index k, double a, do
   }
 }
 
+/// Every column of G.leftCols(m) scored with its a_k = a[k] (the dynamic-n passes, after their
+/// products); returns the winner.
+inline Eigen::Index score_columns(const StripScoring& sc, const Eigen::MatrixXd& G, Eigen::Index m, const double* a,
+                                  double* h) {
+  StripWinner winner(sc.sig);
+  for (Eigen::Index k = 0; k < m; ++k) score_candidate<Eigen::Dynamic>(sc, k, a[k], h, G.col(k).data(), winner);
+  return winner.index;
+}
+
+/// A leverage score after a rank-one downdate: h_new = h_old − (zᵀg)²/h_j, kept when it keeps
+/// more than 8 of h_old's digits, NaN otherwise (the candidate's scoring then recomputes it).
+inline double downdated_leverage(double h_old, double h_new) {
+  return h_new > 1e-8 * h_old ? h_new : std::numeric_limits<double>::quiet_NaN();
+}
+
 /// Removes exactly-zero columns among the first m of W (keeping the order) when `drop_zeros`,
 /// and sets w = rs|W| over the kept columns, rounded up (a bound of the computed sums). Returns
 /// the kept column count.
@@ -227,7 +242,6 @@ Eigen::Index bravo_advance_fixed(Eigen::MatrixXd& G, Eigen::Index m, const Eigen
     cf[i] = cn ? (*cn)(i) : 0.0;
   }
   const double ihj = 1.0 / h[j];
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   double* const base = G.data();
   StripWinner winner(next.sig);
   auto column = [&](Eigen::Index k) {
@@ -246,8 +260,7 @@ Eigen::Index bravo_advance_fixed(Eigen::MatrixXd& G, Eigen::Index m, const Eigen
       }
       h[k] = 1.0;
     } else {
-      const double hk = h[k] - e * e * ihj;
-      h[k] = hk > 1e-8 * h[k] ? hk : nan;
+      h[k] = downdated_leverage(h[k], h[k] - e * e * ihj);
     }
     if (!cn) return;
     double s = 0.0;
@@ -283,8 +296,8 @@ Eigen::Index bravo_advance_fixed(Eigen::MatrixXd& G, Eigen::Index m, const Eigen
     }
     const ColumnPair hv = {h[k], h[k + 1]};
     const ColumnPair hn = hv - e * e * ihj;
-    h[k] = hn[0] > 1e-8 * hv[0] ? hn[0] : nan;
-    h[k + 1] = hn[1] > 1e-8 * hv[1] ? hn[1] : nan;
+    h[k] = downdated_leverage(hv[0], hn[0]);
+    h[k + 1] = downdated_leverage(hv[1], hn[1]);
     if (!cn) continue;
     a[k] = s[0];
     a[k + 1] = s[1];

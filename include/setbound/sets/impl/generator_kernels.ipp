@@ -108,9 +108,7 @@ SETBOUND_INLINE Eigen::Index strip_candidates(const Eigen::MatrixXd& G, Eigen::I
     Z.noalias() = L.triangularView<Eigen::Lower>() * Gb;
     Eigen::Map<Eigen::VectorXd>(h + j0, nb) = Z.colwise().squaredNorm().transpose();
   }
-  StripWinner winner(score.sig);
-  for (Eigen::Index k = 0; k < m; ++k) score_candidate<Eigen::Dynamic>(score, k, a[k], h, G.col(k).data(), winner);
-  return winner.index;
+  return score_columns(score, G, m, a, h);
 }
 
 SETBOUND_INLINE Eigen::Index strip_scores(const Eigen::MatrixXd& G, Eigen::Index m,
@@ -128,9 +126,7 @@ SETBOUND_INLINE Eigen::Index strip_scores(const Eigen::MatrixXd& G, Eigen::Index
     default: break;
   }
   Eigen::Map<Eigen::VectorXd>(a, m).noalias() = G.leftCols(m).transpose() * c;
-  StripWinner winner(score.sig);
-  for (Eigen::Index k = 0; k < m; ++k) score_candidate<Eigen::Dynamic>(score, k, a[k], h, G.col(k).data(), winner);
-  return winner.index;
+  return score_columns(score, G, m, a, h);
 }
 
 SETBOUND_INLINE Eigen::Index bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, const Eigen::VectorXd& lam, double sig,
@@ -161,14 +157,11 @@ SETBOUND_INLINE Eigen::Index bravo_advance(Eigen::MatrixXd& G, Eigen::Index m, c
       hv(k) = 1.0;
       continue;
     }
-    const double hk = hv(k) - e(k) * e(k) * ihj;
-    hv(k) = hk > 1e-8 * hv(k) ? hk : std::numeric_limits<double>::quiet_NaN();
+    hv(k) = downdated_leverage(hv(k), hv(k) - e(k) * e(k) * ihj);
   }
   if (!cn) return -1;
   av.noalias() = G.leftCols(m).transpose() * *cn;
-  StripWinner winner(next.sig);
-  for (Eigen::Index k = 0; k < m; ++k) score_candidate<Eigen::Dynamic>(next, k, a[k], h, G.col(k).data(), winner);
-  return winner.index;
+  return score_columns(next, G, m, a, h);
 }
 
 SETBOUND_INLINE Eigen::Index compact_and_sum(Eigen::MatrixXd& W, Eigen::Index m, Eigen::VectorXd& w, bool drop_zeros) {
