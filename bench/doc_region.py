@@ -1,9 +1,25 @@
 """The generated parts of docs/benchmarks.md: each benchmark script owns the region between its
 markers `<!-- NAME:begin -->` and `<!-- NAME:end -->` and leaves the rest of the file alone
-(bench_zonotopic_cpp.cpp writes its own region the same way)."""
+(bench_zonotopic_cpp.cpp writes its own region the same way), and states where its figures come
+from in the same words (`environment`, `load_text`)."""
 from __future__ import annotations
 
+import os
+import platform
 from pathlib import Path
+
+import setbound
+
+
+def environment() -> str:
+    """What a generated table was measured with: "x86_64, 2 cores, Python 3.11.7, setbound 0.1.0"."""
+    return (f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
+            f"setbound {setbound.__version__}")
+
+
+def load_text(load=None) -> str:
+    """The 1-, 5- and 15-minute load averages (now, or the given triple) as "0.86 0.71 0.90"."""
+    return " ".join(f"{v:.2f}" for v in (os.getloadavg() if load is None else load))
 
 
 def marked(name: str, body: str) -> str:
