@@ -528,6 +528,14 @@ TEST(ConstrainedZonotope, ConstraintEliminationAndLimitsKeepEveryPoint) {
     bad.box_cost.conservativeResize(Z.num_generators() + 1);
     expect_error_naming<setbound::DimensionError>(
         [&] { Z.reduce_limits(n + 2, 1, setbound::ZonotopeReduction::Girard, bad); }, "box_cost");
+    bad = sens;
+    bad.duals.conservativeResize(Eigen::NoChange, 2 * n + 1);
+    expect_error_naming<setbound::DimensionError>(
+        [&] { Z.reduce_limits(n + 2, 1, setbound::ZonotopeReduction::Girard, bad); }, "duals");
+    bad = sens;
+    bad.width(0) = -1.0;
+    expect_error_naming<setbound::InvalidArgumentError>(
+        [&] { Z.reduce_limits(n + 2, 1, setbound::ZonotopeReduction::Girard, bad); }, "width");
     expect_error_naming<setbound::InvalidArgumentError>([&] { Z.box_generators({0, 0}); }, "which");
     expect_error_naming<setbound::InvalidArgumentError>([&] { Z.box_generators({Z.num_generators()}); }, "which");
   }
@@ -540,6 +548,64 @@ TEST(ConstrainedZonotope, ConstraintEliminationAndLimitsKeepEveryPoint) {
   EXPECT_NEAR(h.hi(0), 1.0, 1e-12);
   setbound::testing::expect_error_naming<setbound::InvalidArgumentError>([&] { cut.eliminate_constraints(-1); }, "max_constraints");
   setbound::testing::expect_error_naming<setbound::InvalidArgumentError>([&] { cut.reduce_limits(2, 1); }, "max_generators");
+}
+
+TEST(ConstrainedZonotope, AbsorbingGeneratorsIntoABasisKeepsEveryPointAndAddsNoColumn) {
+  // absorb_generators (reduce_limits' default path): the absorbed columns leave, the basis columns
+  // grow, only row slack may be added; every point of the set stays, support values only grow.
+  std::mt19937 rng(31);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = 2 + trial % 3, m = n + 6, ns = 1 + trial % 3;
+    const VectorXd c = randn(n, 1, rng);
+    const MatrixXd G = randn(n, m, rng);
+    const VectorXd x0 = c + G * box_point(m, rng, false);
+    std::vector<Strip> strips;
+    for (int k = 0; k < ns; ++k) {
+      const VectorXd h = randn(n, 1, rng);
+      strips.emplace_back(h, h.dot(x0), 0.1 + 0.2 * std::abs(randn(1, 1, rng)(0)));
+    }
+    const ConstrainedZonotope Z = strip_set(c, G, strips);
+    const std::vector<Eigen::Index> basis = Z.absorbing_basis();
+    ASSERT_EQ(static_cast<int>(basis.size()), n) << "trial " << trial;
+    std::vector<Eigen::Index> which;
+    for (Eigen::Index j = 0; j < Z.num_generators() && static_cast<int>(which.size()) < 3 + trial % 3; ++j)
+      if (std::find(basis.begin(), basis.end(), j) == basis.end()) which.push_back(j);
+    const ConstrainedZonotope B = Z.absorb_generators(basis, which);
+    EXPECT_LE(B.num_generators(), Z.num_generators() - static_cast<Eigen::Index>(which.size()) + Z.num_constraints());
+    EXPECT_EQ(B.num_constraints(), Z.num_constraints());
+    std::vector<VectorXd> pts;
+    for (int k = 0; k < 4000 && pts.size() < 60; ++k) {
+      const VectorXd x = c + G * box_point(m, rng, k % 3 == 0);
+      bool in = true;
+      for (const auto& s : strips) in = in && s.contains(x, 0.0);
+      if (in) pts.push_back(x);
+    }
+    for (const auto& x : pts) EXPECT_TRUE(B.contains(x)) << "trial " << trial;
+    for (int d = 0; d < 8; ++d) {
+      const VectorXd dir = randn(n, 1, rng);
+      EXPECT_GE(B.support(dir), Z.support(dir) - 1e-12) << "trial " << trial << " direction " << d;
+    }
+    // Absorbing nothing changes nothing but the basis' rounding.
+    const auto h0 = Z.interval_hull(), h1 = Z.absorb_generators(basis, {}).interval_hull();
+    EXPECT_LE((h1.lo - h0.lo).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LE((h1.hi - h0.hi).cwiseAbs().maxCoeff(), 1e-12);
+    // Named errors: a basis of the wrong size, repeated, overlapping `which`, or dependent.
+    expect_error_naming<setbound::InvalidArgumentError>(
+        [&] { Z.absorb_generators(std::vector<Eigen::Index>(basis.begin(), basis.end() - 1), which); }, "basis");
+    std::vector<Eigen::Index> twice = basis;
+    twice.back() = twice.front();
+    expect_error_naming<setbound::InvalidArgumentError>([&] { Z.absorb_generators(twice, which); }, "basis");
+    expect_error_naming<setbound::InvalidArgumentError>([&] { Z.absorb_generators(basis, {basis[0]}); }, "which");
+    expect_error_naming<setbound::InvalidArgumentError>([&] { Z.absorb_generators(basis, {Z.num_generators()}); }, "which");
+  }
+  // Two equal columns are no basis; and a set with fewer columns than n has none to offer.
+  MatrixXd G2(2, 3);
+  G2 << 1, 1, 0.5, 2, 2, -1;
+  const auto Z2 = ConstrainedZonotope::from_parts(VectorXd::Zero(2), G2, MatrixXd(0, 3), VectorXd(0), VectorXd::Zero(2));
+  expect_error_naming<setbound::InvalidArgumentError>([&] { Z2.absorb_generators({0, 1}, {2}); }, "basis");
+  EXPECT_EQ(Z2.absorbing_basis().size(), 2u);
+  const auto Z1 = ConstrainedZonotope::from_parts(VectorXd::Zero(2), G2.leftCols(1), MatrixXd(0, 1), VectorXd(0), VectorXd::Zero(2));
+  EXPECT_TRUE(Z1.absorbing_basis().empty());
 }
 
 TEST(ConstrainedZonotope, BadInputIsNamed) {

@@ -318,7 +318,11 @@ TEST(ConstrainedZonotopic, RoundingBoxDoesNotWrapOverLongRuns) {
     est.update(C * x + F * w, VectorXd(0));
     ASSERT_TRUE(inside(x, est.current_lower(), est.current_upper())) << "step " << k;
     if (k >= 20) widest = std::max(widest, (est.current_upper() - est.current_lower()).sum());
-    ASSERT_EQ(est.current_set().rounding_radius().maxCoeff(), 0.0) << "step " << k;
+    // The reduction absorbs the rounding box into its basis of generators, leaving only that
+    // absorption's own residual: a few ulps, at every step (no growth from step to step).
+    const auto& X = est.current_set();
+    const double xsize = (X.center().cwiseAbs() + X.generators().cwiseAbs().rowwise().sum()).maxCoeff();
+    ASSERT_LE(X.rounding_radius().maxCoeff(), 1e-15 * xsize) << "step " << k;
     // One step's rounding of the prediction: a few ulps of its magnitude |c| + |G|·1.
     const auto& P = est.prediction();
     const double size = (P.center().cwiseAbs() + P.generators().cwiseAbs().rowwise().sum()).maxCoeff();

@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <Eigen/LU>
+#include <Eigen/QR>
+#include <Eigen/SVD>
 #include <limits>
 #include <string>
 #include <vector>
@@ -559,6 +562,15 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_limits(Eigen::In
     throw DimensionError("box_cost: expected length " + std::to_string(num_generators()) +
                          " (one per generator), got " + std::to_string(sens.box_cost.size()));
   if (sens.box_cost.hasNaN()) throw NotFiniteError("box_cost: contains NaN");  // +inf: a cost never worth paying
+  if (sens.duals.rows() != num_constraints() || sens.duals.cols() != 2 * dimension())
+    throw DimensionError("duals: expected shape " + detail::shape_string(num_constraints(), 2 * dimension()) +
+                         " (rows × 2n), got " + detail::shape_string(sens.duals.rows(), sens.duals.cols()));
+  require_finite(sens.duals, "duals");
+  if (sens.width.size() != dimension())
+    throw DimensionError("width: expected length " + std::to_string(dimension()) + ", got " +
+                         std::to_string(sens.width.size()));
+  if (!sens.width.allFinite() || (sens.width.array() < 0.0).any())
+    throw InvalidArgumentError("width: every entry must be finite and >= 0");
   return reduce_limits_impl(max_generators, max_constraints, technique, &sens);
 }
 
@@ -610,13 +622,31 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_limits_impl(Eige
                                std::to_string(dimension() + max_constraints) + ", got " + std::to_string(max_generators));
   const Eigen::Index n = dimension();
   ConstrainedZonotope start = *this;
-  if (sens) start = box_cheapest(max_generators, max_constraints, sens->box_cost);
-  const ConstrainedZonotope Z =
+  const std::vector<Eigen::Index> basis = sens ? absorbing_basis() : std::vector<Eigen::Index>{};
+  if (sens) start = basis.empty() ? box_cheapest(max_generators, max_constraints, sens->box_cost)
+                                  : absorb_cheapest(max_generators, max_constraints, *sens, basis);
+  ConstrainedZonotope Z =
       start.eliminate_impl(max_constraints, sens ? &sens->row_weight : nullptr).remove_zero_constraints();
   // Columns zero in G and A say nothing; dropping them makes the limit a limit on every column.
   std::vector<Eigen::Index> keep;
   for (Eigen::Index j = 0; j < Z.num_generators(); ++j)
     if (box_lp_detail::max_abs(Z.G_.col(j)) > 0.0 || box_lp_detail::max_abs(Z.A_.col(j)) > 0.0) keep.push_back(j);
+  if (!basis.empty()) {
+    // The absorbing path: the rounding box goes into a basis of the remaining columns as well (no
+    // new column, so the limit is met without boxing more; r keeps only the residual's ulps).
+    const Eigen::Index mk = static_cast<Eigen::Index>(keep.size());
+    Eigen::MatrixXd G(n, mk), A(Z.num_constraints(), mk);
+    for (Eigen::Index k = 0; k < mk; ++k) {
+      G.col(k) = Z.G_.col(keep[static_cast<size_t>(k)]);
+      A.col(k) = Z.A_.col(keep[static_cast<size_t>(k)]);
+    }
+    ConstrainedZonotope K(Z.c_, std::move(G), std::move(A), Z.b_, Z.r_, true);
+    const std::vector<Eigen::Index> after = K.absorbing_basis();
+    if (!after.empty()) {
+      if (K.r_.maxCoeff() > 0.0) K.absorb_in_place(after, {}, true);
+      return K.reduce_lift(technique, max_generators);
+    }
+  }
   // The rounding box joins the generators (the same set, exactly): into a column that is already
   // an axis-aligned segment of its coordinate (zero in A and in the other coordinates; the box
   // columns of box_generators are such), since box(s) ⊕ box(r) = box(s + r), else as a new column.
@@ -692,6 +722,187 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::box_cheapest(Eigen::Ind
       }
   }
   return box_generators(which);
+}
+
+SETBOUND_INLINE std::vector<Eigen::Index> ConstrainedZonotope::absorbing_basis() const {
+  const Eigen::Index n = dimension(), m = num_generators();
+  if (m < n) return {};
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(G_);
+  if (qr.rank() < n) return {};
+  std::vector<Eigen::Index> basis(static_cast<size_t>(n));
+  Eigen::MatrixXd T(n, n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    basis[static_cast<size_t>(k)] = qr.colsPermutation().indices()(k);
+    T.col(k) = G_.col(basis[static_cast<size_t>(k)]);
+  }
+  // A nearly singular T would make α = T⁻¹ g (and the scaled columns) huge: the axes are better.
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(T);
+  const Eigen::VectorXd& sv = svd.singularValues();
+  if (!(sv(n - 1) > 1e-6 * sv(0))) return {};
+  return basis;
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::absorb_generators(const std::vector<Eigen::Index>& basis,
+                                                                          const std::vector<Eigen::Index>& which) const {
+  const Eigen::Index n = dimension(), m = num_generators();
+  std::vector<char> role(static_cast<size_t>(m), 0);  // 1: basis, 2: absorbed
+  if (static_cast<Eigen::Index>(basis.size()) != n)
+    throw InvalidArgumentError("basis: expected " + std::to_string(n) + " column indices, got " + std::to_string(basis.size()));
+  for (const Eigen::Index j : basis) {
+    if (j < 0 || j >= m || role[static_cast<size_t>(j)])
+      throw InvalidArgumentError("basis: index " + std::to_string(j) + " out of range [0, " + std::to_string(m) +
+                                 ") or given twice");
+    role[static_cast<size_t>(j)] = 1;
+  }
+  for (const Eigen::Index j : which) {
+    if (j < 0 || j >= m || role[static_cast<size_t>(j)])
+      throw InvalidArgumentError("which: index " + std::to_string(j) + " out of range [0, " + std::to_string(m) +
+                                 "), given twice or in the basis");
+    role[static_cast<size_t>(j)] = 2;
+  }
+  Eigen::MatrixXd T(n, n);
+  for (Eigen::Index k = 0; k < n; ++k) T.col(k) = G_.col(basis[static_cast<size_t>(k)]);
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(T);
+  if (!lu.isInvertible()) throw InvalidArgumentError("basis: the columns are linearly dependent");
+  ConstrainedZonotope Z = *this;
+  Z.absorb_in_place(basis, which, false);
+  Z.require_no_overflow();
+  return Z;
+}
+
+SETBOUND_INLINE void ConstrainedZonotope::absorb_in_place(const std::vector<Eigen::Index>& basis,
+                                                         const std::vector<Eigen::Index>& which, bool rounding) {
+  const Eigen::Index n = dimension(), q = num_constraints(), m = num_generators();
+  const Eigen::Index k = static_cast<Eigen::Index>(which.size()), kk = k + (rounding ? n : 0);
+  Eigen::MatrixXd T(n, n), AT(q, n), GJ(n, kk), AJ = Eigen::MatrixXd::Zero(q, kk);
+  for (Eigen::Index t = 0; t < n; ++t) {
+    T.col(t) = G_.col(basis[static_cast<size_t>(t)]);
+    AT.col(t) = A_.col(basis[static_cast<size_t>(t)]);
+  }
+  for (Eigen::Index t = 0; t < k; ++t) {
+    GJ.col(t) = G_.col(which[static_cast<size_t>(t)]);
+    AJ.col(t) = A_.col(which[static_cast<size_t>(t)]);
+  }
+  if (rounding) GJ.rightCols(n) = r_.asDiagonal();  // box(r) = diag(r) B: n more columns to absorb
+  // α: any approximation of T⁻¹ g_j; the identity g_j = T α_j + ρ_j, a_j = A_T α_j + β_j is exact
+  // with the exact residuals, bounded by the computed ones plus γ_{n+1}(|g| + |T||α|) (a dot
+  // product of n + 1 terms).
+  const Eigen::MatrixXd alpha = T.partialPivLu().solve(GJ);
+  const Eigen::MatrixXd absAlpha = alpha.cwiseAbs();
+  const double g = rounding_bounds::gamma(n + 2);
+  Eigen::VectorXd rx = ((GJ - T * alpha).cwiseAbs() + g * (GJ.cwiseAbs() + T.cwiseAbs() * absAlpha)).rowwise().sum();
+  Eigen::VectorXd sa = Eigen::VectorXd::Zero(q);
+  if (q) sa = ((AJ - AT * alpha).cwiseAbs() + g * (AJ.cwiseAbs() + AT.cwiseAbs() * absAlpha)).rowwise().sum();
+  // |ξ_T,k + Σ_j α_jk ξ_j| <= s_k: the basis column k scaled by s_k (rounded up) covers them all;
+  // the product's own rounding, u|fl(s_k t_k)| per entry, goes to r (and to the rows' slack).
+  const Eigen::VectorXd s =
+      czono_detail::inflate(Eigen::VectorXd(Eigen::VectorXd::Ones(n) + absAlpha.rowwise().sum()), kk + 2);
+  const double u = std::ldexp(1.0, -52);
+  for (Eigen::Index t = 0; t < n; ++t) {
+    const Eigen::Index j = basis[static_cast<size_t>(t)];
+    G_.col(j) *= s(t);
+    rx += u * G_.col(j).cwiseAbs();
+    if (q) {
+      A_.col(j) *= s(t);
+      sa += u * A_.col(j).cwiseAbs();
+    }
+  }
+  rx = czono_detail::inflate(rx, kk + n + 2);
+  sa = czono_detail::inflate(sa, kk + n + 2);
+  if (k > 0) {
+    std::vector<char> gone(static_cast<size_t>(m), 0);
+    for (const Eigen::Index j : which) gone[static_cast<size_t>(j)] = 1;
+    Eigen::MatrixXd G(n, m - k), A(q, m - k);
+    Eigen::Index out = 0;
+    for (Eigen::Index j = 0; j < m; ++j) {
+      if (gone[static_cast<size_t>(j)]) continue;
+      G.col(out) = G_.col(j);
+      A.col(out) = A_.col(j);
+      ++out;
+    }
+    G_ = std::move(G);
+    A_ = std::move(A);
+  }
+  if (q) czono_detail::absorb_row_slack(G_, A_, sa);
+  r_ = rounding ? rx : czono_detail::inflate(Eigen::VectorXd(r_ + rx), 2);
+}
+
+SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::absorb_cheapest(Eigen::Index max_generators,
+                                                                        Eigen::Index max_constraints,
+                                                                        const HullSensitivity& sens,
+                                                                        const std::vector<Eigen::Index>& basis) const {
+  const Eigen::Index n = dimension(), q = num_constraints(), m = num_generators();
+  // The count as in box_cheapest, without the n box columns (absorbing adds none).
+  Eigen::Index rows = 0, cols = 0;
+  for (Eigen::Index i = 0; i < q; ++i)
+    if (b_(i) != 0.0 || box_lp_detail::max_abs(A_.row(i)) > 0.0) ++rows;
+  const Eigen::Index eliminated = std::max<Eigen::Index>(0, rows - max_constraints);
+  const std::vector<Eigen::Index> slack_row = czono_detail::slack_rows(G_, A_);
+  std::vector<Eigen::Index> own_slack(static_cast<size_t>(q), 0), candidates;
+  std::vector<char> in_basis(static_cast<size_t>(m), 0);
+  for (const Eigen::Index j : basis) in_basis[static_cast<size_t>(j)] = 1;
+  Eigen::VectorXd lift_norm(m);
+  double largest = 0.0;
+  for (Eigen::Index j = 0; j < m; ++j) {
+    lift_norm(j) = std::sqrt(G_.col(j).squaredNorm() + A_.col(j).squaredNorm());
+    largest = std::max(largest, lift_norm(j));
+    if (lift_norm(j) == 0.0) continue;  // dropped anyway
+    ++cols;
+    const Eigen::Index row = slack_row[static_cast<size_t>(j)];
+    if (row >= 0) ++own_slack[static_cast<size_t>(row)];
+    else if (!in_basis[static_cast<size_t>(j)]) candidates.push_back(j);
+  }
+  // Negligible columns (round-off left by substitutions and gains) are absorbed whatever the
+  // limit: they cost nothing, and kept they put entries of 1e-20 into the LPs' bases, where a
+  // warm-started simplex once ended on a basis whose certified bound was 0.1 too loose (a random
+  // 3-state system, test_prediction_is_the_set_the_next_step_corrects).
+  const double negligible = 1e-9 * largest;
+  bool any_negligible = false;
+  for (const Eigen::Index j : candidates) any_negligible = any_negligible || lift_norm(j) <= negligible;
+  Eigen::Index excess = cols - eliminated - max_generators;
+  if (excess <= 0 && !any_negligible) return *this;
+  // The price of absorbing column j, per hull LP (objective ±G_i, multipliers μ): its dual term
+  // |±G_ij − μᵀa_j| goes; the basis columns' terms τ_k = |±G_i t_k − μᵀa_{t_k}| grow by |α_jk|
+  // each, and the rows' slack adds |μ|ᵀ|β_j|. Summed over the 2n LPs, each relative to its width.
+  Eigen::MatrixXd T(n, n), AT(q, n);
+  for (Eigen::Index t = 0; t < n; ++t) {
+    T.col(t) = G_.col(basis[static_cast<size_t>(t)]);
+    AT.col(t) = A_.col(basis[static_cast<size_t>(t)]);
+  }
+  const Eigen::MatrixXd alpha = T.partialPivLu().solve(G_);
+  const Eigen::MatrixXd absAlpha = alpha.cwiseAbs();
+  const Eigen::MatrixXd absBeta = q ? Eigen::MatrixXd((A_ - AT * alpha).cwiseAbs()) : Eigen::MatrixXd(0, m);
+  Eigen::VectorXd cost = Eigen::VectorXd::Zero(m);
+  Eigen::RowVectorXd now(m), tau(n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (int side = 0; side < 2; ++side) {
+      const auto mu = sens.duals.col(2 * i + side);
+      now = side ? Eigen::RowVectorXd(-G_.row(i)) : Eigen::RowVectorXd(G_.row(i));
+      if (q) now.noalias() -= mu.transpose() * A_;
+      now = now.cwiseAbs();
+      for (Eigen::Index t = 0; t < n; ++t) tau(t) = now(basis[static_cast<size_t>(t)]);
+      Eigen::RowVectorXd after = tau * absAlpha;
+      if (q) after.noalias() += mu.cwiseAbs().transpose() * absBeta;
+      cost += ((after - now).transpose() / std::max(sens.width(i), 1e-300)).cwiseMax(0.0);
+    }
+  for (const Eigen::Index j : candidates)
+    if (lift_norm(j) <= negligible) cost(j) = -1.0;  // first, and taken whatever the excess
+  std::stable_sort(candidates.begin(), candidates.end(), [&](Eigen::Index a, Eigen::Index b) { return cost(a) < cost(b); });
+  std::vector<Eigen::Index> which;
+  std::vector<char> new_slack(static_cast<size_t>(q), 0);
+  for (const Eigen::Index j : candidates) {
+    if (excess <= 0 && cost(j) >= 0.0) break;
+    which.push_back(j);
+    --excess;
+    for (Eigen::Index i = 0; i < q; ++i)
+      if (A_(i, j) != 0.0 && own_slack[static_cast<size_t>(i)] == 0 && !new_slack[static_cast<size_t>(i)]) {
+        new_slack[static_cast<size_t>(i)] = 1;  // this row's slack needs a column of its own
+        ++excess;
+      }
+  }
+  ConstrainedZonotope Z = *this;
+  Z.absorb_in_place(basis, which, false);
+  return Z;
 }
 
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_cora(ZonotopeReduction technique, double order) const {
@@ -772,6 +983,8 @@ SETBOUND_INLINE BoundingBox ConstrainedZonotope::hull_impl(BoxLP& lp, HullSensit
   if (sens) {
     sens->row_weight = Eigen::VectorXd::Zero(q);
     sens->box_cost = Eigen::VectorXd::Zero(m);
+    sens->duals = Eigen::MatrixXd::Zero(q, 2 * n);
+    sens->width = Eigen::VectorXd::Zero(n);
   }
   if (maximisers) maximisers->resize(n, 0);
   if (lp.feasibility() == BoxLP::Feasibility::empty)
@@ -794,9 +1007,13 @@ SETBOUND_INLINE BoundingBox ConstrainedZonotope::hull_impl(BoxLP& lp, HullSensit
       if (up.optimal && up.point.size() == m) maximisers->col(2 * i).noalias() = c_ + G_ * up.point;
       if (down.optimal && down.point.size() == m) maximisers->col(2 * i + 1).noalias() = c_ + G_ * down.point;
     }
-    // Without rows boxing a generator costs nothing beyond its own |G_ij| (loss 0): nothing to add.
-    if (!sens || q == 0) continue;
+    if (!sens) continue;
     const double width = std::max(box.hi(i) - box.lo(i), 1e-300);
+    sens->width(i) = width;
+    // Without rows boxing a generator costs nothing beyond its own |G_ij| (loss 0): nothing to add.
+    if (q == 0) continue;
+    if (up.dual.size() == q) sens->duals.col(2 * i) = up.dual;
+    if (down.dual.size() == q) sens->duals.col(2 * i + 1) = down.dual;
     sens->row_weight += (up.dual.cwiseAbs() + down.dual.cwiseAbs()).cwiseProduct(rmax) / width;
     // Column j's term in the dual bound of max ±G_i ξ is |±G_ij − μᵀa_j|; boxed, it becomes
     // |G_ij| + |μ|ᵀ|a_j| (the box in x plus the rows' slack priced by μ). Non-negative by the
