@@ -6,8 +6,6 @@
 #include "setbound/sets/zonotope_reduction.hpp"
 #include "setbound/core/config.hpp"
 
-#include <type_traits>
-
 namespace setbound {
 namespace rounding_bounds {
 
@@ -180,20 +178,18 @@ SETBOUND_INLINE Eigen::Index reduce_in_place(ZonotopeReduction method, Eigen::Ma
   // Fixed n: one pass that also sums the kept columns (the caller's row sums); otherwise runs
   // of kept columns move as blocks.
   double acc[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-  auto gather = [&](auto tag) {
-    constexpr int N = decltype(tag)::value;
-    kk = gather_and_sum_fixed<N>(base, m, ws.order.data(), nred, ws.Gred.data(), acc);
-  };
+  const Eigen::Index* const reduced = ws.order.data();
+  double* const gred = ws.Gred.data();
   bool summed = true;
   switch (n) {
-    case 1: gather(std::integral_constant<int, 1>()); break;
-    case 2: gather(std::integral_constant<int, 2>()); break;
-    case 3: gather(std::integral_constant<int, 3>()); break;
-    case 4: gather(std::integral_constant<int, 4>()); break;
-    case 5: gather(std::integral_constant<int, 5>()); break;
-    case 6: gather(std::integral_constant<int, 6>()); break;
-    case 7: gather(std::integral_constant<int, 7>()); break;
-    case 8: gather(std::integral_constant<int, 8>()); break;
+    case 1: kk = gather_and_sum_fixed<1>(base, m, reduced, nred, gred, acc); break;
+    case 2: kk = gather_and_sum_fixed<2>(base, m, reduced, nred, gred, acc); break;
+    case 3: kk = gather_and_sum_fixed<3>(base, m, reduced, nred, gred, acc); break;
+    case 4: kk = gather_and_sum_fixed<4>(base, m, reduced, nred, gred, acc); break;
+    case 5: kk = gather_and_sum_fixed<5>(base, m, reduced, nred, gred, acc); break;
+    case 6: kk = gather_and_sum_fixed<6>(base, m, reduced, nred, gred, acc); break;
+    case 7: kk = gather_and_sum_fixed<7>(base, m, reduced, nred, gred, acc); break;
+    case 8: kk = gather_and_sum_fixed<8>(base, m, reduced, nred, gred, acc); break;
     default: {
       summed = false;
       Eigen::Index from = 0;
