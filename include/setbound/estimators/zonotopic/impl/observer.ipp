@@ -524,17 +524,23 @@ SETBOUND_INLINE void ZonotopicObserver::bravo_correct(Mat& G, Eigen::Index m, Ve
   const std::size_t q = rows.size();
   bravo_ready_ = false;
   bravo_state_ = BravoState::Unknown;  // a new S (the prior's): not factored yet
+  // Each row of C is copied once (a row of the column-major C is strided; the passes want a
+  // contiguous normal): into bravo_cn_ while its predecessor is the current strip, where the
+  // update's pass scores it, then swapped into bravo_c_ for its own strip.
+  if (q > 0) bravo_c_ = C.row(rows[0]).transpose();
   for (std::size_t t = 0; t < q; ++t) {
     const Eigen::Index i = rows[t], ti = static_cast<Eigen::Index>(t);
-    bravo_c_ = C.row(i).transpose();
+    const bool next = t + 1 < q;
+    if (next) bravo_cn_ = C.row(rows[t + 1]).transpose();
     const Eigen::Index j = bravo_choice(G, m, bravo_c_, sig(ti), lam_);
-    if (j < 0) continue;  // the set itself is the best candidate
-    if (!lam_.allFinite()) throw NumericalError("gain rule: non-finite weight for output " + std::to_string(i));
-    // In place; the same pass gives the next strip's scores.
-    if (t + 1 < q) bravo_cn_ = C.row(rows[t + 1]).transpose();
-    bravo_update(G, m, p, r, lam_, bravo_c_, ys(ti), sig(ti), j, t + 1 < q ? &bravo_cn_ : nullptr,
-                 t + 1 < q ? sig(ti + 1) : 0.0);
-    gain.col(i) = lam_;
+    if (j >= 0) {  // otherwise the set itself is the best candidate
+      if (!lam_.allFinite()) throw NumericalError("gain rule: non-finite weight for output " + std::to_string(i));
+      // In place; the same pass gives the next strip's scores.
+      bravo_update(G, m, p, r, lam_, bravo_c_, ys(ti), sig(ti), j, next ? &bravo_cn_ : nullptr,
+                   next ? sig(ti + 1) : 0.0);
+      gain.col(i) = lam_;
+    }
+    if (next) bravo_c_.swap(bravo_cn_);  // no allocation: the two buffers trade storage
   }
 }
 
