@@ -8,4 +8,5 @@
 #include "setbound/estimators/polytopic/impl/exact_hull.ipp"
 #include "setbound/estimators/constrained_zonotopic/impl/estimator.ipp"
 #include "setbound/estimators/zonotopic/impl/observer.ipp"
+#include "setbound/estimators/zonotopic/impl/strip_swap.ipp"
 #include "setbound/estimators/zonotopic/impl/designs.ipp"

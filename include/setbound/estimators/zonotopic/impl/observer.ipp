@@ -6,6 +6,7 @@
 #include "setbound/estimators/zonotopic/observer.hpp"
 #include "setbound/core/config.hpp"
 #include "setbound/core/symmetric.hpp"
+#include "setbound/estimators/zonotopic/strip_swap.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -480,15 +481,12 @@ SETBOUND_INLINE void ZonotopicObserver::bravo_update(Mat& G, Eigen::Index m, Vec
   const double g = gamma(n_ + 1 + 4);
   const Vec& w = bravo_w_;  // >= rs|G| (bravo_correct's caller, then the recursion below)
   // The bounds of strip_update for one strip: K = I − λcᵀ and its rounding g (I + |λ||c|ᵀ), the
-  // centre's, the generators' 2g (|G| + |λ||c|ᵀ|G|) by rows and the new column's g |λ| σ.
+  // centre's, the generators' 2g (|G| + |λ||c|ᵀ|G|) by rows and the new column's g |λ| σ; the
+  // centre's and the generators' are detail::strip_swap_terms, shared with ROPO's swap.
   al_ = lam.cwiseAbs();
   const auto ac = c.cwiseAbs();  // an expression: no vector allocated per strip
-  const double innov = y - c.dot(p);
-  pn_ = p + lam * innov;
-  t_ = p.cwiseAbs();
   v_ = (1.0 + g) * (r + al_ * ac.dot(r));  // (|K| + dK) r, |K| <= I + |λ||c|ᵀ
-  v_ += 2.0 * g * (t_ + al_ * (std::abs(y) + ac.dot(t_)) + pn_.cwiseAbs());
-  v_ += 2.0 * g * (w + al_ * ac.dot(w));
+  detail::strip_swap_terms(p, lam, al_, c, y, w, g, pn_, t_, v_);  // and the new centre pn_
   v_ += (g * sig) * al_;
   // S ← K S Kᵀ + σ² λλᵀ with S c = sc (before the pass: the next strip's scores need its factor).
   sc_.noalias() = bravo_S_ * c;

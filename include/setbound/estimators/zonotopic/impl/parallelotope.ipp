@@ -5,6 +5,7 @@
 
 #include "setbound/estimators/zonotopic/parallelotope.hpp"
 #include "setbound/core/config.hpp"
+#include "setbound/estimators/zonotopic/strip_swap.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -70,7 +71,9 @@ SETBOUND_INLINE bool vz_cora(Eigen::VectorXd& theta, Eigen::MatrixXd& t, const E
 
 /// The strip update x' = x + λ(y − cᵀx − v) of X = (p, G, r) with column `replace` of G taken by
 /// the new column λσ (Bravo's / Vicino–Zappa's swap), as observer.ipp's bravo_update for one
-/// strip: every rounding error bounded and added to the box, the box carried by |I − λcᵀ|.
+/// strip: every rounding error bounded and added to the box, the box carried by |I − λcᵀ|. The
+/// centre's and the generators' terms are detail::strip_swap_terms, shared with bravo_update;
+/// the box's term keeps the computed K here (strip_swap.hpp says why).
 SETBOUND_INLINE void strip_swap(ParallelotopeEstimator::Set& X, const Eigen::VectorXd& lam,
                                 const Eigen::Ref<const Eigen::VectorXd>& c, double y, double sig,
                                 Eigen::Index replace) {
@@ -84,14 +87,12 @@ SETBOUND_INLINE void strip_swap(ParallelotopeEstimator::Set& X, const Eigen::Vec
   K.diagonal().array() += 1.0;
   Eigen::MatrixXd dK = g * (absL * absc.transpose());
   dK.diagonal().array() += g;
-  const double innov = y - c.dot(X.p);
-  Eigen::VectorXd pn = X.p + lam * innov;
-  const Eigen::VectorXd absp = X.p.cwiseAbs();
   Eigen::VectorXd r = (K.cwiseAbs() + dK) * X.r;
-  r += 2.0 * g * (absp + absL * (std::abs(y) + absc.dot(absp)) + pn.cwiseAbs());
-  // (I − λcᵀ)G = G − λ(cᵀG), rounding <= 2g (|G| + |λ||c|ᵀ|G|) per row sum.
+  // The centre p + λ(y − cᵀp) and its rounding; (I − λcᵀ)G = G − λ(cᵀG), rounding
+  // <= 2g (|G| + |λ||c|ᵀ|G|) per row sum.
+  Eigen::VectorXd pn, absp;
+  detail::strip_swap_terms(X.p, lam, absL, c, y, w, g, pn, absp, r);
   Eigen::MatrixXd Gn = X.G - lam * (c.transpose() * X.G);
-  r += 2.0 * g * (w + absL * absc.dot(w));
   // (I − λcᵀ)g_replace is zero in exact arithmetic with λ = g_replace / cᵀg_replace; its computed
   // value (and the bound above) stays in the box; the new column λσ (rounding u|λ|σ) takes its place.
   r += Gn.col(replace).cwiseAbs();
