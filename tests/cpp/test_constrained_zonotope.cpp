@@ -103,6 +103,34 @@ ConstrainedZonotope strip_set(const VectorXd& c, const MatrixXd& G, const std::v
   return Z;
 }
 
+/// A random zonotope c ⊕ G B (n × m) cut by `ns` random strips through one of its points, and up
+/// to 60 points of the cut set (sampled ξ kept when inside every strip): the reductions' fixture.
+struct CutZonotope {
+  VectorXd c;
+  MatrixXd G;
+  std::vector<Strip> strips;
+  ConstrainedZonotope Z;
+  std::vector<VectorXd> points;
+};
+
+CutZonotope random_cut_zonotope(int n, int m, int ns, std::mt19937& rng) {
+  CutZonotope f{randn(n, 1, rng), MatrixXd(), {}, ConstrainedZonotope(Zonotope(VectorXd::Zero(n), MatrixXd::Zero(n, 0))), {}};
+  f.G = randn(n, m, rng);
+  const VectorXd x0 = f.c + f.G * box_point(m, rng, false);
+  for (int k = 0; k < ns; ++k) {
+    const VectorXd h = randn(n, 1, rng);
+    f.strips.emplace_back(h, h.dot(x0), 0.1 + 0.2 * std::abs(randn(1, 1, rng)(0)));
+  }
+  f.Z = strip_set(f.c, f.G, f.strips);
+  for (int k = 0; k < 4000 && f.points.size() < 60; ++k) {
+    const VectorXd x = f.c + f.G * box_point(m, rng, k % 3 == 0);
+    bool in = true;
+    for (const auto& s : f.strips) in = in && s.contains(x, 0.0);
+    if (in) f.points.push_back(x);
+  }
+  return f;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------- BoxLP
@@ -443,24 +471,10 @@ TEST(ConstrainedZonotope, ConstraintEliminationAndLimitsKeepEveryPoint) {
   std::mt19937 rng(29);
   for (int trial = 0; trial < 40; ++trial) {
     const int n = 2 + trial % 2, m = n + 3, ns = 2 + trial % 3;
-    const VectorXd c = randn(n, 1, rng);
-    const MatrixXd G = randn(n, m, rng);
-    const VectorXd x0 = c + G * box_point(m, rng, false);
-    std::vector<Strip> strips;
-    for (int k = 0; k < ns; ++k) {
-      const VectorXd h = randn(n, 1, rng);
-      strips.emplace_back(h, h.dot(x0), 0.1 + 0.2 * std::abs(randn(1, 1, rng)(0)));
-    }
-    const ConstrainedZonotope Z = strip_set(c, G, strips);
+    const CutZonotope f = random_cut_zonotope(n, m, ns, rng);
+    const ConstrainedZonotope& Z = f.Z;
+    const std::vector<VectorXd>& pts = f.points;
     const auto hz = Z.interval_hull();
-    // Points of Z: sample ξ, keep those in every strip.
-    std::vector<VectorXd> pts;
-    for (int k = 0; k < 4000 && pts.size() < 60; ++k) {
-      const VectorXd x = c + G * box_point(m, rng, k % 3 == 0);
-      bool in = true;
-      for (const auto& s : strips) in = in && s.contains(x, 0.0);
-      if (in) pts.push_back(x);
-    }
     // Rescaling describes the same set: same hull (up to rounding), every point kept.
     const ConstrainedZonotope S = Z.rescale();
     const auto hs = S.interval_hull();
@@ -556,15 +570,8 @@ TEST(ConstrainedZonotope, AbsorbingGeneratorsIntoABasisKeepsEveryPointAndAddsNoC
   std::mt19937 rng(31);
   for (int trial = 0; trial < 40; ++trial) {
     const int n = 2 + trial % 3, m = n + 6, ns = 1 + trial % 3;
-    const VectorXd c = randn(n, 1, rng);
-    const MatrixXd G = randn(n, m, rng);
-    const VectorXd x0 = c + G * box_point(m, rng, false);
-    std::vector<Strip> strips;
-    for (int k = 0; k < ns; ++k) {
-      const VectorXd h = randn(n, 1, rng);
-      strips.emplace_back(h, h.dot(x0), 0.1 + 0.2 * std::abs(randn(1, 1, rng)(0)));
-    }
-    const ConstrainedZonotope Z = strip_set(c, G, strips);
+    const CutZonotope f = random_cut_zonotope(n, m, ns, rng);
+    const ConstrainedZonotope& Z = f.Z;
     const std::vector<Eigen::Index> basis = Z.absorbing_basis();
     ASSERT_EQ(static_cast<int>(basis.size()), n) << "trial " << trial;
     std::vector<Eigen::Index> which;
@@ -573,14 +580,7 @@ TEST(ConstrainedZonotope, AbsorbingGeneratorsIntoABasisKeepsEveryPointAndAddsNoC
     const ConstrainedZonotope B = Z.absorb_generators(basis, which);
     EXPECT_LE(B.num_generators(), Z.num_generators() - static_cast<Eigen::Index>(which.size()) + Z.num_constraints());
     EXPECT_EQ(B.num_constraints(), Z.num_constraints());
-    std::vector<VectorXd> pts;
-    for (int k = 0; k < 4000 && pts.size() < 60; ++k) {
-      const VectorXd x = c + G * box_point(m, rng, k % 3 == 0);
-      bool in = true;
-      for (const auto& s : strips) in = in && s.contains(x, 0.0);
-      if (in) pts.push_back(x);
-    }
-    for (const auto& x : pts) EXPECT_TRUE(B.contains(x)) << "trial " << trial;
+    for (const auto& x : f.points) EXPECT_TRUE(B.contains(x)) << "trial " << trial;
     for (int d = 0; d < 8; ++d) {
       const VectorXd dir = randn(n, 1, rng);
       EXPECT_GE(B.support(dir), Z.support(dir) - 1e-12) << "trial " << trial << " direction " << d;
