@@ -10,7 +10,8 @@ exact consistent set as long as the representation is not reduced.
   same strips written in the representation of Wang et al.'s gain (the same set; the sets differ
   only after a reduction);
 * reduction, ``reduction="limits"`` (default): at most ``max_constraints`` constraints (Scott's
-  rescaling and constraint elimination) and ``max_generators`` generators, so a run of any length
+  rescaling and constraint elimination) and ``max_generators`` generators (the cheapest, priced by
+  the hull LPs' multipliers, absorbed into a basis of the set's own generators), so a run of any length
   has bounded memory and cost per step, and every set still contains the true state (CZN-A's
   new constraints are first written with the least-squares gain ``Λ = P Cᵀ (C P Cᵀ + V Vᵀ)⁻¹``,
   ``P = G Gᵀ``: the same set, with smaller generators for the reduction to work on);

@@ -11,8 +11,10 @@
 //       Λ = R̄Cᵀ(CR̄Cᵀ + F Fᵀ)⁻¹, R̄ = A GGᵀAᵀ + EEᵀ (A applied twice, as CORA does: sic);
 //       the set is the same, the representation differs (so they differ only after a reduction).
 //   reduction: CORA's lift (ConstrainedZonotope::reduce_cora) after every correction but the
-//       first, at `order` (CORA's zonotopeOrder), or none, or (the default, Limits) Scott's
-//       elimination (rows ranked by the hull LPs' duals) and the lift reduction to limits.
+//       first, at `order` (CORA's zonotopeOrder), or none, or (the default, Limits) guided by
+//       the hull LPs' multipliers: the cheapest generators absorbed into a basis of the set's own
+//       columns, Scott's elimination (rows ranked by the duals), the lift reduction to limits
+//       (ConstrainedZonotope::reduce_limits with a HullSensitivity).
 //
 // One LP per step (Limits and None): the LP of the corrected set answers the emptiness test and
 // the interval hull on one warm basis (and, when a step must screen its readings, the screening's
