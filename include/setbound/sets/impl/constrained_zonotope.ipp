@@ -644,6 +644,7 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_limits_impl(Eige
     const std::vector<Eigen::Index> after = K.absorbing_basis();
     if (!after.empty()) {
       if (K.r_.maxCoeff() > 0.0) K.absorb_in_place(after, {}, true);
+      K.require_no_overflow();
       return K.reduce_lift(technique, max_generators);
     }
   }
