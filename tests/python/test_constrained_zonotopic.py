@@ -371,8 +371,8 @@ def test_bounded_mode_meets_the_accuracy_target_on_a_skewed_system(skewed_runs):
 def test_default_limits_meet_the_accuracy_target_on_coras_records(name, steps, factor):
     # Issue 21's target (mean hull width <= 1.05x the exact consistent set's, default limits). Since
     # the reduction absorbs generators into a basis of the set's own columns instead of boxing them on
-    # the axes (2026-11-29): vehicle2 1.002 (was 1.19), vehicle6 over 100 steps ~1.01 (was 1.36; 1.46
-    # over 200 steps). pedestrian4 is not here: 1.12 (was 1.19), still above the target.
+    # the axes (2026-11-29): vehicle2 1.002 (was 1.19), vehicle6 ~1.01 over 80-200 steps (was 1.335
+    # over 80 steps, 1.46 over 200). pedestrian4 is not here: 1.12 (was 1.19), still above the target.
     b = load_cora(DATA / f"{name}.json")
     Y, U = b.y[:steps], b.u[:steps]
     exact = ConstrainedZonotopicEstimator(b.system, b.x0, reduction="none").run(Y, U, keep_sets=False)
