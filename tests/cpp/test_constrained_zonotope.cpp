@@ -608,6 +608,37 @@ TEST(ConstrainedZonotope, AbsorbingGeneratorsIntoABasisKeepsEveryPointAndAddsNoC
   EXPECT_TRUE(Z1.absorbing_basis().empty());
 }
 
+TEST(ConstrainedZonotope, GuidedReductionWithoutABasisBoxesOnTheAxes) {
+  // Generators of rank 1 in R^2 (all along (1, 2), plus one tiny other direction would make a
+  // basis; here none): absorbing_basis() has nothing to offer, so reduce_limits' guided path falls
+  // back to boxing the cheapest generators on the axes. The result keeps the limits and every point.
+  MatrixXd G(2, 6);
+  for (int j = 0; j < 6; ++j) G.col(j) = (0.2 + 0.1 * j) * Eigen::Vector2d(1.0, 2.0);
+  const VectorXd c = Eigen::Vector2d(0.3, -0.1);
+  std::vector<Strip> strips{Strip(Eigen::Vector2d(1.0, 0.5), 0.2, 0.4), Strip(Eigen::Vector2d(0.3, 1.0), -0.1, 0.6)};
+  const ConstrainedZonotope Z = strip_set(c, G, strips);
+  ASSERT_TRUE(Z.absorbing_basis().empty());
+  BoxLP lp(Z.constraint_matrix(), Z.constraint_vector());
+  ConstrainedZonotope::HullSensitivity sens;
+  const auto hz = Z.interval_hull(lp, sens);
+  const ConstrainedZonotope R = Z.reduce_limits(4, 1, setbound::ZonotopeReduction::Girard, sens);
+  EXPECT_LE(R.num_generators(), 4);
+  EXPECT_LE(R.num_constraints(), 1);
+  const auto hr = R.interval_hull();
+  EXPECT_TRUE((hr.lo.array() <= hz.lo.array() + 1e-12).all() && (hr.hi.array() >= hz.hi.array() - 1e-12).all());
+  std::mt19937 rng(5);
+  int kept = 0;
+  for (int k = 0; k < 4000 && kept < 60; ++k) {
+    const VectorXd x = c + G * box_point(6, rng, k % 3 == 0);
+    bool in = true;
+    for (const auto& st : strips) in = in && st.contains(x, 0.0);
+    if (!in) continue;
+    ++kept;
+    EXPECT_TRUE(R.contains(x));
+  }
+  EXPECT_GT(kept, 0);
+}
+
 TEST(ConstrainedZonotope, BadInputIsNamed) {
   expect_error_naming<setbound::DimensionError>([] { ConstrainedZonotope(VectorXd::Zero(2), MatrixXd::Zero(3, 1), MatrixXd::Zero(0, 1), VectorXd(0)); }, "G");
   expect_error_naming<setbound::DimensionError>([] { ConstrainedZonotope(VectorXd::Zero(2), MatrixXd::Zero(2, 2), MatrixXd::Zero(1, 3), VectorXd::Zero(1)); }, "A");
