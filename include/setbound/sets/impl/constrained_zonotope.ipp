@@ -112,6 +112,69 @@ SETBOUND_INLINE void drop_entry(Eigen::VectorXd& v, Eigen::Index i) {
   v.conservativeResize(v.size() - 1);
 }
 
+
+/// What reduce_limits' next steps will leave, for box_cheapest and absorb_cheapest: rows that are
+/// not 0 = 0 are eliminated down to max_constraints, each taking one column with it; columns zero
+/// in G and A are dropped. `excess` = columns left + `added` (what the method itself adds) − the
+/// limit. Columns that are a row's own slack (zero in G, one non-zero in A) are not candidates:
+/// boxing one only turns it into the same slack; each row's count of them (own_slack) decides
+/// whether the rows' part of a boxed column needs a new slack column. Columns flagged in
+/// `excluded` (a basis) are no candidates either.
+struct CheapestPlan {
+  Eigen::Index excess = 0;
+  std::vector<Eigen::Index> own_slack, candidates;
+};
+
+SETBOUND_INLINE CheapestPlan cheapest_plan(const Eigen::MatrixXd& G, const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                                           Eigen::Index max_generators, Eigen::Index max_constraints,
+                                           Eigen::Index added, const std::vector<char>& excluded) {
+  const Eigen::Index q = A.rows(), m = G.cols();
+  Eigen::Index rows = 0, cols = 0;
+  for (Eigen::Index i = 0; i < q; ++i)
+    if (b(i) != 0.0 || box_lp_detail::max_abs(A.row(i)) > 0.0) ++rows;
+  const Eigen::Index eliminated = std::max<Eigen::Index>(0, rows - max_constraints);
+  const std::vector<Eigen::Index> slack_row = slack_rows(G, A);
+  CheapestPlan plan;
+  plan.own_slack.assign(static_cast<size_t>(q), 0);
+  for (Eigen::Index j = 0; j < m; ++j) {
+    if (box_lp_detail::max_abs(G.col(j)) == 0.0 && (q == 0 || box_lp_detail::max_abs(A.col(j)) == 0.0))
+      continue;  // dropped anyway
+    ++cols;
+    const Eigen::Index row = slack_row[static_cast<size_t>(j)];
+    if (row >= 0) ++plan.own_slack[static_cast<size_t>(row)];
+    else if (excluded.empty() || !excluded[static_cast<size_t>(j)]) plan.candidates.push_back(j);
+  }
+  plan.excess = cols + added - eliminated - max_generators;
+  return plan;
+}
+
+/// The candidates of least `cost` until the plan's excess is paid (each taken column pays one, a
+/// row that gets slack without having a column of its own costs one more), plus every candidate
+/// flagged in `forced` whatever the excess.
+SETBOUND_INLINE std::vector<Eigen::Index> take_cheapest(CheapestPlan plan, const Eigen::MatrixXd& A,
+                                                        const Eigen::VectorXd& cost, const std::vector<char>& forced) {
+  const Eigen::Index q = A.rows();
+  const auto is_forced = [&](Eigen::Index j) { return !forced.empty() && forced[static_cast<size_t>(j)]; };
+  // Forced columns first (in the columns' order), then by cost (stable: ties keep that order too).
+  std::stable_sort(plan.candidates.begin(), plan.candidates.end(), [&](Eigen::Index a, Eigen::Index b) {
+    if (is_forced(a) || is_forced(b)) return is_forced(a) && !is_forced(b);
+    return cost(a) < cost(b);
+  });
+  std::vector<Eigen::Index> which;
+  std::vector<char> new_slack(static_cast<size_t>(q), 0);
+  for (const Eigen::Index j : plan.candidates) {
+    if (plan.excess <= 0 && !is_forced(j)) break;
+    which.push_back(j);
+    --plan.excess;
+    for (Eigen::Index i = 0; i < q; ++i)
+      if (A(i, j) != 0.0 && plan.own_slack[static_cast<size_t>(i)] == 0 && !new_slack[static_cast<size_t>(i)]) {
+        new_slack[static_cast<size_t>(i)] = 1;  // this row's slack needs a column of its own
+        ++plan.excess;
+      }
+  }
+  return which;
+}
+
 }  // namespace czono_detail
 
 SETBOUND_INLINE ConstrainedZonotope::ConstrainedZonotope(Eigen::VectorXd c, Eigen::MatrixXd G, Eigen::MatrixXd A,
@@ -634,13 +697,7 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_limits_impl(Eige
   if (!basis.empty()) {
     // The absorbing path: the rounding box goes into a basis of the remaining columns as well (no
     // new column, so the limit is met without boxing more; r keeps only the residual's ulps).
-    const Eigen::Index mk = static_cast<Eigen::Index>(keep.size());
-    Eigen::MatrixXd G(n, mk), A(Z.num_constraints(), mk);
-    for (Eigen::Index k = 0; k < mk; ++k) {
-      G.col(k) = Z.G_.col(keep[static_cast<size_t>(k)]);
-      A.col(k) = Z.A_.col(keep[static_cast<size_t>(k)]);
-    }
-    ConstrainedZonotope K(Z.c_, std::move(G), std::move(A), Z.b_, Z.r_, true);
+    ConstrainedZonotope K(Z.c_, Z.G_(Eigen::all, keep), Z.A_(Eigen::all, keep), Z.b_, Z.r_, true);
     const std::vector<Eigen::Index> after = K.absorbing_basis();
     if (!after.empty()) {
       if (K.r_.maxCoeff() > 0.0) K.absorb_in_place(after, {}, true);
@@ -685,44 +742,11 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_limits_impl(Eige
 SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::box_cheapest(Eigen::Index max_generators,
                                                                      Eigen::Index max_constraints,
                                                                      const Eigen::VectorXd& box_cost) const {
-  const Eigen::Index n = dimension(), q = num_constraints(), m = num_generators();
-  // What the step after this will do: rows that are not 0 = 0 are eliminated down to
-  // max_constraints, each taking one column with it; columns zero in G and A are dropped.
-  Eigen::Index rows = 0, cols = 0;
-  for (Eigen::Index i = 0; i < q; ++i)
-    if (b_(i) != 0.0 || box_lp_detail::max_abs(A_.row(i)) > 0.0) ++rows;
-  const Eigen::Index eliminated = std::max<Eigen::Index>(0, rows - max_constraints);
-  // Columns that are a row's own slack (zero in G, one non-zero in A) are not candidates: boxing
-  // one only turns it into the same slack. Each row's count of them decides whether the box adds
-  // a slack column (a row without one gets a new column).
-  const std::vector<Eigen::Index> slack_row = czono_detail::slack_rows(G_, A_);
-  std::vector<Eigen::Index> own_slack(static_cast<size_t>(q), 0), candidates;
-  for (Eigen::Index j = 0; j < m; ++j) {
-    if (box_lp_detail::max_abs(G_.col(j)) == 0.0 && (q == 0 || box_lp_detail::max_abs(A_.col(j)) == 0.0))
-      continue;  // dropped anyway
-    ++cols;
-    const Eigen::Index row = slack_row[static_cast<size_t>(j)];
-    if (row >= 0) ++own_slack[static_cast<size_t>(row)];
-    else candidates.push_back(j);
-  }
   // The n box columns are counted whatever they turn out to be (the rounding box joins them).
-  Eigen::Index excess = cols + n - eliminated - max_generators;
-  if (excess <= 0) return *this;
-  std::stable_sort(candidates.begin(), candidates.end(),
-                   [&](Eigen::Index a, Eigen::Index b) { return box_cost(a) < box_cost(b); });
-  std::vector<Eigen::Index> which;
-  std::vector<char> new_slack(static_cast<size_t>(q), 0);
-  for (const Eigen::Index j : candidates) {
-    if (excess <= 0) break;
-    which.push_back(j);
-    --excess;
-    for (Eigen::Index i = 0; i < q; ++i)
-      if (A_(i, j) != 0.0 && own_slack[static_cast<size_t>(i)] == 0 && !new_slack[static_cast<size_t>(i)]) {
-        new_slack[static_cast<size_t>(i)] = 1;  // this row's slack needs a column of its own
-        ++excess;
-      }
-  }
-  return box_generators(which);
+  const czono_detail::CheapestPlan plan =
+      czono_detail::cheapest_plan(G_, A_, b_, max_generators, max_constraints, dimension(), {});
+  if (plan.excess <= 0) return *this;
+  return box_generators(czono_detail::take_cheapest(plan, A_, box_cost, {}));
 }
 
 SETBOUND_INLINE std::vector<Eigen::Index> ConstrainedZonotope::absorbing_basis() const {
@@ -731,13 +755,9 @@ SETBOUND_INLINE std::vector<Eigen::Index> ConstrainedZonotope::absorbing_basis()
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(G_);
   if (qr.rank() < n) return {};
   std::vector<Eigen::Index> basis(static_cast<size_t>(n));
-  Eigen::MatrixXd T(n, n);
-  for (Eigen::Index k = 0; k < n; ++k) {
-    basis[static_cast<size_t>(k)] = qr.colsPermutation().indices()(k);
-    T.col(k) = G_.col(basis[static_cast<size_t>(k)]);
-  }
+  for (Eigen::Index k = 0; k < n; ++k) basis[static_cast<size_t>(k)] = qr.colsPermutation().indices()(k);
   // A nearly singular T would make α = T⁻¹ g (and the scaled columns) huge: the axes are better.
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(T);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(G_(Eigen::all, basis));
   const Eigen::VectorXd& sv = svd.singularValues();
   if (!(sv(n - 1) > 1e-6 * sv(0))) return {};
   return basis;
@@ -761,9 +781,7 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::absorb_generators(const
                                  "), given twice or in the basis");
     role[static_cast<size_t>(j)] = 2;
   }
-  Eigen::MatrixXd T(n, n);
-  for (Eigen::Index k = 0; k < n; ++k) T.col(k) = G_.col(basis[static_cast<size_t>(k)]);
-  const Eigen::FullPivLU<Eigen::MatrixXd> lu(T);
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(G_(Eigen::all, basis));
   if (!lu.isInvertible()) throw InvalidArgumentError("basis: the columns are linearly dependent");
   ConstrainedZonotope Z = *this;
   Z.absorb_in_place(basis, which, false);
@@ -775,15 +793,10 @@ SETBOUND_INLINE void ConstrainedZonotope::absorb_in_place(const std::vector<Eige
                                                          const std::vector<Eigen::Index>& which, bool rounding) {
   const Eigen::Index n = dimension(), q = num_constraints(), m = num_generators();
   const Eigen::Index k = static_cast<Eigen::Index>(which.size()), kk = k + (rounding ? n : 0);
-  Eigen::MatrixXd T(n, n), AT(q, n), GJ(n, kk), AJ = Eigen::MatrixXd::Zero(q, kk);
-  for (Eigen::Index t = 0; t < n; ++t) {
-    T.col(t) = G_.col(basis[static_cast<size_t>(t)]);
-    AT.col(t) = A_.col(basis[static_cast<size_t>(t)]);
-  }
-  for (Eigen::Index t = 0; t < k; ++t) {
-    GJ.col(t) = G_.col(which[static_cast<size_t>(t)]);
-    AJ.col(t) = A_.col(which[static_cast<size_t>(t)]);
-  }
+  const Eigen::MatrixXd T = G_(Eigen::all, basis), AT = A_(Eigen::all, basis);
+  Eigen::MatrixXd GJ(n, kk), AJ = Eigen::MatrixXd::Zero(q, kk);
+  GJ.leftCols(k) = G_(Eigen::all, which);
+  AJ.leftCols(k) = A_(Eigen::all, which);
   if (rounding) GJ.rightCols(n) = r_.asDiagonal();  // box(r) = diag(r) B: n more columns to absorb
   // α: any approximation of T⁻¹ g_j; the identity g_j = T α_j + ρ_j, a_j = A_T α_j + β_j is exact
   // with the exact residuals, bounded by the computed ones plus γ_{n+1}(|g| + |T||α|) (a dot
@@ -813,16 +826,11 @@ SETBOUND_INLINE void ConstrainedZonotope::absorb_in_place(const std::vector<Eige
   if (k > 0) {
     std::vector<char> gone(static_cast<size_t>(m), 0);
     for (const Eigen::Index j : which) gone[static_cast<size_t>(j)] = 1;
-    Eigen::MatrixXd G(n, m - k), A(q, m - k);
-    Eigen::Index out = 0;
-    for (Eigen::Index j = 0; j < m; ++j) {
-      if (gone[static_cast<size_t>(j)]) continue;
-      G.col(out) = G_.col(j);
-      A.col(out) = A_.col(j);
-      ++out;
-    }
-    G_ = std::move(G);
-    A_ = std::move(A);
+    std::vector<Eigen::Index> rest;
+    for (Eigen::Index j = 0; j < m; ++j)
+      if (!gone[static_cast<size_t>(j)]) rest.push_back(j);
+    G_ = Eigen::MatrixXd(G_(Eigen::all, rest));
+    A_ = Eigen::MatrixXd(A_(Eigen::all, rest));
   }
   if (q) czono_detail::absorb_row_slack(G_, A_, sa);
   r_ = rounding ? rx : czono_detail::inflate(Eigen::VectorXd(r_ + rx), 2);
@@ -833,76 +841,43 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::absorb_cheapest(Eigen::
                                                                         const HullSensitivity& sens,
                                                                         const std::vector<Eigen::Index>& basis) const {
   const Eigen::Index n = dimension(), q = num_constraints(), m = num_generators();
-  // The count as in box_cheapest, without the n box columns (absorbing adds none).
-  Eigen::Index rows = 0, cols = 0;
-  for (Eigen::Index i = 0; i < q; ++i)
-    if (b_(i) != 0.0 || box_lp_detail::max_abs(A_.row(i)) > 0.0) ++rows;
-  const Eigen::Index eliminated = std::max<Eigen::Index>(0, rows - max_constraints);
-  const std::vector<Eigen::Index> slack_row = czono_detail::slack_rows(G_, A_);
-  std::vector<Eigen::Index> own_slack(static_cast<size_t>(q), 0), candidates;
   std::vector<char> in_basis(static_cast<size_t>(m), 0);
   for (const Eigen::Index j : basis) in_basis[static_cast<size_t>(j)] = 1;
-  Eigen::VectorXd lift_norm(m);
-  double largest = 0.0;
-  for (Eigen::Index j = 0; j < m; ++j) {
-    lift_norm(j) = std::sqrt(G_.col(j).squaredNorm() + A_.col(j).squaredNorm());
-    largest = std::max(largest, lift_norm(j));
-    if (lift_norm(j) == 0.0) continue;  // dropped anyway
-    ++cols;
-    const Eigen::Index row = slack_row[static_cast<size_t>(j)];
-    if (row >= 0) ++own_slack[static_cast<size_t>(row)];
-    else if (!in_basis[static_cast<size_t>(j)]) candidates.push_back(j);
-  }
+  // As box_cheapest's plan, without the n box columns (absorbing adds none).
+  const czono_detail::CheapestPlan plan = czono_detail::cheapest_plan(G_, A_, b_, max_generators, max_constraints, 0, in_basis);
   // Negligible columns (round-off left by substitutions and gains) are absorbed whatever the
   // limit: they cost nothing, and kept they put entries of 1e-20 into the LPs' bases, where a
   // warm-started simplex once ended on a basis whose certified bound was 0.1 too loose (a random
   // 3-state system, test_prediction_is_the_set_the_next_step_corrects).
-  const double negligible = 1e-9 * largest;
-  bool any_negligible = false;
-  for (const Eigen::Index j : candidates) any_negligible = any_negligible || lift_norm(j) <= negligible;
-  Eigen::Index excess = cols - eliminated - max_generators;
-  if (excess <= 0 && !any_negligible) return *this;
+  Eigen::VectorXd lift_norm(m);
+  for (Eigen::Index j = 0; j < m; ++j) lift_norm(j) = std::sqrt(G_.col(j).squaredNorm() + A_.col(j).squaredNorm());
+  const double negligible = 1e-9 * (m ? lift_norm.maxCoeff() : 0.0);
+  std::vector<char> forced(static_cast<size_t>(m), 0);
+  bool any_forced = false;
+  for (const Eigen::Index j : plan.candidates)
+    if (lift_norm(j) <= negligible) forced[static_cast<size_t>(j)] = 1, any_forced = true;
+  if (plan.excess <= 0 && !any_forced) return *this;
   // The price of absorbing column j, per hull LP (objective ±G_i, multipliers μ): its dual term
   // |±G_ij − μᵀa_j| goes; the basis columns' terms τ_k = |±G_i t_k − μᵀa_{t_k}| grow by |α_jk|
   // each, and the rows' slack adds |μ|ᵀ|β_j|. Summed over the 2n LPs, each relative to its width.
-  Eigen::MatrixXd T(n, n), AT(q, n);
-  for (Eigen::Index t = 0; t < n; ++t) {
-    T.col(t) = G_.col(basis[static_cast<size_t>(t)]);
-    AT.col(t) = A_.col(basis[static_cast<size_t>(t)]);
-  }
+  const Eigen::MatrixXd T = G_(Eigen::all, basis), AT = A_(Eigen::all, basis);
   const Eigen::MatrixXd alpha = T.partialPivLu().solve(G_);
   const Eigen::MatrixXd absAlpha = alpha.cwiseAbs();
   const Eigen::MatrixXd absBeta = q ? Eigen::MatrixXd((A_ - AT * alpha).cwiseAbs()) : Eigen::MatrixXd(0, m);
   Eigen::VectorXd cost = Eigen::VectorXd::Zero(m);
-  Eigen::RowVectorXd now(m), tau(n);
+  Eigen::RowVectorXd now(m);
   for (Eigen::Index i = 0; i < n; ++i)
     for (int side = 0; side < 2; ++side) {
       const auto mu = sens.duals.col(2 * i + side);
       now = side ? Eigen::RowVectorXd(-G_.row(i)) : Eigen::RowVectorXd(G_.row(i));
       if (q) now.noalias() -= mu.transpose() * A_;
       now = now.cwiseAbs();
-      for (Eigen::Index t = 0; t < n; ++t) tau(t) = now(basis[static_cast<size_t>(t)]);
-      Eigen::RowVectorXd after = tau * absAlpha;
+      Eigen::RowVectorXd after = now(basis) * absAlpha;
       if (q) after.noalias() += mu.cwiseAbs().transpose() * absBeta;
       cost += ((after - now).transpose() / std::max(sens.width(i), 1e-300)).cwiseMax(0.0);
     }
-  for (const Eigen::Index j : candidates)
-    if (lift_norm(j) <= negligible) cost(j) = -1.0;  // first, and taken whatever the excess
-  std::stable_sort(candidates.begin(), candidates.end(), [&](Eigen::Index a, Eigen::Index b) { return cost(a) < cost(b); });
-  std::vector<Eigen::Index> which;
-  std::vector<char> new_slack(static_cast<size_t>(q), 0);
-  for (const Eigen::Index j : candidates) {
-    if (excess <= 0 && cost(j) >= 0.0) break;
-    which.push_back(j);
-    --excess;
-    for (Eigen::Index i = 0; i < q; ++i)
-      if (A_(i, j) != 0.0 && own_slack[static_cast<size_t>(i)] == 0 && !new_slack[static_cast<size_t>(i)]) {
-        new_slack[static_cast<size_t>(i)] = 1;  // this row's slack needs a column of its own
-        ++excess;
-      }
-  }
   ConstrainedZonotope Z = *this;
-  Z.absorb_in_place(basis, which, false);
+  Z.absorb_in_place(basis, czono_detail::take_cheapest(plan, A_, cost, forced), false);
   return Z;
 }
 
