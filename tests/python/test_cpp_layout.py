@@ -51,7 +51,9 @@ def test_every_definition_file_is_compiled_exactly_once():
 
 
 # A definition starts at column 0 (bodies, continuation lines and ctor initializers are indented).
-_NOT_A_DEFINITION = re.compile(r"^(#|//|/\*|\}|namespace\b|$|\s)")
+# A class definition (`struct Name {`) may be repeated in every translation unit (ODR), so it needs
+# no marker; a function returning a struct still does.
+_NOT_A_DEFINITION = re.compile(r"^(#|//|/\*|\}|namespace\b|$|\s|(struct|class) \w+( final)? \{$)")
 
 
 @pytest.mark.parametrize("ipp", IPPS, ids=lambda p: str(p.relative_to(INCLUDE)))
@@ -68,3 +70,5 @@ def test_every_definition_is_marked_setbound_inline(ipp):
 def test_the_lint_above_would_catch_a_missing_marker(tmp_path):
     line = "double Ellipsoid::volume() const {"
     assert not _NOT_A_DEFINITION.match(line) and not line.startswith("SETBOUND_INLINE ")
+    assert not _NOT_A_DEFINITION.match("struct Plan plan_of(const Eigen::MatrixXd& G) {")
+    assert _NOT_A_DEFINITION.match("struct Plan {")
