@@ -801,7 +801,9 @@ SETBOUND_INLINE void ConstrainedZonotope::absorb_in_place(const std::vector<Eige
   // α: any approximation of T⁻¹ g_j; the identity g_j = T α_j + ρ_j, a_j = A_T α_j + β_j is exact
   // with the exact residuals, bounded by the computed ones plus γ_{n+1}(|g| + |T||α|) (a dot
   // product of n + 1 terms).
-  const Eigen::MatrixXd alpha = T.partialPivLu().solve(GJ);
+  // (No solve for nothing to absorb: Eigen's triangular solve on a 0-column right-hand side binds
+  // a reference to its null data, undefined behaviour that UBSan reports.)
+  const Eigen::MatrixXd alpha = kk > 0 ? Eigen::MatrixXd(T.partialPivLu().solve(GJ)) : Eigen::MatrixXd(n, 0);
   const Eigen::MatrixXd absAlpha = alpha.cwiseAbs();
   const double g = rounding_bounds::gamma(n + 2);
   Eigen::VectorXd rx = ((GJ - T * alpha).cwiseAbs() + g * (GJ.cwiseAbs() + T.cwiseAbs() * absAlpha)).rowwise().sum();
