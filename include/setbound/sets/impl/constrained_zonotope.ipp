@@ -50,11 +50,18 @@ SETBOUND_INLINE void require_vector(const Eigen::Ref<const Eigen::VectorXd>& v, 
 SETBOUND_INLINE std::vector<Eigen::Index> slack_rows(const Eigen::MatrixXd& G, const Eigen::MatrixXd& A) {
   const Eigen::Index q = A.rows(), m = A.cols();
   std::vector<Eigen::Index> only_row(static_cast<size_t>(m), -1);
+  const Eigen::Index n = G.rows();
   for (Eigen::Index j = 0; j < m; ++j) {
+    // G first: most columns have a non-zero entry there within the first few, while a slack
+    // column's A part must be scanned whole (this ran on every substitution and rescaling).
+    const double* g = G.col(j).data();
+    Eigen::Index i = 0;
+    while (i < n && g[i] == 0.0) ++i;
+    if (i < n) continue;
     Eigen::Index row = -1, count = 0;
     for (Eigen::Index k = 0; k < q && count < 2; ++k)
       if (A(k, j) != 0.0) row = k, ++count;
-    if (count == 1 && box_lp_detail::max_abs(G.col(j)) == 0.0) only_row[static_cast<size_t>(j)] = row;
+    if (count == 1) only_row[static_cast<size_t>(j)] = row;
   }
   return only_row;
 }
@@ -455,10 +462,15 @@ SETBOUND_INLINE void ConstrainedZonotope::rescale_in_place() {
       const double* a = At.col(i).data();
       const double bi = b_(i);
       // The terms' ends: a_j ξ_j in [tl_j, tu_j] (0 where a_j = 0); their sums and magnitudes.
+      // Both loops are written without branches on the data (selects instead): A's signs and
+      // zeros are as good as random, and the mispredicted branches made this loop a quarter of a
+      // tank30 step. The values are the same as with branches: for a_j > 0 (lo <= hi) the ends
+      // are a_j lo and a_j hi, for a_j < 0 the other way round, for a_j = 0 both 0.
       double L = 0.0, U = 0.0, S = 0.0;
       for (Eigen::Index j = 0; j < m; ++j) {
-        const double tl = a[j] > 0.0 ? a[j] * lo_[j] : a[j] * hi_[j];
-        const double tu = a[j] > 0.0 ? a[j] * hi_[j] : a[j] * lo_[j];
+        const double p = a[j] * lo_[j], r = a[j] * hi_[j];
+        const bool pos = a[j] > 0.0;
+        const double tl = pos ? p : r, tu = pos ? r : p;
         L += tl;
         U += tu;
         S += std::abs(tl) + std::abs(tu);
@@ -466,23 +478,27 @@ SETBOUND_INLINE void ConstrainedZonotope::rescale_in_place() {
       S += std::abs(bi);
       const double E = margin_factor * S + static_cast<double>(m + 4) * tiny;
       // a_j ξ_j ∈ [b_i − (U − tu_j) − E, b_i − (L − tl_j) + E], with lo/hi as they were for the sums
-      // (entry j is only changed after its own bounds are computed).
+      // (entry j is only changed after its own bounds are computed). Entries with a_j = 0 divide
+      // by 1 instead, and the final selects discard what they computed.
+      bool empty = false;
       for (Eigen::Index j = 0; j < m; ++j) {
-        const double aj = a[j];
-        if (aj == 0.0) continue;
-        const bool pos = aj > 0.0;
-        const double tl = pos ? aj * lo_[j] : aj * hi_[j];
-        const double tu = pos ? aj * hi_[j] : aj * lo_[j];
+        const double aj = a[j], l = lo_[j], h = hi_[j];
+        const bool pos = aj > 0.0, used = aj != 0.0;
+        const double p = aj * l, r = aj * h;
+        const double tl = pos ? p : r, tu = pos ? r : p;
         const double rl = (bi - (U - tu)) - E, ru = (bi - (L - tl)) + E;
-        double xl = pos ? rl / aj : ru / aj;
-        double xu = pos ? ru / aj : rl / aj;
+        const double den = used ? aj : 1.0;
+        const double ql = rl / den, qu = ru / den;
+        double xl = pos ? ql : qu;
+        double xu = pos ? qu : ql;
         xl -= 4.0 * u * std::abs(xl) + tiny;
         xu += 4.0 * u * std::abs(xu) + tiny;
-        if (!(xl <= xu) || xl > hi_[j] || xu < lo_[j]) return;  // empty: BoxLP certifies that
-        if (xl > lo_[j] + 1e-12 || xu < hi_[j] - 1e-12) changed = true;
-        lo_[j] = std::max(lo_[j], xl);
-        hi_[j] = std::min(hi_[j], xu);
+        empty |= used & (!(xl <= xu) | (xl > h) | (xu < l));
+        changed |= used & ((xl > l + 1e-12) | (xu < h - 1e-12));
+        lo_[j] = used ? std::max(l, xl) : l;
+        hi_[j] = used ? std::min(h, xu) : h;
       }
+      if (empty) return;  // empty: BoxLP certifies that
     }
     if (!changed) break;
   }
