@@ -272,7 +272,10 @@ class ZonotopicObserver {
   // where the update's cancellation asks for a recomputation), from bravo_update's pass.
   // bravo_w_ >= rs|G| of the set being corrected: a bound carried through the strips, not a pass.
   Mat bravo_S_, bravo_Linv_;
-  Eigen::LLT<Mat, Eigen::Lower> bravo_llt_;
+  // Factored from an empty matrix at construction: Eigen 3.4's default LLT leaves its `info`
+  // uninitialised, and copying the observer (update works on a copy) read it (UBSan: invalid
+  // enum load, seen when an earlier test left garbage in the reused memory).
+  Eigen::LLT<Mat, Eigen::Lower> bravo_llt_{Mat()};
   Eigen::Index bravo_next_ = -1;  // the next strip's winner from bravo_update's pass (bravo_ready_)
   // Whether bravo_S_ is factored with the scores h of the current columns (Scored), numerically
   // singular (Flat: every choice is the set itself until S changes) or neither (Unknown).
