@@ -50,14 +50,10 @@ SETBOUND_INLINE void require_vector(const Eigen::Ref<const Eigen::VectorXd>& v, 
 SETBOUND_INLINE std::vector<Eigen::Index> slack_rows(const Eigen::MatrixXd& G, const Eigen::MatrixXd& A) {
   const Eigen::Index q = A.rows(), m = A.cols();
   std::vector<Eigen::Index> only_row(static_cast<size_t>(m), -1);
-  const Eigen::Index n = G.rows();
   for (Eigen::Index j = 0; j < m; ++j) {
-    // G first: most columns have a non-zero entry there within the first few, while a slack
-    // column's A part must be scanned whole (this ran on every substitution and rescaling).
-    const double* g = G.col(j).data();
-    Eigen::Index i = 0;
-    while (i < n && g[i] == 0.0) ++i;
-    if (i < n) continue;
+    // G first (n entries): most columns are not zero there, while a slack column's A part must be
+    // scanned whole (this runs on every substitution and rescaling).
+    if (box_lp_detail::max_abs(G.col(j)) > 0.0) continue;
     Eigen::Index row = -1, count = 0;
     for (Eigen::Index k = 0; k < q && count < 2; ++k)
       if (A(k, j) != 0.0) row = k, ++count;
@@ -742,10 +738,8 @@ SETBOUND_INLINE ConstrainedZonotope ConstrainedZonotope::reduce_limits_impl(Eige
     if (Z.r_(i) > 0.0 && axis[static_cast<size_t>(i)] < 0) box.push_back(i);
   const Eigen::Index mk = static_cast<Eigen::Index>(keep.size()), mb = static_cast<Eigen::Index>(box.size());
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, mk + mb), A = Eigen::MatrixXd::Zero(Z.num_constraints(), mk + mb);
-  for (Eigen::Index k = 0; k < mk; ++k) {
-    G.col(k) = Z.G_.col(keep[static_cast<size_t>(k)]);
-    A.col(k) = Z.A_.col(keep[static_cast<size_t>(k)]);
-  }
+  G.leftCols(mk) = Z.G_(Eigen::all, keep);
+  A.leftCols(mk) = Z.A_(Eigen::all, keep);
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Index k = axis[static_cast<size_t>(i)];
     if (k >= 0 && Z.r_(i) > 0.0) G(i, k) = std::copysign(rounding::add_up(std::abs(G(i, k)), Z.r_(i)), G(i, k));
