@@ -803,6 +803,104 @@ TEST(GeneratorKernels, FixedAndDynamicPathsAgreeWithEigen) {
   }
 }
 
+// The structured paths of the dynamic size: T·G by the non-zero diagonals of a banded T (a chain
+// of tanks: tank30's A has 2), cᵀg_j reading only the rows where c is non-zero (an output that
+// reads one state). Against Eigen's dense products; a T or c that is not sparse enough takes the
+// dense path (the banded kernel declines it and leaves W untouched).
+TEST(GeneratorKernels, BandedTransformsAndSparseNormalsAgreeWithDenseProducts) {
+  namespace d = setbound::detail;
+  std::mt19937 gen(13);
+  std::normal_distribution<double> nrm;
+  for (int n : {12, 16, 30, 40}) {  // 3 diagonals: at most n/4
+    const Eigen::Index m = 301, cap = 310;
+    MatrixXd G(n, cap), W = MatrixXd::Constant(n, cap, 7.0);
+    for (Eigen::Index j = 0; j < cap; ++j)
+      for (int i = 0; i < n; ++i) G(i, j) = nrm(gen) * (1.0 + j % 4);
+    const auto Gm = G.leftCols(m);
+    // Banded: the diagonal, the first sub-diagonal and one far super-diagonal (with zeros inside).
+    MatrixXd T = MatrixXd::Zero(n, n);
+    for (int i = 0; i < n; ++i) {
+      T(i, i) = nrm(gen);
+      if (i > 0 && i % 3 != 0) T(i, i - 1) = nrm(gen);
+      if (i + 5 < n) T(i, i + 5) = nrm(gen);
+    }
+    ASSERT_TRUE(d::transform_generators_banded(T, G, W, m)) << "n " << n;
+    const double scale = (T.cwiseAbs() * Gm.cwiseAbs()).maxCoeff();
+    EXPECT_LE((W.leftCols(m) - T * Gm).cwiseAbs().maxCoeff(), 1e-14 * scale) << "n " << n;
+    EXPECT_TRUE((W.rightCols(cap - m).array() == 7.0).all()) << "n " << n;  // only the first m columns
+    // Through the dispatching kernel, the same.
+    MatrixXd W2(n, cap);
+    d::transform_generators(T, G, W2, m);
+    EXPECT_EQ(W2.leftCols(m), W.leftCols(m)) << "n " << n;
+    // More than n/4 diagonals: declined, W untouched.
+    MatrixXd Tdense = T;
+    for (int q = 1; q <= n / 4 + 1; ++q) Tdense(0, q) = 1.0 + q;
+    MatrixXd W3 = MatrixXd::Constant(n, cap, 7.0);
+    EXPECT_FALSE(d::transform_generators_banded(Tdense, G, W3, m)) << "n " << n;
+    EXPECT_TRUE((W3.array() == 7.0).all());
+    // cᵀg_j: one and two non-zeros (sparse path), then a dense normal.
+    for (int nz : {1, 2, n}) {
+      VectorXd c = VectorXd::Zero(n);
+      for (int q = 0; q < nz; ++q) c((q * 7 + 3) % n) = nrm(gen);
+      VectorXd a(m + 5);
+      a.setConstant(-3.0);
+      d::column_products(G, 4, m - 4, c, a.data());
+      const VectorXd ref = G.middleCols(4, m - 4).transpose() * c;
+      EXPECT_LE((a.head(m - 4) - ref).cwiseAbs().maxCoeff(), 1e-14 * (G.cwiseAbs().transpose() * c.cwiseAbs()).maxCoeff())
+          << "n " << n << " nz " << nz;
+      EXPECT_EQ(a(m - 4), -3.0);  // nothing written past count
+    }
+  }
+}
+
+// Negligible columns (|g_ij| <= τ w_i in every row, w the row sums) leave the matrix for the box:
+// the others keep their order (and their keys theirs), the box grows by at least each absorbed
+// column's |g| (so the result contains the input in every direction), and τ = 0 keeps every column.
+TEST(GeneratorKernels, NegligibleColumnsJoinTheBoxAndTheRestKeepsItsOrder) {
+  namespace d = setbound::detail;
+  std::mt19937 gen(17);
+  std::normal_distribution<double> nrm;
+  for (int n : {1, 3, 6, 11}) {
+    const Eigen::Index m = 60;
+    MatrixXd W(n, m);
+    std::vector<bool> tiny(m);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      // Every third column is tiny in every row; every fifth tiny in all rows but one.
+      const bool all = j % 3 == 1, one_big = j % 5 == 2 && !all;
+      tiny[static_cast<std::size_t>(j)] = all;
+      for (int i = 0; i < n; ++i) W(i, j) = nrm(gen) * (all || (one_big && i != n - 1) ? 1e-15 : 1.0);
+    }
+    const MatrixXd W0 = W;
+    VectorXd w;
+    d::compact_and_sum(W, m, w, false);
+    VectorXd key(m);
+    for (Eigen::Index j = 0; j < m; ++j) key(j) = static_cast<double>(j);
+    VectorXd r = VectorXd::Constant(n, 1e-3);
+    const VectorXd r0 = r;
+    MatrixXd Wk = W;
+    VectorXd rk = r;
+    EXPECT_EQ(d::absorb_negligible(Wk, m, w, 0.0, rk), m);
+    EXPECT_EQ(Wk, W);
+    EXPECT_EQ(rk, r);
+    const Eigen::Index k = d::absorb_negligible(W, m, w, 1e-12, r, key.data());
+    VectorXd absorbed = VectorXd::Zero(n);
+    Eigen::Index q = 0;
+    for (Eigen::Index j = 0; j < m; ++j) {
+      if (tiny[static_cast<std::size_t>(j)]) {
+        absorbed += W0.col(j).cwiseAbs();
+        continue;
+      }
+      ASSERT_LT(q, k) << "n " << n;
+      EXPECT_EQ(W.col(q), W0.col(j)) << "n " << n << " column " << j;
+      EXPECT_EQ(key(q), static_cast<double>(j)) << "n " << n;
+      ++q;
+    }
+    EXPECT_EQ(q, k) << "n " << n;
+    EXPECT_TRUE((r.array() >= (r0 + absorbed).array()).all()) << "n " << n;
+    EXPECT_TRUE((r.array() <= (r0 + absorbed).array() * (1.0 + 1e-12)).all()) << "n " << n;
+  }
+}
+
 // The passes of a step's end (sets/zonotope_reduction.hpp): the fused compaction + keys pass and
 // the reduction's gather + row-sum pass give exactly what the separate passes give (same keys,
 // so the same columns are reduced; same sums in the same order), on the fixed-size paths (n <= 8)

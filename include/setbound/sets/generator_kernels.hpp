@@ -16,6 +16,11 @@ namespace detail {
 /// W.leftCols(m) = T · G.leftCols(m) (T n × n; W must have room for m columns; W ≠ G).
 void transform_generators(const Eigen::MatrixXd& T, const Eigen::MatrixXd& G, Eigen::MatrixXd& W, Eigen::Index m);
 
+/// The same product by the non-zero diagonals of a banded T (n <= 64, at most n/4 and 16
+/// diagonals), without allocating; false (W untouched) when T is not that sparse.
+bool transform_generators_banded(const Eigen::MatrixXd& T, const Eigen::MatrixXd& G, Eigen::MatrixXd& W,
+                                 Eigen::Index m);
+
 /// S = G.leftCols(m) G.leftCols(m)ᵀ (n × n, symmetric; the Gram matrix the gain rules use).
 void gram(const Eigen::MatrixXd& G, Eigen::Index m, Eigen::MatrixXd& S);
 
@@ -27,6 +32,11 @@ void add_gram(const Eigen::MatrixXd& G, Eigen::Index from, Eigen::Index count, E
 /// direction t, in one pass without a temporary.
 double abs_projection_sum(const Eigen::MatrixXd& G, Eigen::Index m, const Eigen::Ref<const Eigen::VectorXd>& t);
 
+/// a[j] = cᵀ g_{from + j} for j < count; a normal with at most n/4 (and 8) non-zeros reads only
+/// those rows.
+void column_products(const Eigen::MatrixXd& G, Eigen::Index from, Eigen::Index count,
+                     const Eigen::Ref<const Eigen::VectorXd>& c, double* a);
+
 /// How a pass scores Bravo's candidates for a strip (estimators/zonotopic/observer.hpp,
 /// bravo_choice): half-width sig, candidates with |cᵀg_j| > floor, score (sig / cᵀg_j)² h_j, the
 /// first minimiser below 1 wins (-1: none); a NaN h_j is recomputed as ‖L g_j‖² (L lower
@@ -35,6 +45,9 @@ struct StripScoring {
   double sig = 0.0;
   double floor = 0.0;
   const Eigen::MatrixXd* L = nullptr;
+  /// An upper bound of the largest eigenvalue of the strip's Gram matrix S (0: none). Then a NaN
+  /// h_j is only computed when its lower bound ‖g_j‖²/lmax (h_j = g_jᵀS⁻¹g_j) could win.
+  double lmax = 0.0;
 };
 
 /// One pass over the first m columns of G for the strip with normal c (Bravo's candidates):
@@ -79,12 +92,16 @@ inline void score_candidate(const StripScoring& sc, Eigen::Index k, double a, do
                             StripWinner& w) {
   if (!(std::abs(a) > sc.floor) || (w.zero && w.index >= 0)) return;
   double hk = h[k];
+  const double a2 = a * a;
   if (std::isnan(hk)) {
     const Eigen::Index n = N == Eigen::Dynamic ? sc.L->rows() : N;
-    hk = (sc.L->triangularView<Eigen::Lower>() * Eigen::Map<const Eigen::VectorXd>(g, n)).squaredNorm();
+    const Eigen::Map<const Eigen::VectorXd> gk(g, n);
+    // h_k >= ‖g_k‖²/λ_max(S): a column that cannot beat the winner keeps its NaN (the margin
+    // covers the rounding of both sides, so the winner is the one a computed h would give).
+    if (sc.lmax > 0.0 && gk.squaredNorm() / sc.lmax * (1.0 - 1e-9) * w.a2 >= w.h * a2) return;
+    hk = (sc.L->triangularView<Eigen::Lower>() * gk).squaredNorm();
     h[k] = hk;
   }
-  const double a2 = a * a;
   if (hk * w.a2 < w.h * a2) {
     w.h = hk;
     w.a2 = a2;
@@ -111,6 +128,15 @@ inline double downdated_leverage(double h_old, double h_new) {
 /// and sets w = rs|W| over the kept columns, rounded up (a bound of the computed sums). Returns
 /// the kept column count.
 Eigen::Index compact_and_sum(Eigen::MatrixXd& W, Eigen::Index m, Eigen::VectorXd& w, bool drop_zeros = true);
+
+/// Moves the negligible columns among the first m of W into the box r and removes them (keeping
+/// the order of the others, and of key's entries alongside when key is given): a column is
+/// negligible when |g_ij| <= tau w_i in every row i, w >= rs|W| (compact_and_sum's). The box
+/// grows by their |g_j| summed and rounded up, so the set only grows (an outer bound); w stays a
+/// bound of the kept columns' row sums. Returns the kept column count. The Gram matrix of the
+/// set loses at most m tau² w wᵀ: far below the rounding of a carried G Gᵀ for tau <= 1e-9.
+Eigen::Index absorb_negligible(Eigen::MatrixXd& W, Eigen::Index m, const Eigen::VectorXd& w, double tau,
+                               Eigen::VectorXd& r, double* key = nullptr);
 
 template <int N>
 void transform_generators_fixed(const Eigen::MatrixXd& T, const Eigen::MatrixXd& G, Eigen::MatrixXd& W, Eigen::Index m) {

@@ -110,10 +110,12 @@ Eigen::Index reduce_in_place(ZonotopeReduction method, Eigen::MatrixXd& H, Eigen
 /// above `limit` (when `reduce`) the reduction absorbs what is left of the box (r = 0 after).
 /// w = rs|W| of the result rounded up. With S (n × n, the Gram matrix of the m columns before),
 /// S follows the box columns and the reduction by rank updates. Returns the column count;
-/// ws.reduced_count says whether the reduction ran.
+/// ws.reduced_count says whether the reduction ran. With negligible > 0, the columns that are
+/// below `negligible` times the row sum in every row join the box first (absorb_negligible: an
+/// outer bound that the order limit no longer counts).
 Eigen::Index finish_generators(ZonotopeReduction method, Eigen::MatrixXd& W, Eigen::Index m, Eigen::Index limit,
                                bool reduce, double box_threshold, Eigen::VectorXd& r, Eigen::VectorXd& w,
-                               ReductionWorkspace& ws, Eigen::MatrixXd* S);
+                               ReductionWorkspace& ws, Eigen::MatrixXd* S, double negligible = 0.0);
 
 // ---- fixed-size kernels (n <= 8: a column lives in registers) ----------------------------------
 

@@ -239,13 +239,15 @@ SETBOUND_INLINE Eigen::Index reduce_in_place(ZonotopeReduction method, Eigen::Ma
 
 SETBOUND_INLINE Eigen::Index finish_generators(ZonotopeReduction method, Eigen::MatrixXd& W, Eigen::Index m, Eigen::Index limit,
                                                bool reduce, double box_threshold, Eigen::VectorXd& r, Eigen::VectorXd& w,
-                                               ReductionWorkspace& ws, Eigen::MatrixXd* S) {
+                                               ReductionWorkspace& ws, Eigen::MatrixXd* S, double negligible) {
   const Eigen::Index n = W.rows();
   ws.reduced_count = 0;
   // The keys come with the pass that drops zero columns when a reduction may follow (a box
   // adds at most n columns).
   const bool keys = reduce && m + n > limit;
   Eigen::Index k = keys ? compact_sum_keys(method, W, m, w, ws.key) : compact_and_sum(W, m, w, true);
+  // Negligible columns join the pending box (w stays a bound; S loses far less than its rounding).
+  if (negligible > 0.0) k = absorb_negligible(W, k, w, negligible, r, keys ? ws.key.data() : nullptr);
   bool boxed = false;
   const double scale = k > 0 ? w.maxCoeff() : 0.0;
   if (r.maxCoeff() > box_threshold * scale) {

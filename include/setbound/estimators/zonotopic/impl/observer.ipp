@@ -414,6 +414,17 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::bravo_choice(const Mat& G, Eigen
   const bool ready = bravo_ready_;
   bravo_ready_ = false;  // the next strip needs a pass unless bravo_update says otherwise
   if (bravo_state_ == BravoState::Flat) return -1;
+  // Cauchy–Schwarz in the metric of S: a_j² = (cᵀg_j)² <= (cᵀSc)(g_jᵀS⁻¹g_j) = (cᵀSc) h_j, so
+  // every score (σ/a_j)² h_j is at least σ²/(cᵀSc). A strip at least as wide as ‖cᵀG‖₂ keeps
+  // the set itself without a pass over the columns (n² instead of n m; tank30: 18 of 21 strips
+  // per step once the set has settled). The margins keep the choice the pass would make: a
+  // relative one for the scores' rounding, an absolute one for S's (carried by rank updates,
+  // accurate relative to its trace, not to a thin direction's cᵀSc).
+  if (!ready && sig > 0.0) {
+    sc_.noalias() = bravo_S_ * c;
+    const double csc = c.dot(sc_);
+    if (sig * sig >= (1.0 + 1e-6) * csc + 1e-10 * c.squaredNorm() * bravo_S_.trace()) return -1;
+  }
   const bool scored = bravo_state_ == BravoState::Scored;
   if (!ready && !scored && !bravo_factor()) {
     bravo_state_ = BravoState::Flat;
@@ -471,6 +482,11 @@ SETBOUND_INLINE detail::StripScoring ZonotopicObserver::bravo_scoring(double sig
   sc.sig = sig;
   sc.floor = opt_.convention == Convention::Cora ? kBravoThreshold : 0.0;
   sc.L = &bravo_Linv_;
+  // λ_max(S) <= min(trace S, ‖S‖∞) (S positive semidefinite), widened for S's rounding.
+  if (n_ > 8) {
+    const double tr = bravo_S_.trace(), rowmax = bravo_S_.cwiseAbs().rowwise().sum().maxCoeff();
+    sc.lmax = std::min(tr, rowmax) * (1.0 + 1e-6);
+  }
   return sc;
 }
 
@@ -907,7 +923,10 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::propagate(const Eigen::Ref<const
 }
 
 SETBOUND_INLINE Eigen::Index ZonotopicObserver::finish_set(Mat& W, Eigen::Index m, Vec& r, Vec& w, bool reduce, Mat* S) {
-  return detail::finish_generators(opt_.reduction, W, m, opt_.max_generators, reduce, kBoxToGenerators, r, w, rws_, S);
+  // Setbound's convention moves the columns that no row can see into the box (CORA counts them).
+  const double negligible = opt_.convention == Convention::Cora ? 0.0 : kNegligibleGenerator;
+  return detail::finish_generators(opt_.reduction, W, m, opt_.max_generators, reduce, kBoxToGenerators, r, w, rws_, S,
+                                   negligible);
 }
 
 SETBOUND_INLINE void ZonotopicObserver::refresh_current(bool row_sums, bool gram) {
