@@ -606,6 +606,22 @@ SETBOUND_INLINE ZonotopicObserver::Mat ZonotopicObserver::solve_gain(const Mat& 
   return out;
 }
 
+SETBOUND_INLINE void ZonotopicObserver::wang_gain(Mat& R, const Mat& CS, const std::vector<Eigen::Index>& rows) {
+  // Λ = R̄ C_Sᵀ (C_S R̄ C_Sᵀ + F Fᵀ)⁻¹, R̄ = the predicted set's G Gᵀ (Wang 2018 Thm. 2); CORA
+  // (sic, spec §2.4) forms R̄ from the predicted set as A (G Gᵀ) Aᵀ + E Eᵀ, i.e. applies A and
+  // W a second time.
+  if (opt_.convention == Convention::Cora) {
+    K_.noalias() = sys_.A() * R;
+    R.noalias() = K_ * sys_.A().transpose();
+    R += EEt_;
+    symmetrize(R);
+  }
+  RC_.noalias() = R * CS.transpose();
+  Sq_.noalias() = CS * RC_;
+  add_noise_block(rows, Sq_);
+  Lam_ = solve_gain(RC_, Sq_);
+}
+
 SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u,
                                                 Mat& gain) {
   std::vector<Eigen::Index> rows;
@@ -650,23 +666,11 @@ SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const V
       gather_rows(C, rows, CS);
       Mat Lam(n_, q);
       if (opt_.rule == ZonotopicRule::Wang) {
-        // Wang, Puig, Cembrano 2018 Thm. 2: Λ = R̄ C_Sᵀ (C_S R̄ C_Sᵀ + F Fᵀ)⁻¹ with R̄ the
-        // predicted set's G Gᵀ; CORA (sic, spec §2.4) forms R̄ = A (G Gᵀ) Aᵀ + E Eᵀ from the
-        // predicted set, i.e. applies A and W a second time.
-        // R̄ is never formed: with H = Gᵀ C_Sᵀ (Gᵀ Aᵀ C_Sᵀ in CORA's convention; m × q),
-        // R̄ C_Sᵀ = G H (A G H + E Eᵀ C_Sᵀ) and C_S R̄ C_Sᵀ = HᵀH (+ C_S E Eᵀ C_Sᵀ) cost O(n m q)
-        // instead of the O(n² m) of G Gᵀ (tank30 at order 100: n = 30, m ≈ 3000).
-        const bool cora = opt_.convention == Convention::Cora;
-        const Mat ACt = cora ? Mat(sys_.A().transpose() * CS.transpose()) : Mat(CS.transpose());
-        const Mat H = X.G.transpose() * ACt;
-        Mat RC = X.G * H;
-        Mat S = H.transpose() * H;
-        if (cora) {
-          RC = sys_.A() * RC + EEt_ * CS.transpose();
-          S += CS * EEt_ * CS.transpose();
-        }
-        add_noise_block(rows, S);
-        Lam = solve_gain(RC, S);
+        // The first step's explicit set: its Gram matrix once (O(n² m)), then the formula of
+        // every later step.
+        detail::gram(X.G, X.G.cols(), R_);
+        wang_gain(R_, CS, rows);
+        Lam = Lam_;
       } else {
         for (Eigen::Index t = 0; t < q; ++t) Lam.col(t) = opt_.gain.col(rows[static_cast<std::size_t>(t)]);
       }
@@ -791,20 +795,9 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::correct_from_current(const Eigen
   Lam_.resize(n_, q);
   gather_rows(C, rows_, CS_);
   if (opt_.rule == ZonotopicRule::Wang) {
-    // Wang, Puig, Cembrano 2018 Thm. 2: Λ = R̄ C_Sᵀ (C_S R̄ C_Sᵀ + F Fᵀ)⁻¹ with R̄ = the
-    // predicted set's G Gᵀ = A S Aᵀ + E Eᵀ (n × n from the current Gram S: never the
-    // n × m columns); CORA (sic, spec §2.4) applies A and W a second time: A R̄ Aᵀ + E Eᵀ.
+    // The predicted set's G Gᵀ = A S Aᵀ + E Eᵀ from the current Gram S: never the n × m columns.
     prior_gram(R_);
-    if (opt_.convention == Convention::Cora) {
-      K_.noalias() = A * R_;
-      R_.noalias() = K_ * A.transpose();
-      R_ += EEt_;
-      symmetrize(R_);
-    }
-    RC_.noalias() = R_ * CS_.transpose();
-    Sq_.noalias() = CS_ * RC_;
-    add_noise_block(rows_, Sq_);
-    Lam_ = solve_gain(RC_, Sq_);
+    wang_gain(R_, CS_, rows_);
   } else {
     for (Eigen::Index s = 0; s < q; ++s) Lam_.col(s) = opt_.gain.col(rows_[static_cast<std::size_t>(s)]);
   }
