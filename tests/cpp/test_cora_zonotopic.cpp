@@ -385,6 +385,61 @@ TEST(ZonotopicObserver, BravoAlternatingStripsMatchTheReferenceOnDynamicSizes) {
   EXPECT_GE(kept, 100);
 }
 
+// Several steps of VolMin-B (Cora convention, no reduction) against a reference that forms the
+// prior's columns [A R, E_{:, :n}] explicitly and recomputes every determinant: the same candidate
+// (read from the gain) at every strip of every step, and the same generators after each step. The
+// readings are drawn from `nrm` and `gen`. Returns false at the first near tie (the rest not compared);
+// counts the strips that replaced a column and those that kept the set.
+static bool bravo_steps_match_reference(const MatrixXd& A, const MatrixXd& C, const MatrixXd& E, const MatrixXd& F,
+                                        const MatrixXd& G, int steps, std::mt19937& gen,
+                                        std::normal_distribution<double>& nrm, const std::string& where, int& replaced,
+                                        int& kept) {
+  const Eigen::Index n = A.rows(), p = C.rows();
+  const LinearSystem sys(A, C, E, F);
+  ZonotopicObserverOptions o;
+  o.rule = ZonotopicRule::Bravo;
+  o.max_generators = 1000;
+  o.convention = Convention::Cora;
+  ZonotopicObserver obs(sys, Zonotope(VectorXd::Zero(n), G), o);
+  MatrixXd R = G;
+  bool tie = false;
+  for (int k = 0; k < steps && !tie; ++k) {
+    VectorXd y(p);
+    for (int i = 0; i < p; ++i) y(i) = 0.1 * nrm(gen);
+    obs.update(y, VectorXd::Zero(0));
+    if (k > 0) {
+      MatrixXd P(n, R.cols() + n);
+      P << A * R, E.leftCols(n);
+      R = P;
+    }
+    for (int i = 0; i < p && !tie; ++i) {
+      const VectorXd c = C.row(i).transpose();
+      const double sig = F(i, n + i);
+      const VectorXd cg = R.transpose() * c;
+      const auto [best, clear] = bravo_direct(R, c, sig);
+      if (!clear) tie = true;
+      VectorXd lam = VectorXd::Zero(n);
+      if (best > 0) {
+        const Eigen::Index j = best - 1;
+        lam = R.col(j) / cg(j);
+        R -= lam * cg.transpose();
+        R.col(j) = sig * lam;
+        ++replaced;
+      } else {
+        ++kept;
+      }
+      if (!tie)
+        EXPECT_EIGEN_NEAR(obs.last_gain().col(i), lam, 1e-8 * (1.0 + lam.norm()))
+            << where << " step " << k << " output " << i;
+    }
+    if (tie) break;
+    const MatrixXd Gobs = obs.current_set().generators().leftCols(R.cols());
+    EXPECT_LE((Gobs - R).cwiseAbs().maxCoeff(), 1e-8 * (1.0 + R.cwiseAbs().maxCoeff()))
+        << where << " step " << k;
+  }
+  return !tie;
+}
+
 // After the first step VolMin-B's prior is implicit: the columns [A G, E] are written once per
 // step and its Gram matrix is carried (A S Aᵀ + E Eᵀ, then the strips' rank updates), never
 // recomputed from the columns. Over several steps against a reference that forms the prior's
@@ -410,47 +465,9 @@ TEST(ZonotopicObserver, BravoCarriesItsPriorAndGramMatrixAcrossSteps) {
       for (int j = 0; j < n; ++j) C(i, j) = nrm(gen);
       F(i, n + i) = std::exp(nrm(gen));
     }
-    const LinearSystem sys(A, C, E, F);
-    ZonotopicObserverOptions o;
-    o.rule = ZonotopicRule::Bravo;
-    o.max_generators = 1000;
-    o.convention = Convention::Cora;
-    ZonotopicObserver obs(sys, Zonotope(VectorXd::Zero(n), G), o);
-    MatrixXd R = G;
-    bool tie = false;
-    for (int k = 0; k < steps && !tie; ++k) {
-      VectorXd y(p);
-      for (int i = 0; i < p; ++i) y(i) = 0.1 * nrm(gen);
-      obs.update(y, VectorXd::Zero(0));
-      if (k > 0) {
-        MatrixXd P(n, R.cols() + n);
-        P << A * R, E.leftCols(n);
-        R = P;
-      }
-      for (int i = 0; i < p && !tie; ++i) {
-        const VectorXd c = C.row(i).transpose();
-        const double sig = F(i, n + i);
-        const VectorXd cg = R.transpose() * c;
-        const auto [best, clear] = bravo_direct(R, c, sig);
-        if (!clear) tie = true;
-        VectorXd lam = VectorXd::Zero(n);
-        if (best > 0) {
-          const Eigen::Index j = best - 1;
-          lam = R.col(j) / cg(j);
-          R -= lam * cg.transpose();
-          R.col(j) = sig * lam;
-          ++replaced;
-        }
-        if (!tie)
-          EXPECT_EIGEN_NEAR(obs.last_gain().col(i), lam, 1e-8 * (1.0 + lam.norm()))
-              << "trial " << trial << " step " << k << " output " << i;
-      }
-      if (tie) break;
-      const MatrixXd Gobs = obs.current_set().generators().leftCols(R.cols());
-      EXPECT_LE((Gobs - R).cwiseAbs().maxCoeff(), 1e-8 * (1.0 + R.cwiseAbs().maxCoeff()))
-          << "trial " << trial << " step " << k;
-    }
-    if (!tie) ++compared;
+    int kept = 0;
+    if (bravo_steps_match_reference(A, C, E, F, G, steps, gen, nrm, "trial " + std::to_string(trial), replaced, kept))
+      ++compared;
   }
   EXPECT_GE(compared, 30);
   EXPECT_GE(replaced, 60);
@@ -484,49 +501,8 @@ TEST(ZonotopicObserver, BravoOnATankChainMatchesTheDirectReference) {
       // Mostly wide strips (kept without a pass), every third a thin one (replaces a column).
       F(i, n + i) = i % 3 == 1 ? 0.02 : 50.0;
     }
-    const LinearSystem sys(A, C, E, F);
-    ZonotopicObserverOptions o;
-    o.rule = ZonotopicRule::Bravo;
-    o.max_generators = 1000;
-    o.convention = Convention::Cora;
-    ZonotopicObserver obs(sys, Zonotope(VectorXd::Zero(n), G), o);
-    MatrixXd R = G;
-    bool tie = false;
-    for (int k = 0; k < steps && !tie; ++k) {
-      VectorXd y(p);
-      for (int i = 0; i < p; ++i) y(i) = 0.1 * nrm(gen);
-      obs.update(y, VectorXd::Zero(0));
-      if (k > 0) {
-        MatrixXd P(n, R.cols() + n);
-        P << A * R, E.leftCols(n);
-        R = P;
-      }
-      for (int i = 0; i < p && !tie; ++i) {
-        const VectorXd c = C.row(i).transpose();
-        const double sig = F(i, n + i);
-        const VectorXd cg = R.transpose() * c;
-        const auto [best, clear] = bravo_direct(R, c, sig);
-        if (!clear) tie = true;
-        VectorXd lam = VectorXd::Zero(n);
-        if (best > 0) {
-          const Eigen::Index j = best - 1;
-          lam = R.col(j) / cg(j);
-          R -= lam * cg.transpose();
-          R.col(j) = sig * lam;
-          ++replaced;
-        } else {
-          ++kept;
-        }
-        if (!tie)
-          EXPECT_EIGEN_NEAR(obs.last_gain().col(i), lam, 1e-8 * (1.0 + lam.norm()))
-              << "trial " << trial << " step " << k << " output " << i;
-      }
-      if (tie) break;
-      const MatrixXd Gobs = obs.current_set().generators().leftCols(R.cols());
-      EXPECT_LE((Gobs - R).cwiseAbs().maxCoeff(), 1e-8 * (1.0 + R.cwiseAbs().maxCoeff()))
-          << "trial " << trial << " step " << k;
-    }
-    if (!tie) ++compared;
+    if (bravo_steps_match_reference(A, C, E, F, G, steps, gen, nrm, "trial " + std::to_string(trial), replaced, kept))
+      ++compared;
   }
   std::printf("tank chain: %d trials compared, %d strips replaced, %d kept\n", compared, replaced, kept);
   EXPECT_GE(compared, 12);  // the others have a near tie somewhere (not compared)
