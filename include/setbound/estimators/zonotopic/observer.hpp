@@ -251,10 +251,10 @@ class ZonotopicObserver {
   void refresh_current(bool row_sums, bool gram);
   void ensure_columns(Mat& M, Eigen::Index cols) const;
   static Mat solve_gain(const Mat& num, const Mat& S);
-  /// Wang, Puig, Cembrano 2018 Thm. 2 (FRad-B): Λ_ = R̄ C_Sᵀ (C_S R̄ C_Sᵀ + (F Fᵀ)_SS)⁻¹ from R
+  /// Wang, Puig, Cembrano 2018 Thm. 2 (FRad-B): Lam = R̄ C_Sᵀ (C_S R̄ C_Sᵀ + (F Fᵀ)_SS)⁻¹ from R
   /// = the predicted set's G Gᵀ (n × n; overwritten: CORA's convention maps it a second time,
   /// A R Aᵀ + E Eᵀ, spec §2.4). The one formula of both steps' paths (explicit or implicit prior).
-  void wang_gain(Mat& R, const Mat& CS, const std::vector<Eigen::Index>& rows);
+  void wang_gain(Mat& R, const Mat& CS, const std::vector<Eigen::Index>& rows, Mat& Lam);
   /// C_S: the rows `rows` of C (the present outputs), q × n.
   static void gather_rows(const Mat& C, const std::vector<Eigen::Index>& rows, Mat& CS);
   /// S += (F Fᵀ)_SS, the present outputs' block of the noise Gram matrix (q × q).

@@ -606,7 +606,8 @@ SETBOUND_INLINE ZonotopicObserver::Mat ZonotopicObserver::solve_gain(const Mat& 
   return out;
 }
 
-SETBOUND_INLINE void ZonotopicObserver::wang_gain(Mat& R, const Mat& CS, const std::vector<Eigen::Index>& rows) {
+SETBOUND_INLINE void ZonotopicObserver::wang_gain(Mat& R, const Mat& CS, const std::vector<Eigen::Index>& rows,
+                                                  Mat& Lam) {
   // Λ = R̄ C_Sᵀ (C_S R̄ C_Sᵀ + F Fᵀ)⁻¹, R̄ = the predicted set's G Gᵀ (Wang 2018 Thm. 2); CORA
   // (sic, spec §2.4) forms R̄ from the predicted set as A (G Gᵀ) Aᵀ + E Eᵀ, i.e. applies A and
   // W a second time.
@@ -619,7 +620,7 @@ SETBOUND_INLINE void ZonotopicObserver::wang_gain(Mat& R, const Mat& CS, const s
   RC_.noalias() = R * CS.transpose();
   Sq_.noalias() = CS * RC_;
   add_noise_block(rows, Sq_);
-  Lam_ = solve_gain(RC_, Sq_);
+  Lam = solve_gain(RC_, Sq_);
 }
 
 SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const Vec>& y, const Eigen::Ref<const Vec>& u,
@@ -669,8 +670,7 @@ SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const V
         // The first step's explicit set: its Gram matrix once (O(n² m)), then the formula of
         // every later step.
         detail::gram(X.G, X.G.cols(), R_);
-        wang_gain(R_, CS, rows);
-        Lam = Lam_;
+        wang_gain(R_, CS, rows, Lam);
       } else {
         for (Eigen::Index t = 0; t < q; ++t) Lam.col(t) = opt_.gain.col(rows[static_cast<std::size_t>(t)]);
       }
@@ -797,7 +797,7 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::correct_from_current(const Eigen
   if (opt_.rule == ZonotopicRule::Wang) {
     // The predicted set's G Gᵀ = A S Aᵀ + E Eᵀ from the current Gram S: never the n × m columns.
     prior_gram(R_);
-    wang_gain(R_, CS_, rows_);
+    wang_gain(R_, CS_, rows_, Lam_);
   } else {
     for (Eigen::Index s = 0; s < q; ++s) Lam_.col(s) = opt_.gain.col(rows_[static_cast<std::size_t>(s)]);
   }
