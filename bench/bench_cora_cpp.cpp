@@ -8,8 +8,8 @@
 //
 // Every method is built as the default convention of setbound.cora.observe builds it (the
 // guaranteed estimators, CORA's zonotope order and reduction technique of the model file):
-//   FRad-A / VolMin-A   ZonotopicEstimator with segment_min_gain / volume_min_gain
-//   VolMin-B, FRad-B, FRad-C   ZonotopicObserver (Bravo, Wang, Combastel)
+//   FRad-A, VolMin-A, VolMin-B, FRad-B, FRad-C   ZonotopicObserver (SegmentMin, VolumeMin, Bravo,
+//                       Wang, Combastel)
 //   PRad-A, PRad-B, PRad-E, Nom-G   design_zonotopic_gain, then ZonotopicObserver with the fixed
 //                       gain (FixedStrips, FixedLambda, FixedGain); PRad-C/D have no design in
 //                       setbound: run with CORA's saved SDPT3 gains where those exist (vehicle2)
@@ -45,8 +45,6 @@
 #include "setbound/core/convention.hpp"
 #include "setbound/estimators/constrained_zonotopic/estimator.hpp"
 #include "setbound/estimators/ellipsoidal/bounding_ellipsoid.hpp"
-#include "setbound/estimators/zonotopic/volume_min.hpp"
-#include "setbound/estimators/zonotopic/gain_estimator.hpp"
 #include "setbound/estimators/zonotopic/designs.hpp"
 #include "setbound/estimators/zonotopic/observer.hpp"
 #include "setbound/estimators/zonotopic/parallelotope.hpp"
@@ -100,15 +98,6 @@ void require_no_output_offset(const Benchmark& b, const char* what) {
     throw std::runtime_error(std::string("model: an output offset (D u) is not supported by ") + what);
 }
 
-Runnable zonotopic_estimator(const Benchmark& b, ZonotopeGain gain) {
-  ZonotopicOptions opt;
-  opt.max_generators = max_generators(b);
-  opt.reduction = reduction_of(b.reduction);
-  auto est = std::make_shared<ZonotopicEstimator>(*b.system, initial_set(b), gain, opt);
-  return {[est] { est->reset(); },
-          [est, &b](Index k) { est->update(b.Y.row(k).transpose(), b.U.row(k).transpose()); }};
-}
-
 Runnable zonotopic_observer(const Benchmark& b, ZonotopicRule rule, const MatrixXd& gain = MatrixXd()) {
   ZonotopicObserverOptions opt;
   opt.rule = rule;
@@ -134,8 +123,8 @@ std::vector<Method> methods() {
     t = seconds_since(t0);
     return r;
   };
-  m.push_back({"FRad-A", [](const Benchmark& b, double&) { return zonotopic_estimator(b, ZonotopeGain(segment_min_gain)); }});
-  m.push_back({"VolMin-A", [](const Benchmark& b, double&) { return zonotopic_estimator(b, ZonotopeGain(volume_min_gain)); }});
+  m.push_back({"FRad-A", [](const Benchmark& b, double&) { return zonotopic_observer(b, ZonotopicRule::SegmentMin); }});
+  m.push_back({"VolMin-A", [](const Benchmark& b, double&) { return zonotopic_observer(b, ZonotopicRule::VolumeMin); }});
   m.push_back({"VolMin-B", [](const Benchmark& b, double&) { return zonotopic_observer(b, ZonotopicRule::Bravo); }});
   m.push_back({"FRad-B", [](const Benchmark& b, double&) { return zonotopic_observer(b, ZonotopicRule::Wang); }});
   m.push_back({"FRad-C", [](const Benchmark& b, double&) { return zonotopic_observer(b, ZonotopicRule::Combastel); }});

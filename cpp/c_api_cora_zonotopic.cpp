@@ -43,9 +43,9 @@ int sb_zono_observer_create(const sb_linear_system* system, int rule, const doub
     require_pointer(out, "out");
     *out = nullptr;
     const LinearSystem& sys = system_arg(system);
-    if (rule < SB_ZOBS_SEGMENT_MIN || rule > SB_ZOBS_FIXED_GAIN)
+    if (rule < SB_ZOBS_SEGMENT_MIN || rule > SB_ZOBS_VOLUME_MIN)
       throw InvalidArgumentError("rule: unknown zonotopic observer rule " + std::to_string(rule) +
-                                 " (SB_ZOBS_SEGMENT_MIN = 1 .. SB_ZOBS_FIXED_GAIN = 7)");
+                                 " (SB_ZOBS_SEGMENT_MIN = 1 .. SB_ZOBS_VOLUME_MIN = 8)");
     if (convention != SB_CONVENTION_SETBOUND && convention != SB_CONVENTION_CORA)
       throw InvalidArgumentError("convention: expected SB_CONVENTION_SETBOUND (0) or SB_CONVENTION_CORA (1), got " +
                                  std::to_string(convention));

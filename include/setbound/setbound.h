@@ -1033,6 +1033,7 @@ int sb_cora_interval_restore_state(sb_cora_interval* observer, const double* sta
  * One zonotopic skeleton, the gain rule as the varying part (CORA's names in brackets):
  * strip-based filters (step k uses y_k and returns the set for x_k, then predicts x_{k+1}):
  *   SB_ZOBS_SEGMENT_MIN  [FRad-A]   segment minimisation per strip (Alamo 2005)
+ *   SB_ZOBS_VOLUME_MIN   [VolMin-A] exact volume minimisation per strip, an LP (Alamo 2005)
  *   SB_ZOBS_BRAVO        [VolMin-B] Bravo's candidate parallelotopes per strip (Bravo 2006)
  *   SB_ZOBS_FIXED_STRIPS [PRad-A]   lambda_i = column i of `gain` per strip
  *   SB_ZOBS_WANG         [FRad-B]   Wang et al. 2018 Kalman-like weight, all strips at once
@@ -1044,7 +1045,9 @@ int sb_cora_interval_restore_state(sb_cora_interval* observer, const double* sta
  * the three fixed rules, NULL otherwise. convention: SB_CONVENTION_SETBOUND (the papers'
  * algorithms) or SB_CONVENTION_CORA (CORA's behaviour where it differs: FRad-B's doubled
  * A and W, VolMin-B's absolute threshold, no reduction of the first strip-based set).
- * reduction: SB_ZONO_REDUCE_*; max_generators in nx .. SB_ZONO_MAX_GENERATORS. Known A only. */
+ * reduction: SB_ZONO_REDUCE_*; max_generators in nx .. SB_ZONO_MAX_GENERATORS. An interval A
+ * (sb_linear_system with A_rad) is accepted by the strip-based rules (the prior is then kept as
+ * columns, as for SB_ZOBS_VOLUME_MIN); the intersection-free rules need a known A. */
 typedef struct sb_zono_observer sb_zono_observer;
 #define SB_ZOBS_SEGMENT_MIN 1
 #define SB_ZOBS_BRAVO 2
@@ -1053,6 +1056,7 @@ typedef struct sb_zono_observer sb_zono_observer;
 #define SB_ZOBS_FIXED_LAMBDA 5
 #define SB_ZOBS_COMBASTEL 6
 #define SB_ZOBS_FIXED_GAIN 7
+#define SB_ZOBS_VOLUME_MIN 8
 int sb_zono_observer_create(const sb_linear_system* system, int rule, const double* gain, int max_generators,
                             int reduction, int convention, int m0, const double* p0, const double* H0,
                             sb_zono_observer** out);

@@ -696,12 +696,16 @@ def random_case(estimator: str, seed: int, max_nx: int = 8) -> Case:
     if estimator == "ell_improved":
         opts = {"option": str(rng.choice(_IMPROVED_OPTIONS)), "feedback": str(rng.choice(_IMPROVED_FEEDBACK)),
                 "predictor": str(rng.choice(_IMPROVED_PREDICTORS))}
-    if estimator == "ell_interval_A":
+    if estimator in ("ell_interval_A", "zono_obs_interval_A"):
         k = int(rng.integers(1, min(3, s.nx * s.nx) + 1))
         idx = rng.choice(s.nx * s.nx, size=k, replace=False)
         rad = np.zeros(s.nx * s.nx)
         rad[idx] = np.abs(s.A.ravel()[idx]) * rng.uniform(0.01, 0.1, k) + 1e-3 * np.abs(s.A).max() * rng.uniform(0, 1, k)
         opts = {"A_rad": rad.reshape(s.nx, s.nx), "A_choice": str(rng.choice(["vertex", "uniform"]))}
+        if estimator == "zono_obs_interval_A":
+            # the volume LP enumerates subsets of n_x − 1 of the reduced set's, E's, the two boxes' and
+            # the strips' columns: only up to n_x = 4 (the observer refuses what would pass its limit)
+            opts["rule"] = str(rng.choice(_INTERVAL_A_RULES if s.nx <= 4 else _INTERVAL_A_RULES[:1] + _INTERVAL_A_RULES[2:]))
     if estimator == "pradius":
         opts = {"approach": int(rng.choice([1, 2]))}
     if estimator == "zono_strip_gain":
@@ -970,9 +974,14 @@ def _kalman_gains(system, iterations: int = 300):
     return A @ K, K
 
 
+#: The strip-based rules the interval-A campaign draws from (ZonotopicObserver).
+_INTERVAL_A_RULES = ("segment_min", "volume_min", "bravo", "wang")
+
+
 def _run_zonotopic(case: Case, res: CaseResult, rng):
     s = case.system
-    system = s.linear_system()
+    A_rad = case.options.get("A_rad")
+    system = s.linear_system() if A_rad is None else s.linear_system(IntervalMatrix(s.A - A_rad, s.A + A_rad))
     lo, hi = _x0_box(s, rng)
     x0 = Zonotope(0.5 * (lo + hi), np.diag(0.5 * (hi - lo)))
     if case.estimator == "zono_segment_min":
@@ -980,6 +989,14 @@ def _run_zonotopic(case: Case, res: CaseResult, rng):
     elif case.estimator == "zono_volume_min":
         # the volume-minimising gain has one L1 row per subset of n_x − 1 generators: keep few
         est = zonotopic.VolumeMinEstimator(system, x0, max_generators=s.nx + 2)
+    elif case.estimator == "zono_obs_segment_min":
+        est = zonotopic.ZonotopicObserver(system, x0, "segment_min")
+    elif case.estimator == "zono_obs_volume_min":
+        # n_x generators kept (the least): the LP's subsets of n_x − 1 of them, E's and the strips'
+        est = zonotopic.ZonotopicObserver(system, x0, "volume_min", max_generators=s.nx)
+    elif case.estimator == "zono_obs_interval_A":
+        rule = case.options["rule"]
+        est = zonotopic.ZonotopicObserver(system, x0, rule, max_generators=s.nx if rule == "volume_min" else 20)
     elif case.estimator == "zono_bravo":
         est = zonotopic.BravoEstimator(system, x0)
     elif case.estimator == "zono_wang":
@@ -1000,9 +1017,12 @@ def _run_zonotopic(case: Case, res: CaseResult, rng):
     else:
         design = zonotopic.design_pradius(system, approach=case.options["approach"])
         est = zonotopic.PRadiusEstimator(design, x0)
-    sim = simulate(system, x0, case.N, disturbance=case.disturbance, rng=rng)
-    A_abs = np.abs(s.A)
-    delta = _delta(A_abs, sim.x, system.E, sim.omega, s.A)
+    if A_rad is None:
+        sim = simulate(system, x0, case.N, disturbance=case.disturbance, rng=rng)
+        delta = _delta(np.abs(s.A), sim.x, system.E, sim.omega, s.A)
+    else:
+        sim = simulate(system, x0, case.N, disturbance=case.disturbance, rng=rng, A_choice=case.options["A_choice"])
+        delta = _delta(np.abs(s.A) + A_rad, sim.x, system.E, sim.omega, None)
     traj = est.run(sim.y)
     flagged = traj.flagged
     n = s.nx
@@ -1192,6 +1212,11 @@ ESTIMATORS = {
     "zono_combastel": _Spec(42, _run_zonotopic, horizon=1000),
     "zono_strip_gain": _Spec(43, _run_zonotopic, horizon=1000),
     "zono_propagation": _Spec(44, _run_zonotopic, horizon=1000),
+    # FRad-A and VolMin-A on the shared skeleton (ZonotopicObserver's segment_min / volume_min
+    # rules), and its strip-based rules with an interval A (the prior kept as columns)
+    "zono_obs_segment_min": _Spec(45, _run_zonotopic, horizon=1000),
+    "zono_obs_volume_min": _Spec(46, _run_zonotopic, max_nw=8, horizon=600),
+    "zono_obs_interval_A": _Spec(47, _run_zonotopic, max_nw=8, horizon=200),
     "thesis_sm_observer": _Spec(9, _run_thesis, horizon=4000),
     "thesis_lpv": _Spec(10, _run_thesis, horizon=300),
     "interval_luenberger": _Spec(11, _run_thesis, horizon=2000),

@@ -553,8 +553,9 @@ class _ZonotopicObserver(ReadingChecks, StateMixin):
         reduction = as_choice(reduction, "reduction", REDUCTIONS)
         convention = as_choice(convention, "convention", CONVENTIONS)
         on_inconsistency = as_choice(on_inconsistency, "on_inconsistency", POLICIES)
-        if system.A_rad is not None and np.any(np.asarray(system.A_rad) != 0):
-            raise InvalidArgumentError(f"system: {type(self).__name__} needs a known A (an interval A is not supported)")
+        if not self.is_filter and system.A_rad is not None and np.any(np.asarray(system.A_rad) != 0):
+            raise InvalidArgumentError(f"system: {type(self).__name__} needs a known A (an interval A is not supported "
+                                       "by the intersection-free rules; the strip-based filters take one)")
         gptr = ffi.NULL
         if self._takes_gain:
             self._gain_matrix = as_f64(gain, "gain", shape=(system.nx, system.ny))
@@ -898,7 +899,77 @@ class PropagationObserver(_ZonotopicObserver):
         return self._gain_matrix.copy()
 
 
-for _cls in (BravoEstimator, WangEstimator, CombastelObserver, StripGainEstimator, PropagationObserver):
+#: The gain rules of the shared skeleton (:class:`ZonotopicObserver`), with CORA's names.
+OBSERVER_RULES = {"segment_min": lib.SB_ZOBS_SEGMENT_MIN, "volume_min": lib.SB_ZOBS_VOLUME_MIN,
+                  "bravo": lib.SB_ZOBS_BRAVO, "fixed_strips": lib.SB_ZOBS_FIXED_STRIPS, "wang": lib.SB_ZOBS_WANG,
+                  "fixed_lambda": lib.SB_ZOBS_FIXED_LAMBDA, "combastel": lib.SB_ZOBS_COMBASTEL,
+                  "fixed_gain": lib.SB_ZOBS_FIXED_GAIN}
+_GAIN_RULES = ("fixed_strips", "fixed_lambda", "fixed_gain")
+_PREDICTOR_RULES = ("combastel", "fixed_gain")
+
+
+@reconstructible
+class ZonotopicObserver(_ZonotopicObserver):
+    """The shared zonotopic skeleton of CORA's catalogue with the gain rule as a parameter.
+
+    ``rule`` (CORA's name in brackets): strip-based filters ``"segment_min"`` [FRad-A] (Alamo
+    2005's ``λ = G Gᵀc / (cᵀG Gᵀc + σ²)`` per strip), ``"volume_min"`` [VolMin-A] (the ``λ`` of the
+    smallest volume per strip, an LP), ``"bravo"`` [VolMin-B], ``"fixed_strips"`` [PRad-A],
+    ``"wang"`` [FRad-B], ``"fixed_lambda"`` [PRad-B/C/D]; intersection-free predictors
+    ``"combastel"`` [FRad-C], ``"fixed_gain"`` [PRad-E, Nom-G]. The named classes
+    (:class:`BravoEstimator`, :class:`WangEstimator`, ...) are this class with one rule.
+
+    The strip-based rules take an interval ``A`` (``system.A_rad``; papers §3.1): the prediction
+    adds Le et al.'s two boxes ``rad·rs|G|`` and ``rad·|p|``, and the prior is then kept as
+    columns (as for ``"volume_min"``, whose LP needs them). :class:`SegmentMinEstimator` and
+    :class:`VolumeMinEstimator` run the same corrections on the papers' estimator, which also has
+    ``strip_order``, ``use_first_measurement`` and a screening strip by strip; this skeleton
+    screens every reading against the prior.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The model.
+    x0 : Zonotope, Box or Ellipsoid
+        Initial set.
+    rule : str
+        The gain rule (above).
+    gain : array_like, shape (n_x, n_y), optional
+        The weight of the fixed rules (``"fixed_strips"``: column ``i`` is ``λ_i``; ``"fixed_lambda"``:
+        ``Λ``; ``"fixed_gain"``: ``L``); not taken by the others.
+{params}
+
+    Examples
+    --------
+    >>> A = setbound.IntervalMatrix([[0.89, 0.2], [0.0, 0.69]], [[0.91, 0.2], [0.0, 0.71]])
+    >>> sys = setbound.LinearSystem(A=A, C=[[1.0, 0.0]], E=[[0.1, 0.0], [0.0, 0.0]], F=[[0.0, 0.05]])
+    >>> est = setbound.zonotopic.ZonotopicObserver(sys, setbound.Box([-1, -1], [1, 1]), "segment_min")
+    >>> bool(est.run(np.zeros((5, 1))).contains(np.zeros((5, 2))).all())
+    True
+    """
+
+    def __init__(self, system: LinearSystem, x0: Zonotope, rule: str, *, gain=None, max_generators: int = 20,
+                 reduction: str = "combastel", convention: str = "setbound", on_inconsistency: str = "flag"):
+        self.rule = as_choice(rule, "rule", OBSERVER_RULES)
+        self._rule = OBSERVER_RULES[self.rule]
+        self._takes_gain = self.rule in _GAIN_RULES
+        self.is_filter = self.rule not in _PREDICTOR_RULES
+        if not self._takes_gain and gain is not None:
+            raise InvalidArgumentError(f"gain: rule {self.rule!r} computes its own weight; only "
+                                       f"{', '.join(_GAIN_RULES)} take a gain")
+        if self._takes_gain and gain is None:
+            raise InvalidArgumentError(f"gain: rule {self.rule!r} needs a weight (n_x x n_y)")
+        super().__init__(system, x0, gain=gain, max_generators=max_generators, reduction=reduction,
+                         convention=convention, on_inconsistency=on_inconsistency)
+
+    @property
+    def gain(self) -> np.ndarray | None:
+        """The given weight of a fixed rule, shape ``(n_x, n_y)`` (None for the other rules)."""
+        return self._gain_matrix.copy() if self._takes_gain else None
+
+
+for _cls in (BravoEstimator, WangEstimator, CombastelObserver, StripGainEstimator, PropagationObserver,
+             ZonotopicObserver):
     _cls.__doc__ = _cls.__doc__.replace("{params}", _OBSERVER_PARAMETERS)
 del _cls
 
@@ -1010,19 +1081,6 @@ def design_zonotopic_gain(system: LinearSystem, method: str = "PRad-E", *, max_i
 
 # ---- CORA's names (setbound.cora.observe) -------------------------------------------------------
 
-def _cora_runner(cls):
-    """FRad-A / VolMin-A: the estimator with the model's zonotope order and reduction technique
-    (CORA's settings); the two conventions coincide for these methods."""
-    def runner(model, *, convention, gain, **options):
-        est = cls(model.system, model.x0, **{**model.estimator_options(), **options})
-
-        def run():
-            t = est.run(model.y, model.u)
-            return t.lower, t.upper, t.sets
-        return run
-    return runner
-
-
 def _refuse_cora_quirk(model, alg: str, convention: str, intersection_free: bool) -> None:
     """CORA quirks that ``convention="cora"`` does not copy: the intersection-free skeleton omits
     the constant term ``c`` (spec §1.3; not an outer bound when ``c ≠ 0``), and the strips do not
@@ -1081,10 +1139,14 @@ def _strip_gain(name: str, all_strips: bool):
 
 def _register_cora_names():
     from .cora import register_algorithm
-    register_algorithm("FRad-A", _cora_runner(SegmentMinEstimator),
-                       summary="segment (F-radius) minimisation per strip [Alamo 2005] = SegmentMinEstimator")
-    register_algorithm("VolMin-A", _cora_runner(VolumeMinEstimator),
-                       summary="exact volume minimisation per strip (LP) [Alamo 2005] = VolumeMinEstimator")
+    register_algorithm("FRad-A", _observer_runner(lambda m, g, **kw: ZonotopicObserver(m.system, m.x0, "segment_min",
+                                                                                       **kw), "FRad-A", False),
+                       summary="segment (F-radius) minimisation per strip [Alamo 2005] = "
+                               "ZonotopicObserver(rule='segment_min')")
+    register_algorithm("VolMin-A", _observer_runner(lambda m, g, **kw: ZonotopicObserver(m.system, m.x0, "volume_min",
+                                                                                         **kw), "VolMin-A", False),
+                       summary="exact volume minimisation per strip (LP) [Alamo 2005] = "
+                               "ZonotopicObserver(rule='volume_min')")
     register_algorithm("VolMin-B", _observer_runner(lambda m, g, **kw: BravoEstimator(m.system, m.x0, **kw),
                                                     "VolMin-B", False),
                        summary="Bravo's candidate parallelotopes per strip [Bravo 2006] = BravoEstimator")

@@ -24,7 +24,10 @@ namespace {
 
 const ZonotopicRule kRules[] = {ZonotopicRule::SegmentMin,  ZonotopicRule::Bravo,     ZonotopicRule::FixedStrips,
                                 ZonotopicRule::Wang,        ZonotopicRule::FixedLambda, ZonotopicRule::Combastel,
-                                ZonotopicRule::FixedGain};
+                                ZonotopicRule::FixedGain,   ZonotopicRule::VolumeMin};
+// The strip-based rules, which also take an interval [A] (their prior is then kept as columns).
+const ZonotopicRule kStripRules[] = {ZonotopicRule::SegmentMin, ZonotopicRule::VolumeMin,  ZonotopicRule::Bravo,
+                                     ZonotopicRule::FixedStrips, ZonotopicRule::Wang,     ZonotopicRule::FixedLambda};
 
 // A weight for the fixed rules: Cᵀ(CCᵀ + I)⁻¹ for the strips, A Cᵀ(CCᵀ + I)⁻¹ / 2 for the
 // propagation (any weight is guaranteed; these keep the sets bounded on most systems).
@@ -50,8 +53,9 @@ struct Stats {
   int steps = 0, violations = 0;
 };
 
-// x_{k+1} = A x_k + B u_k + E ω_k, y_k = C x_k + D u_k + F ω_k with the same ω_k (setbound's
-// model); a filter's set after y_k must contain x_k, a predictor's x_{k+1}.
+// x_{k+1} = A_k x_k + B u_k + E ω_k, y_k = C x_k + D u_k + F ω_k with the same ω_k (setbound's
+// model); a filter's set after y_k must contain x_k, a predictor's x_{k+1}. With an interval
+// [A], A_k is drawn in it at every step (at its vertices when `vertex`).
 Stats simulate(const LinearSystem& sys, const ZonotopicObserverOptions& opt, bool vertex, unsigned seed, int N) {
   std::mt19937 gen(seed);
   const Eigen::Index n = sys.nx();
@@ -63,7 +67,12 @@ Stats simulate(const LinearSystem& sys, const ZonotopicObserverOptions& opt, boo
     const VectorXd w = draw_disturbance(gen, sys.nw(), vertex);
     const VectorXd u = VectorXd::Constant(sys.nu(), std::sin(0.3 * k));
     const VectorXd y = sys.C() * x + sys.D() * u + sys.F() * w;
-    const VectorXd xn = sys.A() * x + sys.B() * u + sys.E() * w;
+    MatrixXd Ak = sys.A();
+    if (sys.uncertain_A()) {
+      const VectorXd d = draw_disturbance(gen, n * n, vertex);
+      Ak += sys.A_rad().cwiseProduct(Eigen::Map<const MatrixXd>(d.data(), n, n));
+    }
+    const VectorXd xn = Ak * x + sys.B() * u + sys.E() * w;
     const Zonotope Z = obs.step(y, u);
     const VectorXd& truth = obs.is_filter() ? x : xn;
     ++st.steps;
@@ -164,6 +173,77 @@ TEST(ZonotopicObserver, BravoMovesCollapsedColumnsToTheBoxUnderSetboundsConventi
   }
   EXPECT_GE(fewer, 6);
   EXPECT_LE(total_mine, 0.6 * total_cora);
+}
+
+// An interval [A] (papers.md §3.1, [Le2013] §3.4): every strip-based rule contains the truth
+// when the true A_k varies in [A] from step to step (random and vertex draws, 20 systems).
+TEST(ZonotopicObserver, StripRulesWithAnIntervalAContainTheTruth) {
+  for (ZonotopicRule rule : kStripRules) {
+    std::mt19937 gen(17);
+    int total = 0;
+    for (int trial = 0; trial < 20; ++trial) {
+      const LinearSystem base = random_system(trial, gen);
+      const MatrixXd rad = 0.03 * base.A().cwiseAbs() + MatrixXd::Constant(base.nx(), base.nx(), 0.005);
+      const LinearSystem sys(base.A(), base.C(), base.E(), base.F(), base.B(), base.D(), rad);
+      for (Convention conv : {Convention::Setbound, Convention::Cora})
+        for (bool vertex : {false, true}) {
+          const Stats s = simulate(sys, options_for(sys, rule, ZonotopeReduction::Girard, 4 * sys.nx(), conv), vertex,
+                                   300 + trial, 30);
+          EXPECT_EQ(s.violations, 0) << "rule " << static_cast<int>(rule) << " trial " << trial;
+          total += s.steps;
+        }
+    }
+    EXPECT_EQ(total, 20 * 2 * 2 * 30);
+  }
+  // The intersection-free rules refuse it (their map A − L C would be an interval matrix).
+  std::mt19937 gen(3);
+  const LinearSystem base = random_system(0, gen);
+  const LinearSystem sys(base.A(), base.C(), base.E(), base.F(), base.B(), base.D(),
+                         MatrixXd::Constant(base.nx(), base.nx(), 0.01));
+  const Zonotope X0(VectorXd::Zero(sys.nx()), MatrixXd::Identity(sys.nx(), sys.nx()));
+  for (ZonotopicRule rule : {ZonotopicRule::Combastel, ZonotopicRule::FixedGain})
+    expect_error_naming<InvalidArgumentError>(
+        [&] { ZonotopicObserver(sys, X0, options_for(sys, rule, ZonotopeReduction::Girard, 10)); }, "system");
+}
+
+// FRad-A and VolMin-A on the shared skeleton give the papers' estimator's sets
+// (ZonotopicEstimator with segment_min_gain / volume_min_gain): with a known A, and with an
+// interval [A], where both form [Le2013]'s two boxes. Data of the model, so that no reading is
+// screened out (the two skeletons screen differently: per strip there, the prior here).
+TEST(ZonotopicObserver, SegmentAndVolumeRulesAgreeWithTheZonotopicEstimator) {
+  std::mt19937 gen(23);
+  int compared = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    const LinearSystem base = random_system(trial, gen);
+    const Eigen::Index n = base.nx();
+    const bool interval = trial % 2 == 1;
+    const MatrixXd rad = interval ? MatrixXd(0.02 * base.A().cwiseAbs()) : MatrixXd();
+    const LinearSystem sys(base.A(), base.C(), base.E(), base.F(), base.B(), base.D(), rad);
+    const Zonotope X0(VectorXd::Zero(n), MatrixXd::Identity(n, n));
+    MatrixXd Y(25, sys.ny()), U = random_normal(25, 1, gen);
+    VectorXd x = 0.5 * VectorXd::Ones(n);
+    for (int k = 0; k < 25; ++k) {
+      const VectorXd w = draw_disturbance(gen, sys.nw(), true);
+      Y.row(k) = (sys.C() * x + sys.D() * U.row(k).transpose() + sys.F() * w).transpose();
+      x = sys.A() * x + sys.B() * U.row(k).transpose() + sys.E() * w;
+    }
+    for (ZonotopicRule rule : {ZonotopicRule::SegmentMin, ZonotopicRule::VolumeMin}) {
+      ZonotopicOptions zo;
+      zo.max_generators = 3 * n;
+      zo.reduction = ZonotopeReduction::Girard;
+      ZonotopicEstimator ref(sys, X0, rule == ZonotopicRule::SegmentMin ? ZonotopeGain(segment_min_gain)
+                                                                         : ZonotopeGain(volume_min_gain),
+                             zo);
+      ZonotopicObserver obs(sys, X0, options_for(sys, rule, ZonotopeReduction::Girard, 3 * n));
+      const auto a = ref.run(Y, U);
+      const auto b = obs.run(Y, U);
+      const double scale = 1.0 + a.upper.cwiseAbs().maxCoeff();
+      EXPECT_EIGEN_NEAR(a.lower, b.lower, 1e-9 * scale) << "rule " << static_cast<int>(rule) << " trial " << trial;
+      EXPECT_EIGEN_NEAR(a.upper, b.upper, 1e-9 * scale) << "rule " << static_cast<int>(rule) << " trial " << trial;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 12);
 }
 
 TEST(ZonotopicObserver, SegmentMinimisationAgreesWithTheZonotopicEstimator) {
@@ -629,9 +709,13 @@ TEST(ZonotopicObserver, SavedStateContinuesBitForBit) {
   std::mt19937 gen(11);
   const LinearSystem sys = random_system(2, gen);
   const Zonotope X0(VectorXd::Zero(sys.nx()), MatrixXd::Identity(sys.nx(), sys.nx()));
-  for (ZonotopicRule rule : kRules) {
+  const LinearSystem interval(sys.A(), sys.C(), sys.E(), sys.F(), sys.B(), sys.D(),
+                              MatrixXd::Constant(sys.nx(), sys.nx(), 0.01));
+  for (ZonotopicRule rule : kRules)
+    for (const LinearSystem* model : {&sys, &interval}) {
+    if (model == &interval && is_intersection_free(rule)) continue;
     const auto opt = options_for(sys, rule, ZonotopeReduction::Pca, 6);
-    ZonotopicObserver a(sys, X0, opt), b(sys, X0, opt);
+    ZonotopicObserver a(*model, X0, opt), b(*model, X0, opt);
     const MatrixXd Y = random_normal(12, static_cast<int>(sys.ny()), gen, 0.3);
     for (int k = 0; k < 6; ++k) a.update(Y.row(k).transpose(), VectorXd::Zero(1));
     b.restore_state(a.save_state());
@@ -643,9 +727,14 @@ TEST(ZonotopicObserver, SavedStateContinuesBitForBit) {
     // Another design refuses the state.
     auto other = opt;
     other.max_generators = 7;
-    ZonotopicObserver c(sys, X0, other);
+    ZonotopicObserver c(*model, X0, other);
     expect_error_naming<InvalidArgumentError>([&] { c.restore_state(a.save_state()); }, "state");
-  }
+    // So does the same rule on the other model (the interval's radius is part of the design).
+    if (!is_intersection_free(rule)) {
+      ZonotopicObserver d(model == &sys ? interval : sys, X0, opt);
+      expect_error_naming<InvalidArgumentError>([&] { d.restore_state(a.save_state()); }, "state");
+    }
+    }
 }
 
 TEST(ZonotopicObserver, BadInputIsNamed) {
@@ -663,6 +752,20 @@ TEST(ZonotopicObserver, BadInputIsNamed) {
   expect_error_naming<InvalidArgumentError>([&] { ZonotopicObserver(sys, X0, wang); }, "gain");
   auto bad = options_for(sys, ZonotopicRule::Wang, ZonotopeReduction::Girard, 1);
   expect_error_naming<InvalidArgumentError>([&] { ZonotopicObserver(sys, X0, bad); }, "max_generators");
+  // The volume LP's subsets of n_x − 1 generators: refused at construction, not at a later step.
+  {
+    std::mt19937 g8(8);
+    const LinearSystem big = random_system(2, g8);  // n_x = 4: subsets of 3
+    const Zonotope B0(VectorXd::Zero(big.nx()), MatrixXd::Identity(big.nx(), big.nx()));
+    expect_error_naming<InvalidArgumentError>(
+        [&] { ZonotopicObserver(big, B0, options_for(big, ZonotopicRule::VolumeMin, ZonotopeReduction::Girard, 60)); },
+        "max_generators");
+    ZonotopicObserver fits(big, B0, options_for(big, ZonotopicRule::VolumeMin, ZonotopeReduction::Girard, 12));
+    const Zonotope wide(VectorXd::Zero(big.nx()), MatrixXd::Ones(big.nx(), 60));
+    expect_error_naming<InvalidArgumentError>(
+        [&] { ZonotopicObserver(big, wide, options_for(big, ZonotopicRule::VolumeMin, ZonotopeReduction::Girard, 12)); },
+        "x0");
+  }
   bad = options_for(sys, ZonotopicRule::Wang, ZonotopeReduction::Girard, 10);
   bad.rule = static_cast<ZonotopicRule>(9);
   expect_error_naming<InvalidArgumentError>([&] { ZonotopicObserver(sys, X0, bad); }, "rule");
@@ -672,7 +775,7 @@ TEST(ZonotopicObserver, BadInputIsNamed) {
   const LinearSystem interval(sys.A(), sys.C(), sys.E(), sys.F(), sys.B(), sys.D(),
                               MatrixXd::Constant(sys.nx(), sys.nx(), 0.01));
   expect_error_naming<InvalidArgumentError>(
-      [&] { ZonotopicObserver(interval, X0, options_for(sys, ZonotopicRule::Wang, ZonotopeReduction::Girard, 10)); },
+      [&] { ZonotopicObserver(interval, X0, options_for(sys, ZonotopicRule::Combastel, ZonotopeReduction::Girard, 10)); },
       "system");
   ZonotopicObserver ok(sys, X0, options_for(sys, ZonotopicRule::Combastel, ZonotopeReduction::Girard, 10));
   const auto before = ok.save_state();

@@ -816,6 +816,9 @@ OPTIONS: dict[str, dict[str, str]] = {
                                                        "reduction": "choice", "convention": "choice", "on_inconsistency": "choice"},
     "setbound.zonotopic.PropagationObserver.__init__": {"max_generators": "int", "reduction": "choice",
                                                         "convention": "choice", "on_inconsistency": "choice"},
+    "setbound.zonotopic.ZonotopicObserver.__init__": {"rule": "choice", "gain": "data", "max_generators": "int",
+                                                      "reduction": "choice", "convention": "choice",
+                                                      "on_inconsistency": "choice"},
     "setbound.zonotopic.design_zonotopic_gain": {"method": "choice", "max_iterations": "int?", "time_limit": "float?"},
     # CORA's ROPO and the Rauch-Tung-Striebel smoother
     "setbound.parallelotope.ParallelotopeEstimator.__init__": {"reduction": "choice", "convention": "choice",
@@ -1107,6 +1110,8 @@ CALLS = {
         lambda c, **kw: zonotopic.StripGainEstimator(c["S"], c["X0"], [[0.5], [0.1]], **kw),
     "setbound.zonotopic.PropagationObserver.__init__":
         lambda c, **kw: zonotopic.PropagationObserver(c["S"], c["X0"], [[0.5], [0.1]], **kw),
+    "setbound.zonotopic.ZonotopicObserver.__init__":
+        lambda c, **kw: zonotopic.ZonotopicObserver(c["S"], c["X0"], **{"rule": "volume_min", **kw}),
     "setbound.hinf.ellipsoidal_error_rpi":
         lambda c, **kw: hinf.ellipsoidal_error_rpi(c["hd"].P, c["hd"].Q_refined, wbar=[1.0, 1.0], **kw),
     "setbound.hinf.refine_dissipation_matrix":

@@ -7,8 +7,9 @@ estimator kind is the C++ test StateFuzz.EveryFieldOfEveryKind).
   size an allocation (out of memory, a dangling buffer, a double free when the estimator was
   deleted); it no longer sizes anything, so the restore succeeds and the estimator continues
   bit-for-bit like an untouched copy, and deleting it is clean.
-* A smaller fuzz: every field of the blobs of the zonotopic estimators, an ellipsoidal
-  predictor, a Kalman filter and CORA's ROPO (both conventions), each set to NaN, ±Inf,
+* A smaller fuzz: every field of the blobs of the zonotopic estimators, the zonotopic observer
+  skeleton (implicit and explicit priors, an interval A), an ellipsoidal predictor, a Kalman filter
+  and CORA's ROPO (both conventions), each set to NaN, ±Inf,
   huge, negative, -0 and fractional values, plus truncations and another kind's blob. Each
   restore either raises InvalidArgumentError ("state: ...") with the estimator unchanged, or
   succeeds and the estimator can step (a setbound error is allowed for a different state)."""
@@ -131,6 +132,14 @@ def _estimators():
         out["zonotopic-" + kind] = (lambda kind=kind: _zonotopic(kind), lambda e, k: e.step(ys[k], us[k]))
     out["ellipsoidal"] = (lambda: ell.OnlineEstimator(design, E0), lambda e, k: e.step(ys[k], us[k]))
     out["kalman"] = (lambda: ell.KalmanFilter(s, np.zeros(2), np.eye(2)), lambda e, k: e.step(ys[k], us[k]))
+    # CORA's zonotopic catalogue on the shared skeleton: an implicit prior (segment_min), an explicit
+    # one (volume_min) and an interval A (its radius is part of the design the state is checked against)
+    x0 = sb.Zonotope(np.zeros(2), 2.0 * np.eye(2))
+    s_int = sb.LinearSystem(sb.IntervalMatrix.from_mid_rad(s.A, 0.02 * np.abs(s.A)), s.C, B=s.B, D=s.D, E=s.E, F=s.F)
+    for name, system, rule in (("segment_min", s, "segment_min"), ("volume_min", s, "volume_min"),
+                               ("wang-interval-A", s_int, "wang")):
+        out["zono-observer-" + name] = (lambda system=system, rule=rule: zono.ZonotopicObserver(system, x0, rule),
+                                        lambda e, k: e.step(ys[k], us[k]))
     for conv in ("setbound", "cora"):  # CORA's ROPO
         out["ropo-" + conv] = (lambda conv=conv: ParallelotopeEstimator(s, sb.Zonotope(np.zeros(2), 2.0 * np.eye(2)),
                                                                         reduction="pca", convention=conv),

@@ -329,6 +329,9 @@ CASES = {
     "PropagationObserver": Sharing(
         lambda: zonotopic.PropagationObserver(_system(), X0Z, np.full((2, _system().ny), 0.3), max_generators=6),
         lambda e, t, i: e.step(_y(t, i), U0), ["sb_zono_observer_step"], 30),
+    # the skeleton with an explicit prior (the volume LP per strip)
+    "ZonotopicObserver": Sharing(lambda: zonotopic.ZonotopicObserver(_system(), X0Z, "volume_min", max_generators=4),
+                                 lambda e, t, i: e.step(_y(t, i), U0), ["sb_zono_observer_step"], 12),
     "ParallelotopeEstimator": Sharing(lambda: parallelotope.ParallelotopeEstimator(_system(), X0Z, reduction="pca"),
                                       lambda e, t, i: e.step(_y(t, i), U0), ["sb_ropo_step"], 30),
     "EllipsoidalSMObserver": Sharing(

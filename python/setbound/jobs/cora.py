@@ -36,7 +36,7 @@ from typing import Callable
 import numpy as np
 
 from .linear import MAX_GENERATORS, _CZN_CHECKS
-from .registry import ESTIMATORS, boolean, number, one_of, optional_matrix, positive_int, register_estimator
+from .registry import ESTIMATORS, number, one_of, optional_matrix, positive_int, register_estimator
 from .schema import ConfigError
 
 __all__ = ["CoraMethod", "CORA_METHODS", "CoraObserver", "cora_model", "register_cora_names"]
@@ -110,12 +110,12 @@ def _ellipsoids(o: dict, where: str) -> None:
                           'sets would not be guaranteed; only with convention = "cora" (CORA\'s conversion)')
 
 
-def _zonotopic(filter_: dict, extra: dict | None = None, interval_a: bool = False) -> CoraMethod:
-    return CoraMethod("zonotopic", {**_ZONO, **(extra or {})}, filter=filter_, validate=_one_size,
-                      interval_a=interval_a)
+def _zonotopic(filter_: dict, interval_a: bool = False) -> CoraMethod:
+    # setbound.zonotopic.ZonotopicObserver and its named rules: the screening's policy is
+    # setbound's (CORA tests nothing)
+    return CoraMethod("zonotopic", {**_ZONO, "on_inconsistency": _POLICY}, filter=filter_, validate=_one_size,
+                      interval_a=interval_a, setbound_only=("on_inconsistency",))
 
-
-_STRIP_POLICY = {"use_first_measurement": boolean, "on_inconsistency": _POLICY}
 # CZN-A/B: the options of setbound.constrained_zonotopic (as the czn_a/czn_b kinds) and CORA's
 # zonotope order of the model (the order of CORA's reduction under convention = "cora")
 _CZN = {**_CZN_CHECKS, "zonotope_order": _ZONO["zonotope_order"]}
@@ -126,9 +126,9 @@ _CZN = {**_CZN_CHECKS, "zonotope_order": _ZONO["zonotope_order"]}
 #: (ESO-A/B: ``ellipsoids``, ``step_cap``), :mod:`setbound.hinf` (ESO-C: the design's ``lambda_route``,
 #: ``passes``), :mod:`setbound.interval_observers` (Hinf-G) and :mod:`setbound.constrained_zonotopic`.
 CORA_METHODS: dict[str, CoraMethod] = {
-    # SegmentMinEstimator / VolumeMinEstimator take an interval A ([Le2013]'s example)
-    "FRad-A": _zonotopic(_FILTER, extra=_STRIP_POLICY, interval_a=True),
-    "VolMin-A": _zonotopic(_FILTER, extra=_STRIP_POLICY, interval_a=True),
+    # the skeleton's segment_min / volume_min rules take an interval A ([Le2013]'s example)
+    "FRad-A": _zonotopic(_FILTER, interval_a=True),
+    "VolMin-A": _zonotopic(_FILTER, interval_a=True),
     "VolMin-B": _zonotopic(_FILTER),
     "FRad-B": _zonotopic(_FILTER),
     "FRad-C": _zonotopic(_PREDICTOR),

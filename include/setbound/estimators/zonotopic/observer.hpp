@@ -8,8 +8,8 @@
 //     X̂_k = reduce(Corr(X̄_k, y_k)),   X̄_{k+1} = A X̂_k ⊕ (B u_k) ⊕ E B^{n_ω}
 //     Corr with an n×q weight Λ on the strips |C_S x − y_S| ≤ σ_S ([Le2013 ISIC] Prop. 1):
 //       p' = p + Λ (y_S − C_S p),   G' = [(I − Λ C_S) G, Λ diag(σ_S)]
-//     one output at a time (q = 1, "S-I": segment minimisation = FRad-A, Bravo = VolMin-B,
-//     fixed λ_i = PRad-A) or all outputs at once ("S-II": Wang's Kalman-like Λ = FRad-B, a
+//     one output at a time (q = 1, "S-I": segment minimisation = FRad-A, the volume-minimising
+//     LP = VolMin-A, Bravo = VolMin-B, fixed λ_i = PRad-A) or all outputs at once ("S-II": Wang's Kalman-like Λ = FRad-B, a
 //     fixed Λ = PRad-B/C/D);
 //   intersection-free (a predictor; row k is the set for x_k from y_0 … y_{k−1}):
 //     X_{k+1} = reduce((A − L_k C) X_k ⊕ (B u_k + L_k (y_k − D u_k)) ⊕ (E − L_k F) B^{n_ω})
@@ -64,8 +64,16 @@
 // reproducible by a guaranteed estimator: setbound's model has c inside B u, and setbound.cora
 // refuses a model with c ≠ 0 under the Cora convention.
 //
-// Known A only (an interval [A] is refused). Missing outputs (NaN entries of y) are skipped:
-// their strips are not applied, their columns of Λ / L are zero for the step (still valid).
+// Explicit prior. Two cases keep the filter's prior as explicit columns, predicted at the end of
+// each step, and correct it as the first step corrects x0 (strip_update on the set): the volume-
+// minimising rule (its LP needs the generators before each strip, and costs far more than the
+// map) and an interval [A] ∈ [mid − rad, mid + rad] (papers.md §3.1, [Le2013] §3.4): the
+// prediction is mid·X ⊕ B u ⊕ E ⊕ box(rad·rs|G|) ⊕ box(rad·|p|) (the two boxes as diagonal
+// columns, as ZonotopicEstimator forms them) and the pending box goes through |mid| + rad. The
+// intersection-free rules need a known A (their map A − L C would be an interval matrix).
+//
+// Missing outputs (NaN entries of y) are skipped: their strips are not applied, their columns of
+// Λ / L are zero for the step (still valid).
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -93,6 +101,7 @@ enum class ZonotopicRule {
   FixedLambda = 5,  ///< S-II, a given n×p Λ (CORA PRad-B, PRad-C, PRad-D)
   Combastel = 6,    ///< intersection-free, Combastel 2015 adaptive L_k (CORA FRad-C)
   FixedGain = 7,    ///< intersection-free, a given n×p L (CORA PRad-E, Nom-G)
+  VolumeMin = 8,    ///< S-I, [Alamo2005] exact volume minimisation by an LP per strip (CORA VolMin-A)
 };
 
 /// Whether the rule runs the intersection-free (predictor) skeleton.
@@ -259,12 +268,16 @@ class ZonotopicObserver {
   static void gather_rows(const Mat& C, const std::vector<Eigen::Index>& rows, Mat& CS);
   /// S += (F Fᵀ)_SS, the present outputs' block of the noise Gram matrix (q × q).
   void add_noise_block(const std::vector<Eigen::Index>& rows, Mat& S) const;
+  /// Explicit-prior filters: prior_ = the set for x_{k+1} from the current one and u_k, as
+  /// columns [mid·G, E, diag(rad·w), diag(rad·|p|)] with every rounding in its box.
+  void predict_explicit(const Eigen::Ref<const Vec>& u);
 
   LinearSystem sys_;
   ZonotopicObserverOptions opt_;
   Zonotope x0_;
   Eigen::Index n_ = 0;
   bool needs_gram_ = false;
+  bool explicit_prior_ = false;  // the prior is kept as columns (VolumeMin, interval [A])
   Mat Enz_;           // non-zero columns of E (strip-based prediction)
   Vec sigma_;         // Σ_j |F_ij| rounded up
   Mat FFt_, EEt_;     // F Fᵀ, E Eᵀ (Wang, Combastel)

@@ -7,6 +7,7 @@
 #include "setbound/core/config.hpp"
 #include "setbound/core/symmetric.hpp"
 #include "setbound/estimators/zonotopic/strip_swap.hpp"
+#include "setbound/estimators/zonotopic/volume_min.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -28,13 +29,15 @@ SETBOUND_INLINE bool needs_gain(ZonotopicRule rule) {
 SETBOUND_INLINE ZonotopicObserver::ZonotopicObserver(LinearSystem system, const Zonotope& x0, ZonotopicObserverOptions options)
     : sys_(std::move(system)), opt_(std::move(options)), x0_(x0) {
   const int rule = static_cast<int>(opt_.rule);
-  if (rule < 1 || rule > 7) throw InvalidArgumentError("rule: unknown zonotopic gain rule " + std::to_string(rule));
+  if (rule < 1 || rule > 8) throw InvalidArgumentError("rule: unknown zonotopic gain rule " + std::to_string(rule));
   const int conv = static_cast<int>(opt_.convention);
   if (conv < 0 || conv > 1) throw InvalidArgumentError("convention: must be Setbound or Cora");
   const int red = static_cast<int>(opt_.reduction);
   if (red < 1 || red > 3) throw InvalidArgumentError("reduction: must be Combastel, Girard or Pca");
-  if (sys_.uncertain_A())
-    throw InvalidArgumentError("system: this observer needs a known A (an interval [A] is not supported)");
+  if (sys_.uncertain_A() && is_intersection_free(opt_.rule))
+    throw InvalidArgumentError(
+        "system: the intersection-free rules (Combastel, FixedGain) need a known A (an interval [A] is supported by "
+        "the strip-based rules)");
   const Eigen::Index n = sys_.nx(), ny = sys_.ny();
   if (x0.dimension() != n)
     throw DimensionError("x0: expected a zonotope of dimension " + std::to_string(n) + ", got " +
@@ -50,6 +53,24 @@ SETBOUND_INLINE ZonotopicObserver::ZonotopicObserver(LinearSystem system, const 
                                std::to_string(opt_.max_generators));
   set_inconsistency_policy(opt_.on_inconsistency);
   setup();
+  if (opt_.rule == ZonotopicRule::VolumeMin) {
+    // The LP of a strip has a row per subset of n_x − 1 generators of the set before it: the
+    // reduced set, E, [A]'s two boxes (a column per row of rad with a non-zero) and the earlier
+    // strips' columns; x0's on the first step, and under the Cora convention (no reduction of the
+    // first set) those with the first strips' columns and a box through the second step.
+    // Refused here rather than at the step that would reach the limit.
+    const Eigen::Index boxes = sys_.uncertain_A() ? 2 * (sys_.A_rad().rowwise().maxCoeff().array() > 0).count() : 0;
+    const Eigen::Index first = x0.remove_zero_generators().num_generators();
+    Eigen::Index steady = opt_.max_generators + Enz_.cols() + boxes;
+    if (opt_.convention == Convention::Cora) steady = std::max(steady, first + ny + n + Enz_.cols() + boxes);
+    const Eigen::Index widest = std::max(steady, first) + std::max<Eigen::Index>(ny - 1, 0);
+    if (detail::binomial(widest, n - 1) > kVolumeMinMaxSubsets)
+      throw InvalidArgumentError(
+          std::string(first > steady ? "x0" : "max_generators") + ": the volume-minimising rule enumerates the subsets of " +
+          std::to_string(n - 1) + " of up to " + std::to_string(widest) + " generators per strip, more than " +
+          std::to_string(static_cast<long>(kVolumeMinMaxSubsets)) + "; " +
+          (first > steady ? "give x0 fewer generators" : "lower max_generators") + " or use segment minimisation");
+  }
   load_initial();
 }
 
@@ -80,9 +101,12 @@ SETBOUND_INLINE void ZonotopicObserver::setup() {
   // The gains of Wang, segment minimisation and Combastel need the Gram matrix; the screening
   // (Setbound) uses it for a cheap lower bound of the output set's radius (screen()).
   // Bravo's candidate scores need it too (kept, not recomputed from the columns each step).
-  needs_gram_ = opt_.rule == ZonotopicRule::Wang || opt_.rule == ZonotopicRule::SegmentMin ||
-                opt_.rule == ZonotopicRule::Combastel || opt_.rule == ZonotopicRule::Bravo ||
-                opt_.convention == Convention::Setbound;
+  // An explicit prior is corrected like x0 in the first step: its gains and screening read its
+  // columns, so no Gram matrix is kept.
+  explicit_prior_ = !is_intersection_free(opt_.rule) && (opt_.rule == ZonotopicRule::VolumeMin || sys_.uncertain_A());
+  needs_gram_ = !explicit_prior_ && (opt_.rule == ZonotopicRule::Wang || opt_.rule == ZonotopicRule::SegmentMin ||
+                                     opt_.rule == ZonotopicRule::Combastel || opt_.rule == ZonotopicRule::Bravo ||
+                                     opt_.convention == Convention::Setbound);
   chk_.clear(ny, OutputStatus::Unused);
   last_check_.clear(ny, OutputStatus::Unused);
   gain_last_ = Mat::Zero(n_, ny);
@@ -190,7 +214,7 @@ SETBOUND_INLINE void ZonotopicObserver::screen(const Eigen::Ref<const Vec>& y, c
   // The set this step corrects: a filter's prior (after the first step of a lazy filter the
   // implicit A·cur ⊕ E with its centre prior_.p and that centre's error prior_.r), a
   // predictor's current set (y_k and x_k; the output set adds F B, i.e. ±σ_i).
-  const bool implicit = is_filter() && k_ > 0;
+  const bool implicit = is_filter() && k_ > 0 && !explicit_prior_;
   const Set& X = is_filter() ? prior_ : cur_;
   const Mat& G = implicit ? cur_.G : X.G;
   const Vec& r = implicit ? cur_.r : X.r;
@@ -248,11 +272,11 @@ SETBOUND_INLINE void ZonotopicObserver::advance(const Eigen::Ref<const Vec>& y, 
   Eigen::Index m = 0;
   bool fresh_gram = false;
   const bool bravo = opt_.rule == ZonotopicRule::Bravo;
-  if (is_filter() && k_ > 0) {
+  if (is_filter() && k_ > 0 && !explicit_prior_) {
     m = bravo ? bravo_from_current(y, u, gainw_) : correct_from_current(y, u, gainw_);
   } else if (is_filter()) {
     fresh_gram = true;
-    Set X = prior_;  // explicit: x0 before the first step
+    Set X = prior_;  // explicit: x0 before the first step, or an explicit prior
     correct(X, y, u, gainw_);
     m = X.G.cols();
     ensure_columns(W_, m + n_);
@@ -287,7 +311,9 @@ SETBOUND_INLINE void ZonotopicObserver::advance(const Eigen::Ref<const Vec>& y, 
   cur_.G = W_.leftCols(m);
   w_cur_.swap(ww_);
   if (needs_gram_) S_cur_.swap(Snew_);
-  if (is_filter()) {
+  if (is_filter() && explicit_prior_) {
+    predict_explicit(u);
+  } else if (is_filter()) {
     // The implicit prior A·X̂ ⊕ B u_k ⊕ E: its centre and the bound of that centre's error
     // (the generators are cur_'s through A, composed with the next step's strips).
     if (k_ == 0) prior_.G.resize(n_, 0);
@@ -638,6 +664,7 @@ SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const V
       bravo_correct(X.G, X.G.cols(), X.p, X.r, rows, ys, sig, gain);
       return;
     case ZonotopicRule::SegmentMin:
+    case ZonotopicRule::VolumeMin:
     case ZonotopicRule::FixedStrips: {
       // S-I: one strip at a time, in the order of the outputs.
       for (Eigen::Index t = 0; t < q; ++t) {
@@ -649,6 +676,10 @@ SETBOUND_INLINE void ZonotopicObserver::correct(Set& X, const Eigen::Ref<const V
           const Vec v = X.G * (X.G.transpose() * c);
           const double den = c.dot(v) + sig(t) * sig(t);
           lam = den > 0 ? Vec(v / den) : Vec(Vec::Zero(n_));
+        } else if (opt_.rule == ZonotopicRule::VolumeMin) {
+          // The λ of the smallest volume of the corrected set ([Alamo2005], papers.md §5.2);
+          // the pending box is not part of the volume (any λ is guaranteed).
+          lam = volume_min_gain(Zonotope(X.p, X.G), StripMeasurement{Strip(c, ys(t), sig(t)), i});
         } else {
           lam = opt_.gain.col(i);
         }
@@ -915,6 +946,51 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::propagate(const Eigen::Ref<const
   return map_current(T_, dT_, nN, g);
 }
 
+SETBOUND_INLINE void ZonotopicObserver::predict_explicit(const Eigen::Ref<const Vec>& u) {
+  using rounding_bounds::gamma;
+  // x⁺ = A x + B u + E ω with A = mid + Δ, |Δ| <= rad, x = p + G ξ + ρ (|ξ| <= 1, |ρ| <= r):
+  //   mid p + B u          the centre, computed (error <= g (|mid||p| + |B||u| + |p⁺|))
+  //   mid G ξ              columns fl(mid G) (row sums of the error <= g |mid| w, w >= rs|G|)
+  //   Δ (p + G ξ)          the boxes rad·w and rad·|p| ([Le2013] §3.4), rounded up
+  //   A ρ                  the box (|mid| + rad) r
+  //   E ω                  the columns of E, exact.
+  const Mat& A = sys_.A();
+  const Eigen::Index m = cur_.G.cols(), ne = Enz_.cols();
+  const double g = gamma(n_ + sys_.nu() + sys_.ny() + 4);
+  const bool interval = sys_.uncertain_A();
+  Eigen::Index nb = 0;
+  if (interval) {
+    const double up = 1.0 + static_cast<double>(n_ + 2) * std::numeric_limits<double>::epsilon();
+    v_.noalias() = sys_.A_rad() * w_cur_;
+    t_.noalias() = sys_.A_rad() * cur_.p.cwiseAbs();
+    v_ *= up;
+    t_ *= up;
+    nb = static_cast<Eigen::Index>((v_.array() > 0).count() + (t_.array() > 0).count());
+  }
+  prior_.G.resize(n_, m + ne + nb);
+  if (m > 0) prior_.G.leftCols(m).noalias() = A * cur_.G;
+  if (ne > 0) prior_.G.middleCols(m, ne) = Enz_;
+  Eigen::Index j = m + ne;
+  if (interval)
+    for (const Vec* box : {&v_, &t_})
+      for (Eigen::Index i = 0; i < n_; ++i)
+        if ((*box)(i) > 0) {
+          prior_.G.col(j).setZero();
+          prior_.G(i, j++) = (*box)(i);
+        }
+  prior_.p.noalias() = A * cur_.p;
+  Vec e = absA_ * cur_.p.cwiseAbs();
+  if (sys_.nu() > 0) {
+    prior_.p.noalias() += sys_.B() * u;
+    e.noalias() += absB_ * u.cwiseAbs();
+  }
+  e += prior_.p.cwiseAbs();
+  e *= g;
+  e.noalias() += absA_ * (cur_.r + g * w_cur_);
+  if (interval) e.noalias() += sys_.A_rad() * cur_.r;
+  prior_.r = e * (1.0 + g);
+}
+
 SETBOUND_INLINE Eigen::Index ZonotopicObserver::finish_set(Mat& W, Eigen::Index m, Vec& r, Vec& w, bool reduce, Mat* S) {
   // Setbound's convention moves the columns that no row can see into the box (CORA counts them).
   const double negligible = opt_.convention == Convention::Cora ? 0.0 : kNegligibleGenerator;
@@ -965,7 +1041,7 @@ SETBOUND_INLINE void ZonotopicObserver::restore_state(const std::vector<double>&
     if ((t.prior.r.array() < 0).any() || (t.cur.r.array() < 0).any()) r.fail("a box radius is negative");
     if (is_filter() && t.has != (t.k > 0)) r.fail("a filter has a current set exactly after its first step");
     if (!is_filter() && !t.has) r.fail("a predictor always has a current set");
-    if (is_filter() && t.k > 0 && t.prior.G.cols() > 0)
+    if (is_filter() && !explicit_prior_ && t.k > 0 && t.prior.G.cols() > 0)
       r.fail("this filter's prior after the first step has no generators of its own (they are the current set's)");
     return t;
   });
@@ -995,7 +1071,9 @@ SETBOUND_INLINE StateFingerprint ZonotopicObserver::fingerprint() const {
   // the gains use is saved (it is updated, not recomputed). A state of layout 1 (the explicit
   // prior, no Gram matrix) is refused by this value. Layout 3: Bravo's prior became implicit too
   // (its states of layout 2 held the explicit prior; other rules are unchanged).
-  f.add_int(opt_.rule == ZonotopicRule::Bravo ? 3 : 2);
+  // Layout 4: an explicit prior (VolumeMin, an interval [A]) is saved with its columns.
+  f.add_int(explicit_prior_ ? 4 : opt_.rule == ZonotopicRule::Bravo ? 3 : 2);
+  if (sys_.uncertain_A()) f.add(sys_.A_rad());
   return f;
 }
 
