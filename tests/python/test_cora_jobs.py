@@ -447,3 +447,17 @@ def test_interval_a_only_for_the_names_that_take_it():
     assert fa.ok and fa.contained is True and va.ok and va.contained is True
     for r in (hg, eb):
         assert not r.ok and "system.A_radius is not supported" in r.error
+
+
+def test_zonotopic_names_take_the_screening_policy_under_setbounds_convention():
+    """Every zonotopic CORA name runs on setbound.zonotopic.ZonotopicObserver, whose screening
+    policy is a job key (convention "setbound"; CORA tests nothing, so "cora" refuses the key), and
+    use_first_measurement belongs to the kinds segment_min / volume_min, not to CORA's names."""
+    names = ["FRad-A", "VolMin-A", "VolMin-B", "FRad-B", "FRad-C"]
+    job = jobs.from_dict(_doc([{"method": n, "name": n, "on_inconsistency": "raise"} for n in names], horizon=20))
+    for r in jobs.run(job, keep_going=True, quiet=True):
+        assert r.ok and r.contained is True, (r.name, r.error)
+    with pytest.raises(jobs.ConfigError, match="on_inconsistency"):
+        jobs.from_dict(_doc([{"method": "FRad-A", "convention": "cora", "on_inconsistency": "raise"}]))
+    with pytest.raises(jobs.ConfigError, match="use_first_measurement"):
+        jobs.from_dict(_doc([{"method": "FRad-A", "use_first_measurement": False}]))
