@@ -227,13 +227,19 @@ def zonotope_excess(c, G, x, delta) -> float:
         return float(np.max(np.abs(xi))) - (1 + TAU)
     from scipy.optimize import linprog
 
-    # variables (ξ, t): min t s.t. |ξ_i| <= t, |G ξ − r| <= δ
+    # variables (ξ, t): min t s.t. |ξ_i| <= t, |G ξ − r| <= δ. Each row i of G ξ − r is divided by
+    # its own scale (rs|G|_i, |r_i|, δ_i): the same ξ are feasible, and HiGHS's absolute
+    # feasibility tolerance means the same on a set of size 1 as on one of size 1e39 (a diverging
+    # system with an interval A: HiGHS called the unscaled problem infeasible).
+    scale = np.maximum.reduce([np.abs(G).sum(axis=1), np.abs(r), np.asarray(delta, float)])
+    scale[~(scale > 0) | ~np.isfinite(scale)] = 1.0
+    Gs, rs, ds = G / scale[:, None], r / scale, np.asarray(delta, float) / scale
     cost = np.zeros(m + 1)
     cost[-1] = 1.0
     Im = np.eye(m)
     A_ub = np.block([[Im, -np.ones((m, 1))], [-Im, -np.ones((m, 1))],
-                     [G, np.zeros((n, 1))], [-G, np.zeros((n, 1))]])
-    b_ub = np.concatenate([np.zeros(2 * m), r + delta, -r + delta])
+                     [Gs, np.zeros((n, 1))], [-Gs, np.zeros((n, 1))]])
+    b_ub = np.concatenate([np.zeros(2 * m), rs + ds, -rs + ds])
     sol = linprog(cost, A_ub=A_ub, b_ub=b_ub, bounds=[(None, None)] * m + [(0, None)], method="highs",
                   options={"primal_feasibility_tolerance": 1e-9, "dual_feasibility_tolerance": 1e-9})
     # status 2 (infeasible): no t at all, x is off the set's affine hull (a violation); any other
@@ -251,6 +257,12 @@ def zonotope_excess(c, G, x, delta) -> float:
             if bool(Zonotope(c, Gd).contains(x, rel_tol=TAU)):
                 return -TAU
             return excess if excess > 0 else math.inf  # outside: a violation of unknown size
+        # Too many facets with the δ columns: the set without them (inside it is inside the
+        # widened one; outside it decides nothing).
+        Gk = G[:, keep]
+        if Gk.shape[1] >= n and math.comb(Gk.shape[1], n - 1) <= 200_000 and \
+                bool(Zonotope(c, Gk).contains(x, rel_tol=TAU)):
+            return -TAU
     return excess
 
 

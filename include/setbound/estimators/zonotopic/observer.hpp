@@ -278,6 +278,7 @@ class ZonotopicObserver {
   Eigen::Index n_ = 0;
   bool needs_gram_ = false;
   bool explicit_prior_ = false;  // the prior is kept as columns (VolumeMin, interval [A])
+  bool gram_from_strips_ = false;  // this step's R_ is the corrected set's Gram matrix (segment min.)
   Mat Enz_;           // non-zero columns of E (strip-based prediction)
   Vec sigma_;         // Σ_j |F_ij| rounded up
   Mat FFt_, EEt_;     // F Fᵀ, E Eᵀ (Wang, Combastel)

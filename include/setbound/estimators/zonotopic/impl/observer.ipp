@@ -293,6 +293,8 @@ SETBOUND_INLINE void ZonotopicObserver::advance(const Eigen::Ref<const Vec>& y, 
   // (Bravo's bravo_S_ has followed its prior and strips already.)
   if (needs_gram_ && !fresh_gram && bravo) {
     Snew_ = bravo_S_;
+  } else if (needs_gram_ && !fresh_gram && gram_from_strips_) {
+    Snew_.swap(R_);  // segment minimisation's strips kept it (R_ is scratch)
   } else if (needs_gram_ && !fresh_gram) {
     const Eigen::Index nN = m - cur_.G.cols();
     K_.noalias() = T_ * S_cur_;
@@ -761,6 +763,7 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::correct_from_current(const Eigen
   dN_.setZero(n_);
   shifted(y, u, rows_, ys_, sig_);
   const Eigen::Index q = static_cast<Eigen::Index>(rows_.size());
+  gram_from_strips_ = false;
   if (q == 0) return map_current(T_, dT_, nN, g);
   if (opt_.rule == ZonotopicRule::SegmentMin || opt_.rule == ZonotopicRule::FixedStrips) {
     // S-I: strip after strip, each the exact map K_i = I − λ_i c_iᵀ on the set so far, composed
@@ -820,6 +823,9 @@ SETBOUND_INLINE Eigen::Index ZonotopicObserver::correct_from_current(const Eigen
       }
       gain.col(i) = lam_;
     }
+    // Segment minimisation's R is now the Gram matrix of the corrected set [T G, N] (= T S Tᵀ +
+    // N Nᵀ): advance() takes it instead of forming that product again (2 n³ per step).
+    gram_from_strips_ = segment;
     return map_current(T_, dT_, nN, g);
   }
   // S-II: all present strips at once with one n × q weight Λ, K = I − Λ C_S.
