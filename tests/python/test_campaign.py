@@ -239,3 +239,18 @@ def test_parallelotope_check_decides_each_way():
     campaign._record(res, 0, float("nan"))
     campaign._record(res, 1, -0.5)
     assert (res.steps, res.undecided, res.violations) == (1, 1, [])
+
+
+@pytest.mark.parametrize("scale", [1e-30, 1e-6, 1.0, 1e20, 1e39])
+def test_zonotope_excess_does_not_depend_on_the_sets_scale(scale):
+    """The containment checker's LP is scaled row by row: a diverging plant (sets of 1e39, met by
+    zono_obs_interval_A) and a tiny set get the excess of the unit one. x = (1.9, 1.9) needs
+    ξ = (0.95, 0.95, 0.95) in c + [[1, 0, 1], [0, 1, 1]] ξ (t* = 0.95: inside), (2.1, 2.1) needs
+    t* = 1.05 (outside); the least-squares certificate fails on both, so the LP decides. With HiGHS's
+    absolute tolerance unscaled, 1e-30 called the outside point inside and 1e39 lost the size."""
+    G = np.array([[1.0, 0.0, 1.0], [0.0, 1.0, 1.0]]) * scale
+    c, delta = np.zeros(2), np.full(2, 1e-14 * scale)
+    inside = campaign.zonotope_excess(c, G, np.array([1.9, 1.9]) * scale, delta)
+    outside = campaign.zonotope_excess(c, G, np.array([2.1, 2.1]) * scale, delta)
+    assert inside == pytest.approx(0.95 - (1 + campaign.TAU), abs=1e-8)
+    assert outside == pytest.approx(1.05 - (1 + campaign.TAU), abs=1e-8)
