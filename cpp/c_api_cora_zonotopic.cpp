@@ -93,7 +93,7 @@ int sb_zono_observer_step(sb_zono_observer* observer, const double* y, const dou
     if (center) VecMap(center, nx) = obs.current_center();
     if (lower) VecMap(lower, nx) = obs.current_lower();
     if (upper) VecMap(upper, nx) = obs.current_upper();
-    if (m) *m = static_cast<int>(obs.current_set().num_generators());
+    if (m) *m = static_cast<int>(obs.current_num_generators());
   });
 }
 

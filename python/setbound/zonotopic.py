@@ -606,8 +606,14 @@ class _ZonotopicObserver(ReadingChecks, StateMixin):
         code = lib.sb_zono_observer_current_set(self._handle, m, dptr(p), ffi.NULL)
         if code != lib.SB_ERR_BUFFER_TOO_SMALL:
             check(code)
-        H = np.empty((self.system.nx, m[0]))
-        check(lib.sb_zono_observer_current_set(self._handle, m, dptr(p), dptr(H)))
+        return self._set_of_size(m[0])
+
+    def _set_of_size(self, m: int) -> Zonotope:
+        # The current set when its generator count is known (a step reports it): one call, no
+        # size query (which costs a C++ exception in the library).
+        p, H = np.empty(self.system.nx), np.empty((self.system.nx, m))
+        cap = ffi.new("int*", m)
+        check(lib.sb_zono_observer_current_set(self._handle, cap, dptr(p), dptr(H)))
         return Zonotope(p, H)
 
     def _step(self, y, u):
@@ -632,7 +638,7 @@ class _ZonotopicObserver(ReadingChecks, StateMixin):
         Zonotope
         """
         self._step(y, u)
-        return self.current_set()
+        return self._set_of_size(self._m[0])
 
     @run_from_initial_set
     def run(self, y, u=None) -> Trajectory:
@@ -665,20 +671,20 @@ class _ZonotopicObserver(ReadingChecks, StateMixin):
         resets = np.zeros(N, dtype=bool)
         for k in range(N):
             if not self.is_filter:
-                z = self.current_set()
-                centers[k], lows[k], highs[k] = z.center, *self._hull()
+                # the set for x_k: x0 (or the current set) before the first step, then the last step's
+                z = self.current_set() if k == 0 else self._set_of_size(self._m[0])
+                centers[k], lows[k], highs[k] = z.center, *self._hull(z)
                 sets.append(z)
             c, lo, hi = self._step(y[k], u[k] if s.nu > 0 else None)
             resets[k] = self._check_into(status[k], margin[k])
             if self.is_filter:
                 centers[k], lows[k], highs[k] = c, lo, hi
-                sets.append(self.current_set())
+                sets.append(self._set_of_size(self._m[0]))
         return Trajectory(centers, lows, highs, sets, status=status, margin=margin, resets=resets)
 
-    def _hull(self):
-        # The C library's hull of the current set (outward rounded); before a predictor's first
+    def _hull(self, z: Zonotope):
+        # The C library's hull of the current set z (outward rounded); before a predictor's first
         # step it is the hull of x0 computed the same way.
-        z = self.current_set()
         e = np.abs(z.generators).sum(axis=1) + np.finfo(float).eps * np.abs(z.center)
         e *= 1.0 + (z.m + self.system.nx + 4) * np.finfo(float).eps
         return z.center - e, z.center + e

@@ -9,8 +9,8 @@
 //     Corr with an n×q weight Λ on the strips |C_S x − y_S| ≤ σ_S ([Le2013 ISIC] Prop. 1):
 //       p' = p + Λ (y_S − C_S p),   G' = [(I − Λ C_S) G, Λ diag(σ_S)]
 //     one output at a time (q = 1, "S-I": segment minimisation = FRad-A, the volume-minimising
-//     LP = VolMin-A, Bravo = VolMin-B, fixed λ_i = PRad-A) or all outputs at once ("S-II": Wang's Kalman-like Λ = FRad-B, a
-//     fixed Λ = PRad-B/C/D);
+//     LP = VolMin-A, Bravo = VolMin-B, fixed λ_i = PRad-A) or all outputs at once ("S-II":
+//     Wang's Kalman-like Λ = FRad-B, a fixed Λ = PRad-B/C/D);
 //   intersection-free (a predictor; row k is the set for x_k from y_0 … y_{k−1}):
 //     X_{k+1} = reduce((A − L_k C) X_k ⊕ (B u_k + L_k (y_k − D u_k)) ⊕ (E − L_k F) B^{n_ω})
 //     with Combastel's adaptive L_k (FRad-C) or a fixed L (PRad-E, Nom-G).
@@ -152,6 +152,8 @@ class ZonotopicObserver {
   bool has_current() const { return has_current_; }
   /// The current set, the pending rounding box as axis-aligned generators.
   Zonotope current_set() const;
+  /// Generator count of current_set() (the columns and the non-zero box entries), without forming it.
+  Eigen::Index current_num_generators() const;
   const Eigen::VectorXd& current_center() const { return cur_.p; }
   const Eigen::VectorXd& current_lower() const { return lo_; }
   const Eigen::VectorXd& current_upper() const { return hi_; }

@@ -158,6 +158,11 @@ SETBOUND_INLINE Zonotope ZonotopicObserver::current_set() const {
   return Zonotope(cur_.p, std::move(out));
 }
 
+SETBOUND_INLINE Eigen::Index ZonotopicObserver::current_num_generators() const {
+  if (!has_current_) throw InvalidArgumentError("observer: no step has been taken yet");
+  return cur_.G.cols() + static_cast<Eigen::Index>((cur_.r.array() > 0).count());
+}
+
 SETBOUND_INLINE void ZonotopicObserver::update(const Eigen::Ref<const Eigen::VectorXd>& y, const Eigen::Ref<const Eigen::VectorXd>& u) {
   if (y.size() != sys_.ny())
     throw DimensionError("y: expected length " + std::to_string(sys_.ny()) + ", got " + std::to_string(y.size()));
