@@ -717,7 +717,8 @@ def random_case(estimator: str, seed: int, max_nx: int = 8) -> Case:
         if estimator == "zono_obs_interval_A":
             # the volume LP enumerates subsets of n_x − 1 of the reduced set's, E's, the two boxes' and
             # the strips' columns: only up to n_x = 4 (the observer refuses what would pass its limit)
-            opts["rule"] = str(rng.choice(_INTERVAL_A_RULES if s.nx <= 4 else _INTERVAL_A_RULES[:1] + _INTERVAL_A_RULES[2:]))
+            rules = _INTERVAL_A_RULES if s.nx <= 4 else tuple(r for r in _INTERVAL_A_RULES if r != "volume_min")
+            opts["rule"] = str(rng.choice(rules))
     if estimator == "pradius":
         opts = {"approach": int(rng.choice([1, 2]))}
     if estimator == "zono_strip_gain":
