@@ -20,3 +20,16 @@
 #else
 #define SETBOUND_INLINE inline
 #endif
+
+/// Hot loops compiled twice where the compiler can dispatch at run time (GCC >= 12 / Clang >= 14,
+/// x86-64 Linux: ifunc): for AVX2 and for the baseline, so the library stays runnable on any
+/// x86-64 and uses 4-wide vectors where the CPU has them. Without FMA on purpose: GCC contracts
+/// a * b + c into an FMA whenever the target has one (even in ISO C++ mode), which would make the
+/// results depend on the CPU; with AVX2 alone both clones do the same operations, bit for bit.
+/// Define SETBOUND_NO_KERNEL_CLONES to disable (as for the LMI kernels, lmi/kernels.hpp).
+#if defined(__x86_64__) && defined(__linux__) && !defined(SETBOUND_NO_KERNEL_CLONES) && \
+    ((defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12) || (defined(__clang__) && __clang_major__ >= 14))
+#define SETBOUND_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define SETBOUND_AVX2_CLONES
+#endif
