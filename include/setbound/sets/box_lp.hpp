@@ -160,6 +160,8 @@ class BoxLP {
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> T_;
   Eigen::VectorXd col_;        // scratch: the entering column of T (no allocation per pivot)
   std::vector<std::pair<double, int>> cand_;  // scratch: the dual simplex's ratio-test candidates
+  Eigen::VectorXd scan_w_, scan_ratio_;       // scratch: the ratio test's w_j and ratios, every column
+  std::vector<int> cand_index_;               // scratch: the candidates' columns
   Eigen::VectorXd perturb_frac_;         // the dual simplex's cost perturbation per column, in [0.5, 1)
   std::vector<int> saved_basis_;         // scratch: maximize's fallback basis for the primal simplex
   std::vector<signed char> saved_state_;

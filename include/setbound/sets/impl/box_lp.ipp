@@ -55,19 +55,33 @@ SETBOUND_INLINE double upper_bound_q_plus_l1(const Eigen::Ref<const Eigen::Matri
   return certified_total(q.dot(w), q.cwiseAbs().dot(w.cwiseAbs()), r.cwiseAbs().sum(), a.sum(), M.rows(), M.cols());
 }
 
-/// The elimination of a pivot: T_i −= t_i T_p for every row i ≠ p with t_i ≠ 0 (T row-major,
-/// rows × cols; row p already divided by its pivot; t is the pivot column before the pivot, not
+/// A pivot on T (row-major, rows × cols) at row p: row p divided by the pivot t_p, then
+/// T_i −= t_i T_p for every other row with t_i ≠ 0 (t: the pivot column before the pivot, not
 /// part of T). A quarter of a CZN step on vehicle6 is this loop: on CPUs with AVX2 it runs on
-/// 4-wide vectors (SETBOUND_AVX2_CLONES: the same operations, product then difference, so the
-/// same bits as the baseline's 2-wide ones).
-SETBOUND_AVX2_CLONES SETBOUND_INLINE void eliminate_pivot_column(double* T, Eigen::Index rows, Eigen::Index cols,
-                                                                     Eigen::Index p, const double* t) {
-  const double* __restrict tp = T + p * cols;
+/// 4-wide vectors (SETBOUND_AVX2_CLONES: the same operations, quotient, product then difference,
+/// so the same bits as the baseline's 2-wide ones).
+SETBOUND_AVX2_CLONES SETBOUND_INLINE void pivot_tableau(double* T, Eigen::Index rows, Eigen::Index cols, Eigen::Index p,
+                                                       const double* t) {
+  double* __restrict tp = T + p * cols;
+  const double piv = t[p];
+  for (Eigen::Index j = 0; j < cols; ++j) tp[j] /= piv;
   for (Eigen::Index i = 0; i < rows; ++i) {
     if (i == p || t[i] == 0.0) continue;
     double* __restrict ti = T + i * cols;
     const double f = t[i];
     for (Eigen::Index j = 0; j < cols; ++j) ti[j] -= f * tp[j];
+  }
+}
+
+/// The dual ratio test's pass over a row of T (the row of the leaving variable): w_j = σ s_j t_j
+/// (s_j the state of column j: −1/+1 at a bound, 0 basic) and the ratio |d_j| / w_j, for every
+/// column; the candidates are the j with w_j above the pivot tolerance. Separate from the test
+/// on w so that the divisions run on vectors and the selection needs no branch per column.
+SETBOUND_AVX2_CLONES SETBOUND_INLINE void dual_ratios(const double* t, const signed char* state, const double* d,
+                                                     double sigma, Eigen::Index m, double* w, double* ratio) {
+  for (Eigen::Index j = 0; j < m; ++j) {
+    w[j] = sigma * static_cast<double>(state[j]) * t[j];
+    ratio[j] = std::abs(d[j]) / w[j];  // inf or NaN where w_j = 0: never a candidate
   }
 }
 
@@ -225,9 +239,8 @@ SETBOUND_INLINE Eigen::VectorXd BoxLP::reduced_costs(const Eigen::VectorXd& cost
 
 SETBOUND_INLINE void BoxLP::pivot(Eigen::Index row, int enter, const Eigen::VectorXd& cost, Eigen::VectorXd& d) {
   const Eigen::VectorXd& t = col_;  // T's column `enter` before the pivot
-  T_.row(row) /= t(row);
   // Rows are contiguous (T_ is row-major); col_ is a copy, not a view of T_.
-  box_lp_detail::eliminate_pivot_column(T_.data(), T_.rows(), T_.cols(), row, t.data());
+  box_lp_detail::pivot_tableau(T_.data(), T_.rows(), T_.cols(), row, t.data());
   d -= d(enter) * T_.row(row).transpose();
   // A fresh factorisation every so often bounds the drift of the product-form updates; it costs
   // about 2r pivots, hence an interval of at least r.
@@ -298,12 +311,19 @@ SETBOUND_INLINE bool BoxLP::run_dual_simplex(const Eigen::VectorXd& cost, long m
     // (s = +1): column j helps when w = σ s a > 0 (σ = +1 below the box, −1 above), and w = |a|
     // then (basic columns, s = 0, never): one compare per column instead of a tree of branches.
     const double sigma = below ? 1.0 : -1.0, threshold = box_lp_detail::kPivotTol * rowmax;
-    const double* tr = Trow.data();
-    cand_.clear();
+    // Candidates in increasing j, as (ratio, j). The w_j > threshold test is as good as random
+    // (about 40 % pass), so the indices are compacted without a branch.
+    scan_w_.resize(m);
+    scan_ratio_.resize(m);
+    cand_index_.resize(static_cast<size_t>(m));
+    box_lp_detail::dual_ratios(Trow.data(), state_.data(), d.data(), sigma, m, scan_w_.data(), scan_ratio_.data());
+    std::size_t count = 0;
     for (Eigen::Index j = 0; j < m; ++j) {
-      const double w = sigma * static_cast<double>(state_[static_cast<size_t>(j)]) * tr[j];
-      if (w > threshold) cand_.emplace_back(std::abs(d(j)) / w, static_cast<int>(j));
+      cand_index_[count] = static_cast<int>(j);
+      count += scan_w_(j) > threshold ? 1 : 0;
     }
+    cand_.resize(count);
+    for (std::size_t c = 0; c < count; ++c) cand_[c] = {scan_ratio_(cand_index_[c]), cand_index_[c]};
     // The candidates are taken in increasing ratio (ties by index); usually only the first few
     // are looked at (vehicle6: ~8 of ~60 per pivot), and a full sort cost ~6 % of a step. The
     // first kLinearPops come from linear scans for the least one (predictable branches), the rest
