@@ -60,7 +60,7 @@ SETBOUND_INLINE double upper_bound_q_plus_l1(const Eigen::Ref<const Eigen::Matri
 /// part of T). A quarter of a CZN step on vehicle6 is this loop: on CPUs with AVX2 it runs on
 /// 4-wide vectors (SETBOUND_AVX2_CLONES: the same operations, quotient, product then difference,
 /// so the same bits as the baseline's 2-wide ones).
-SETBOUND_AVX2_CLONES SETBOUND_INLINE void pivot_tableau(double* T, Eigen::Index rows, Eigen::Index cols, Eigen::Index p,
+SETBOUND_INLINE SETBOUND_AVX2_CLONES void pivot_tableau(double* T, Eigen::Index rows, Eigen::Index cols, Eigen::Index p,
                                                        const double* t) {
   double* __restrict tp = T + p * cols;
   const double piv = t[p];
@@ -77,7 +77,7 @@ SETBOUND_AVX2_CLONES SETBOUND_INLINE void pivot_tableau(double* T, Eigen::Index 
 /// (s_j the state of column j: −1/+1 at a bound, 0 basic) and the ratio |d_j| / w_j, for every
 /// column; the candidates are the j with w_j above the pivot tolerance. Separate from the test
 /// on w so that the divisions run on vectors and the selection needs no branch per column.
-SETBOUND_AVX2_CLONES SETBOUND_INLINE void dual_ratios(const double* t, const signed char* state, const double* d,
+SETBOUND_INLINE SETBOUND_AVX2_CLONES void dual_ratios(const double* t, const signed char* state, const double* d,
                                                      double sigma, Eigen::Index m, double* w, double* ratio) {
   for (Eigen::Index j = 0; j < m; ++j) {
     w[j] = sigma * static_cast<double>(state[j]) * t[j];
