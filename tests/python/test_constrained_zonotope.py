@@ -156,6 +156,26 @@ def test_every_reduction_contains_its_input(method, seed):
     assert R.contains(sample(Z, rng, 10)).all()
 
 
+def test_rescale_tightens_what_a_row_implies_and_leaves_loose_rows_alone():
+    # ξ0 + 0.1 ξ1 = 0.2 with |ξ1| <= 1 forces ξ0 into [0.1, 0.3]: Scott's rescaling maps that
+    # interval back to the box, so generator 0 shrinks to a tenth and the centre moves by 0.2
+    # (up to the outward rounding). Rows that imply nothing beyond the box (0.5 ξ0 + 0.5 ξ1 = 0,
+    # and ξ1's own range from the first row is the whole box) leave the set as it was: the pass
+    # that would tighten them is skipped, and skipping must not lose a tightening that exists.
+    Z = ConstrainedZonotope([0.0, 0.0], np.eye(2), [[1.0, 0.1]], [0.2])
+    R = Z.reduce("rescale")
+    assert R.generators[0, 0] == pytest.approx(0.1, abs=1e-12) and R.generators[0, 0] >= 0.1
+    assert R.center[0] == pytest.approx(0.2, abs=1e-12)
+    np.testing.assert_array_equal(R.generators[:, 1], [0.0, 1.0])
+    lo, hi = R.interval_hull()
+    assert lo[0] <= 0.1 <= lo[0] + 1e-9 and hi[0] - 1e-9 <= 0.3 <= hi[0]
+    loose = ConstrainedZonotope([1.0, -1.0], np.eye(2), [[0.5, 0.5]], [0.0])
+    L = loose.reduce("rescale")
+    np.testing.assert_array_equal(L.generators, loose.generators)
+    np.testing.assert_array_equal(L.center, loose.center)
+    np.testing.assert_array_equal(L.A, loose.A)
+
+
 def test_projection_polygon_is_the_exact_polygon():
     # The square cut by x1 + x2 <= 1: a pentagon with vertices (1,-1), (1,0), (0,1), (-1,1), (-1,-1).
     Z = ConstrainedZonotope.from_bounds([-1, -1, -5], [1, 1, 5]).intersect_halfspace([1.0, 1.0, 0.0], 1.0)
