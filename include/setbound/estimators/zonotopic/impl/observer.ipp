@@ -144,10 +144,8 @@ SETBOUND_INLINE void ZonotopicObserver::load_initial() {
 SETBOUND_INLINE void ZonotopicObserver::reset() { load_initial(); }
 
 SETBOUND_INLINE Zonotope ZonotopicObserver::current_set() const {
-  if (!has_current_) throw InvalidArgumentError("observer: no step has been taken yet");
+  Mat out(n_, current_num_generators());  // throws before the first step
   const Eigen::Index m = cur_.G.cols();
-  const Eigen::Index nb = static_cast<Eigen::Index>((cur_.r.array() > 0).count());
-  Mat out(n_, m + nb);
   out.leftCols(m) = cur_.G;
   Eigen::Index j = m;
   for (Eigen::Index i = 0; i < n_; ++i)
