@@ -26,9 +26,15 @@
 /// x86-64 and uses 4-wide vectors where the CPU has them. Without FMA on purpose: GCC contracts
 /// a * b + c into an FMA whenever the target has one (even in ISO C++ mode), which would make the
 /// results depend on the CPU; with AVX2 alone both clones do the same operations, bit for bit.
-/// Define SETBOUND_NO_KERNEL_CLONES to disable (as for the LMI kernels, lmi/kernels.hpp).
+/// Define SETBOUND_NO_KERNEL_CLONES to disable (SETBOUND_HAS_KERNEL_CLONES: also the LMI kernels'
+/// clones, lmi/kernels.hpp).
 #if defined(__x86_64__) && defined(__linux__) && !defined(SETBOUND_NO_KERNEL_CLONES) && \
     ((defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12) || (defined(__clang__) && __clang_major__ >= 14))
+#define SETBOUND_HAS_KERNEL_CLONES 1
+#else
+#define SETBOUND_HAS_KERNEL_CLONES 0
+#endif
+#if SETBOUND_HAS_KERNEL_CLONES
 #define SETBOUND_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define SETBOUND_AVX2_CLONES

@@ -25,6 +25,8 @@
 #include <cmath>
 #include <limits>
 #include <type_traits>
+
+#include "setbound/core/config.hpp"
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -32,11 +34,11 @@
 namespace setbound::lmi::kernels {
 
 /// The Schur-complement kernels are compiled twice where the compiler can dispatch at run time
-/// (GCC ≥ 12 / Clang ≥ 14, x86-64 Linux: ifunc): for x86-64-v3 (AVX2, FMA) and the baseline;
-/// `flatten` inlines the fixed-size kernels into each clone so that they get its instruction
-/// set. The library stays runnable on any x86-64. Define SETBOUND_NO_KERNEL_CLONES to disable.
-#if defined(__x86_64__) && defined(__linux__) && !defined(SETBOUND_NO_KERNEL_CLONES) && \
-    ((defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12) || (defined(__clang__) && __clang_major__ >= 14))
+/// (SETBOUND_HAS_KERNEL_CLONES, core/config.hpp: GCC ≥ 12 / Clang ≥ 14, x86-64 Linux, ifunc): for
+/// x86-64-v3 (AVX2, FMA) and the baseline; `flatten` inlines the fixed-size kernels into each clone
+/// so that they get its instruction set. The library stays runnable on any x86-64. Define
+/// SETBOUND_NO_KERNEL_CLONES to disable.
+#if SETBOUND_HAS_KERNEL_CLONES
 #define SETBOUND_KERNEL_CLONES __attribute__((target_clones("arch=x86-64-v3", "default"), flatten))
 #else
 #define SETBOUND_KERNEL_CLONES
